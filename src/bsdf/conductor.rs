@@ -1,0 +1,39 @@
+//! Conductors: the perfect mirror (delta lobe) with constant reflectance.
+
+use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use crate::math::Color;
+use glam::{Vec2, Vec3};
+
+/// Perfect mirror with constant reflectance R (no Fresnel tint, as the scene contract says).
+/// f = R δ(wi − reflect(wo)) / |cos θi|; PBR 4th ed. §9.4 (specular reflection).
+#[derive(Clone, Copy, Debug)]
+pub struct Mirror {
+    pub reflectance: Color,
+}
+
+impl BxDF for Mirror {
+    #[inline]
+    fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
+        Color::ZERO
+    }
+    #[inline]
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+    #[inline]
+    fn sample(&self, wo: Vec3, _uc: f32, _u2: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi: Vec3::new(-wo.x, -wo.y, wo.z),
+            f: Color::ZERO,
+            weight: self.reflectance,
+            pdf: 1.0,
+            is_delta: true,
+            event: Event::Reflect,
+            lobe: Lobe::S,
+            eta_rel: 1.0,
+        })
+    }
+}

@@ -1,0 +1,80 @@
+//! Smooth dielectric interface: exact Fresnel, Snell refraction, total internal reflection.
+
+use super::fresnel::fresnel_dielectric_terms;
+use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use crate::math::Color;
+use glam::{Vec2, Vec3};
+
+/// Smooth dielectric boundary with relative IOR `eta` = n_inside / n_outside.
+/// Reflect with probability F, refract with 1 − F (PBR 4th ed. §9.5.1, `DielectricBxDF`
+/// specular case). Both lobes are delta; the sample weight is 1 for reflection and
+/// 1/eta_rel² (radiance) or 1 (importance) for refraction. eta = 1 passes straight through.
+#[derive(Clone, Copy, Debug)]
+pub struct SmoothDielectric {
+    pub eta: f32,
+}
+
+impl BxDF for SmoothDielectric {
+    #[inline]
+    fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
+        Color::ZERO
+    }
+    #[inline]
+    fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    fn sample(&self, wo: Vec3, uc: f32, _u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if wo.z == 0.0 {
+            return None;
+        }
+        if self.eta == 1.0 {
+            // Index-matched: no interface at all.
+            return Some(BsdfSample {
+                wi: -wo,
+                f: Color::ZERO,
+                weight: Color::ONE,
+                pdf: 1.0,
+                is_delta: true,
+                event: Event::Transmit,
+                lobe: Lobe::S,
+                eta_rel: 1.0,
+            });
+        }
+        let fr = fresnel_dielectric_terms(wo.z, self.eta);
+        if uc < fr.f {
+            // Specular reflection (includes TIR, where F = 1).
+            return Some(BsdfSample {
+                wi: Vec3::new(-wo.x, -wo.y, wo.z),
+                f: Color::ZERO,
+                weight: Color::ONE,
+                pdf: fr.f,
+                is_delta: true,
+                event: Event::Reflect,
+                lobe: Lobe::S,
+                eta_rel: 1.0,
+            });
+        }
+        // Refraction: Snell's law with the normal flipped to the side of wo.
+        // wt = −wo/η' + (cosθi/η' − cosθt) n, PBR 4th ed. eq. (9.19).
+        let eta_rel = fr.eta_rel;
+        let sign = wo.z.signum();
+        let wi = Vec3::new(-wo.x / eta_rel, -wo.y / eta_rel, -sign * fr.cos_t).normalize();
+        // Radiance compresses by 1/η'² when entering a denser medium. Veach 1997, §5.2.
+        let scale = match mode {
+            TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
+            TransportMode::Importance => 1.0,
+        };
+        Some(BsdfSample {
+            wi,
+            f: Color::ZERO,
+            weight: Color::splat(scale),
+            pdf: 1.0 - fr.f,
+            is_delta: true,
+            event: Event::Transmit,
+            lobe: Lobe::S,
+            eta_rel,
+        })
+    }
+}

@@ -1,0 +1,178 @@
+//! Bidirectional scattering distribution functions in a local shading frame (z = shading normal).
+//!
+//! Conventions (DESIGN.md): `wo` and `wi` both point away from the surface; `eval` returns f
+//! without the cosine; `pdf` is w.r.t. solid angle of `wi`; `sample` receives its random numbers
+//! as arguments and returns the weight f·|cos θi|/pdf directly. Delta lobes: `eval` and `pdf`
+//! return 0 and `sample` returns the weight (1 for a perfect mirror of reflectance 1).
+//! `eta` = IOR(inside) / IOR(outside); outside is the side the normal points to (z > 0).
+//! In [`TransportMode::Radiance`] refraction scales by 1/eta_rel² (eta_rel = n_t/n_i along the
+//! sampled direction of light flow); in [`TransportMode::Importance`] it does not
+//! (Veach 1997, §5.2).
+
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+pub mod fresnel;
+
+use crate::math::Color;
+use glam::{Vec2, Vec3};
+
+pub use conductor::Mirror;
+pub use dielectric::SmoothDielectric;
+pub use diffuse::Lambert;
+
+/// Which quantity a path carries: radiance (camera paths) or importance (light paths).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransportMode {
+    Radiance,
+    Importance,
+}
+
+/// Whether the sampled direction is on the same side as `wo` or the other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Event {
+    Reflect,
+    Transmit,
+}
+
+/// Heckbert event class of a scattering lobe: diffuse, glossy, specular.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Lobe {
+    D,
+    G,
+    S,
+}
+
+/// Microfacet normal distribution ("roughness type").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MicrofacetDistribution {
+    /// Trowbridge–Reitz / GGX (Walter et al. 2007).
+    #[default]
+    Ggx,
+    /// Beckmann–Spizzichino (Walter et al. 2007).
+    Beckmann,
+}
+
+/// α below this is treated as perfectly smooth (DESIGN.md).
+pub const SMOOTH_ALPHA: f32 = 1e-3;
+
+/// glTF convention: α = roughness².
+#[inline]
+pub fn roughness_to_alpha(roughness: f32) -> f32 {
+    let r = roughness.clamp(0.0, 1.0);
+    r * r
+}
+
+/// α < 1e-3 → treat as smooth (delta) lobe.
+#[inline]
+pub fn effectively_smooth(alpha: f32) -> bool {
+    alpha < SMOOTH_ALPHA
+}
+
+/// One sampled scattering direction.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    /// Sampled direction (local frame, unit length, pointing away from the surface).
+    pub wi: Vec3,
+    /// BSDF value f(wo, wi) (0 for delta lobes).
+    pub f: Color,
+    /// f·|cos θi| / pdf (for delta lobes the weight directly).
+    pub weight: Color,
+    /// Solid-angle pdf (for delta lobes: the discrete probability of choosing the lobe).
+    pub pdf: f32,
+    pub is_delta: bool,
+    pub event: Event,
+    /// Heckbert class of this sample. For multi-lobe BSDFs the label is chosen so that
+    /// E[weight · 1{lobe = k}] = ∫ f_k |cos| for each class k (filtered images sum up).
+    pub lobe: Lobe,
+    /// Relative IOR n_t/n_i crossed by this sample (1 for reflection).
+    pub eta_rel: f32,
+}
+
+/// Per-class BSDF values (for the Heckbert path filter on next-event estimation).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LobeValues {
+    pub d: Color,
+    pub g: Color,
+}
+
+/// The interface every BSDF implements (see the module docs for conventions).
+pub trait BxDF {
+    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color;
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
+    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample>;
+}
+
+/// A BSDF instance at a surface point (material parameters already resolved: textures
+/// looked up, eta chosen for the path's wavelength).
+#[derive(Clone, Copy, Debug)]
+pub enum Bsdf {
+    Lambert(Lambert),
+    Mirror(Mirror),
+    SmoothDielectric(SmoothDielectric),
+}
+
+impl Bsdf {
+    /// True if every lobe is a delta distribution (next-event estimation is skipped).
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        match self {
+            Bsdf::Lambert(_) => false,
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) => true,
+        }
+    }
+
+    /// Heckbert class of the non-delta part for single-class BSDFs (used when a BSDF has one
+    /// class only). Multi-lobe BSDFs report through [`Bsdf::eval_lobes`].
+    #[inline]
+    pub fn class(&self) -> Lobe {
+        match self {
+            Bsdf::Lambert(_) => Lobe::D,
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) => Lobe::S,
+        }
+    }
+
+    /// f(wo, wi) split by Heckbert class (delta lobes contribute nothing).
+    #[inline]
+    pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> LobeValues {
+        let f = self.eval(wo, wi, mode);
+        match self.class() {
+            Lobe::D => LobeValues {
+                d: f,
+                g: Color::ZERO,
+            },
+            _ => LobeValues {
+                d: Color::ZERO,
+                g: f,
+            },
+        }
+    }
+}
+
+impl BxDF for Bsdf {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
+        match self {
+            Bsdf::Lambert(b) => b.eval(wo, wi, mode),
+            Bsdf::Mirror(b) => b.eval(wo, wi, mode),
+            Bsdf::SmoothDielectric(b) => b.eval(wo, wi, mode),
+        }
+    }
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Bsdf::Lambert(b) => b.pdf(wo, wi),
+            Bsdf::Mirror(b) => b.pdf(wo, wi),
+            Bsdf::SmoothDielectric(b) => b.pdf(wo, wi),
+        }
+    }
+    #[inline]
+    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        match self {
+            Bsdf::Lambert(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::Mirror(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::SmoothDielectric(b) => b.sample(wo, uc, u2, mode),
+        }
+    }
+}

@@ -1,0 +1,287 @@
+//! Scene materials (what the glTF file says) and their mapping to a BSDF at a hit point.
+
+use crate::bsdf::{self, Bsdf, MicrofacetDistribution};
+use crate::math::{Color, rgb3};
+use glam::{Affine2, Vec2, Vec3, Vec4};
+
+/// How the scene contract classifies a glTF material (DESIGN.md, "Scene contract").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialKind {
+    /// metallic 0, roughness 1, no transmission → Lambert.
+    Diffuse,
+    /// metallic 1, roughness 0 → perfect mirror with reflectance = base colour.
+    Mirror,
+    /// metallic 1, roughness > 0 → microfacet reflection, reflectance = base colour.
+    GlossyMetal,
+    /// transmission with volume thickness > 0 → solid dielectric (smooth or rough).
+    Glass,
+    /// transmission without volume → thin-walled dielectric sheet.
+    ThinGlass,
+    /// everything else → glTF metallic-roughness BRDF (spec appendix B).
+    MetalRough,
+}
+
+/// Texture wrap mode (glTF sampler).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Wrap {
+    #[default]
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// A decoded texture: linear RGBA floats (base-colour textures are sRGB-decoded at load).
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<Vec4>,
+    pub wrap_s: Wrap,
+    pub wrap_t: Wrap,
+    /// Bilinear filtering (else nearest).
+    pub linear: bool,
+}
+
+/// A reference from a material to a texture (`KHR_texture_transform` folded into `transform`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    pub texture: u32,
+    pub tex_coord: u32,
+    pub transform: Affine2,
+}
+
+/// A material as the scene contract describes it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub kind: MaterialKind,
+    /// Linear RGB base colour (albedo / reflectance / specular tint).
+    pub base_color: Vec3,
+    pub base_color_texture: Option<TextureRef>,
+    pub metallic: f32,
+    /// Perceptual roughness; α = roughness².
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// IOR of the inside (outside is 1.0): KHR_materials_ior, default 1.5.
+    pub ior: f32,
+    /// Abbe number V_d when KHR_materials_dispersion is present (V_d = 20 / dispersion).
+    pub abbe: Option<f32>,
+    /// Roughness type for rough glass / glossy metal.
+    pub distribution: MicrofacetDistribution,
+    /// Emitted radiance (emissiveFactor × emissive_strength); zero = not a light.
+    pub emission: Vec3,
+    pub double_sided: bool,
+    /// Beer–Lambert absorption inside a solid: colour reached after `attenuation_distance`.
+    pub attenuation_color: Vec3,
+    /// Infinity = no absorption.
+    pub attenuation_distance: f32,
+    /// KHR_materials_specular factor and colour (metal-rough only).
+    pub specular_factor: f32,
+    pub specular_color: Vec3,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: String::new(),
+            kind: MaterialKind::Diffuse,
+            base_color: Vec3::splat(0.8),
+            base_color_texture: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            ior: 1.5,
+            abbe: None,
+            distribution: MicrofacetDistribution::Ggx,
+            emission: Vec3::ZERO,
+            double_sided: false,
+            attenuation_color: Vec3::ONE,
+            attenuation_distance: f32::INFINITY,
+            specular_factor: 1.0,
+            specular_color: Vec3::ONE,
+        }
+    }
+}
+
+impl Material {
+    pub fn diffuse(name: &str, albedo: Vec3) -> Material {
+        Material {
+            name: name.into(),
+            base_color: albedo,
+            ..Default::default()
+        }
+    }
+
+    pub fn mirror(name: &str, reflectance: Vec3) -> Material {
+        Material {
+            name: name.into(),
+            kind: MaterialKind::Mirror,
+            base_color: reflectance,
+            metallic: 1.0,
+            roughness: 0.0,
+            ..Default::default()
+        }
+    }
+
+    pub fn glass(name: &str, ior: f32) -> Material {
+        Material {
+            name: name.into(),
+            kind: MaterialKind::Glass,
+            base_color: Vec3::ONE,
+            roughness: 0.0,
+            ior,
+            ..Default::default()
+        }
+    }
+
+    pub fn emitter(name: &str, radiance: Vec3) -> Material {
+        Material {
+            name: name.into(),
+            base_color: Vec3::ZERO,
+            emission: radiance,
+            ..Default::default()
+        }
+    }
+
+    #[inline]
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
+    /// Transmissive kinds (the path crosses the surface).
+    #[inline]
+    pub fn is_transmissive(&self) -> bool {
+        matches!(self.kind, MaterialKind::Glass | MaterialKind::ThinGlass)
+    }
+
+    /// Index of refraction at wavelength `lambda_nm` (Abbe-number dispersion model of
+    /// DESIGN.md: n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1)).
+    #[inline]
+    pub fn ior_at(&self, lambda_nm: f32) -> f32 {
+        match self.abbe {
+            Some(v) if v > 0.0 => crate::math::spectrum::cauchy_from_abbe(self.ior, v, lambda_nm),
+            _ => self.ior,
+        }
+    }
+
+    /// Beer–Lambert absorption coefficient σ_a per colour channel (1/m), from
+    /// KHR_materials_volume: σ_a = −ln(attenuationColor) / attenuationDistance.
+    pub fn sigma_a(&self) -> Vec3 {
+        if !self.attenuation_distance.is_finite() || self.attenuation_distance <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let c = self.attenuation_color.clamp(Vec3::splat(1e-6), Vec3::ONE);
+        Vec3::new(-c.x.ln(), -c.y.ln(), -c.z.ln()) / self.attenuation_distance
+    }
+
+    pub fn has_absorption(&self) -> bool {
+        self.kind == MaterialKind::Glass && self.sigma_a().max_element() > 0.0
+    }
+
+    /// Reject parameters no renderer can use (NaN, IOR ≤ 0 …) with a clear message.
+    pub fn validate(&self) -> anyhow::Result<()> {
+        let n = &self.name;
+        anyhow::ensure!(
+            self.ior.is_finite() && self.ior > 0.0,
+            "material '{n}': IOR {} must be a finite number > 0",
+            self.ior
+        );
+        anyhow::ensure!(
+            self.base_color.is_finite() && self.base_color.min_element() >= 0.0,
+            "material '{n}': base colour must be finite and non-negative"
+        );
+        anyhow::ensure!(
+            self.emission.is_finite() && self.emission.min_element() >= 0.0,
+            "material '{n}': emission must be finite and non-negative"
+        );
+        anyhow::ensure!(
+            self.roughness.is_finite() && self.metallic.is_finite(),
+            "material '{n}': roughness/metallic must be finite"
+        );
+        if let Some(v) = self.abbe {
+            anyhow::ensure!(
+                v.is_finite() && v > 0.0,
+                "material '{n}': Abbe number {v} must be finite and > 0"
+            );
+        }
+        Ok(())
+    }
+
+    /// The BSDF at a hit. `uv` is the interpolated TEXCOORD_0, `eta` the IOR to use (already
+    /// evaluated at the path's wavelength for dispersive materials), `textures` the scene's.
+    /// `spectral` converts RGB parameters to the path's wavelengths when set.
+    pub fn bsdf(&self, textures: &[Texture], uv: Vec2, eta: f32) -> Bsdf {
+        let base = self.base_color_at(textures, uv);
+        match self.kind {
+            MaterialKind::Mirror => Bsdf::Mirror(bsdf::Mirror {
+                reflectance: rgb3(base),
+            }),
+            MaterialKind::Glass | MaterialKind::ThinGlass => {
+                Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta })
+            }
+            _ => Bsdf::Lambert(bsdf::Lambert {
+                albedo: rgb3(base),
+            }),
+        }
+    }
+
+    /// Base colour × texture at `uv`.
+    pub fn base_color_at(&self, textures: &[Texture], uv: Vec2) -> Vec3 {
+        match self.base_color_texture {
+            Some(r) => self.base_color * sample_texture(textures, &r, uv).truncate(),
+            None => self.base_color,
+        }
+    }
+}
+
+/// Look a texture up at `uv` (wrap mode, nearest or bilinear). Missing texture → white.
+pub fn sample_texture(textures: &[Texture], r: &TextureRef, uv: Vec2) -> Vec4 {
+    let Some(t) = textures.get(r.texture as usize) else {
+        return Vec4::ONE;
+    };
+    if t.width == 0 || t.height == 0 || t.texels.len() < (t.width * t.height) as usize {
+        return Vec4::ONE;
+    }
+    let uv = r.transform.transform_point2(uv);
+    let fx = uv.x * t.width as f32 - 0.5;
+    let fy = uv.y * t.height as f32 - 0.5;
+    let texel = |x: i64, y: i64| -> Vec4 {
+        let xi = wrap_index(x, t.width, t.wrap_s);
+        let yi = wrap_index(y, t.height, t.wrap_t);
+        t.texels[(yi * t.width + xi) as usize]
+    };
+    if !fx.is_finite() || !fy.is_finite() {
+        return Vec4::ONE;
+    }
+    if t.linear {
+        let x0 = fx.floor();
+        let y0 = fy.floor();
+        let (ax, ay) = (fx - x0, fy - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let top = texel(x0, y0) * (1.0 - ax) + texel(x0 + 1, y0) * ax;
+        let bot = texel(x0, y0 + 1) * (1.0 - ax) + texel(x0 + 1, y0 + 1) * ax;
+        top * (1.0 - ay) + bot * ay
+    } else {
+        texel((fx + 0.5).floor() as i64, (fy + 0.5).floor() as i64)
+    }
+}
+
+fn wrap_index(i: i64, n: u32, w: Wrap) -> u32 {
+    let n = n as i64;
+    let r = match w {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m < n { m } else { 2 * n - 1 - m }
+        }
+    };
+    r as u32
+}
+
+/// Colour helper re-exported for callers building throughput values.
+#[inline]
+pub fn to_color(c: Vec3) -> Color {
+    rgb3(c)
+}

@@ -1,0 +1,214 @@
+//! Scene description: one merged world-space triangle mesh, materials, textures, lights,
+//! camera, environment and render settings. Produced by the glTF loader or the built-ins,
+//! consumed by the BVH and both renderers.
+
+pub mod builtin;
+pub mod camera;
+pub mod features;
+pub mod gltf_load;
+pub mod material;
+
+pub use camera::Camera;
+pub use features::Features;
+pub use material::{Material, MaterialKind, Texture, TextureRef, Wrap};
+
+use glam::{Vec2, Vec3};
+use std::path::Path;
+
+/// Render settings from `scenes[0].extras.render` (all optional in the file).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Mitsuba's meaning: 1 = emitters seen directly, 2 = direct lighting only, …
+    pub max_depth: u32,
+    /// Russian roulette starts at this depth (Mitsuba's `rr_depth`).
+    pub rr_depth: u32,
+    pub spp: u32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 512,
+            height: 512,
+            max_depth: 64,
+            rr_depth: 5,
+            spp: 64,
+        }
+    }
+}
+
+/// The largest image side we accept (a clear error beyond it, never an allocation failure).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// World-space triangle soup. All primitives of all nodes are merged (transforms applied).
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals (unit length), same length as `positions`.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex TEXCOORD_0, same length as `positions` (zeros where absent).
+    pub uvs: Vec<Vec2>,
+    /// Counter-clockwise triangles (front face = CCW seen from the outside).
+    pub indices: Vec<[u32; 3]>,
+    /// Material index per triangle.
+    pub tri_material: Vec<u32>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Vertex positions of triangle `t`.
+    #[inline]
+    pub fn tri(&self, t: usize) -> [Vec3; 3] {
+        let [a, b, c] = self.indices[t];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Area of triangle `t`.
+    pub fn area(&self, t: usize) -> f32 {
+        let [a, b, c] = self.tri(t);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Append another mesh (indices are rebased).
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.uvs.extend_from_slice(&other.uvs);
+        self.indices
+            .extend(other.indices.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        self.tri_material.extend_from_slice(&other.tri_material);
+    }
+}
+
+/// glTF `KHR_lights_punctual` lights (delta lights: reached only by NEE and light tracing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PunctualLight {
+    /// Radiant intensity per steradian (glTF "cd" used as given), times colour.
+    Point { position: Vec3, intensity: Vec3 },
+    /// `direction` is where the spot points (local −Z of its node).
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    /// `direction` is the direction light travels (local −Z of its node); irradiance in "lux".
+    Directional { direction: Vec3, irradiance: Vec3 },
+}
+
+/// A complete scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub mesh: Mesh,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub punctual_lights: Vec<PunctualLight>,
+    pub camera: Camera,
+    /// Uniform radiance of escaping rays.
+    pub environment: Vec3,
+    pub settings: RenderSettings,
+    /// Non-fatal problems found while loading (unsupported extensions, skipped primitives …).
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// Load from a path or `builtin:NAME`.
+    pub fn load(spec: &str) -> anyhow::Result<Scene> {
+        if let Some(name) = spec.strip_prefix("builtin:") {
+            builtin::load(name)
+        } else {
+            gltf_load::load_path(Path::new(spec))
+        }
+    }
+
+    /// Which material kinds, lights and effects the scene uses.
+    pub fn features(&self) -> Features {
+        features::compute(self)
+    }
+
+    /// Indices of triangles whose material emits (area lights).
+    pub fn emissive_triangles(&self) -> Vec<u32> {
+        (0..self.mesh.triangle_count() as u32)
+            .filter(|&t| {
+                let m = &self.materials[self.mesh.tri_material[t as usize] as usize];
+                m.is_emissive() && self.mesh.area(t as usize) > 0.0
+            })
+            .collect()
+    }
+
+    /// Axis-aligned bounds of all vertices (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for p in &self.mesh.positions {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        if !lo.is_finite() {
+            return (Vec3::ZERO, Vec3::ZERO);
+        }
+        (lo, hi)
+    }
+
+    /// Check invariants the renderers rely on; returns a clear error otherwise.
+    pub fn validate(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
+        let s = &self.settings;
+        ensure!(
+            s.width >= 1 && s.height >= 1 && s.width <= MAX_IMAGE_SIDE && s.height <= MAX_IMAGE_SIDE,
+            "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
+            s.width,
+            s.height
+        );
+        ensure!(s.max_depth >= 1, "max_depth must be at least 1");
+        let m = &self.mesh;
+        ensure!(
+            m.normals.len() == m.positions.len() && m.uvs.len() == m.positions.len(),
+            "mesh attribute arrays have different lengths"
+        );
+        ensure!(
+            m.tri_material.len() == m.indices.len(),
+            "mesh has {} triangles but {} material ids",
+            m.indices.len(),
+            m.tri_material.len()
+        );
+        let nv = m.positions.len() as u32;
+        for (i, t) in m.indices.iter().enumerate() {
+            ensure!(
+                t.iter().all(|&v| v < nv),
+                "triangle {i} indexes a vertex out of range"
+            );
+        }
+        for (i, &mi) in m.tri_material.iter().enumerate() {
+            ensure!(
+                (mi as usize) < self.materials.len(),
+                "triangle {i} uses missing material {mi}"
+            );
+        }
+        ensure!(
+            m.positions.iter().all(|p| p.is_finite()),
+            "mesh has non-finite vertex positions"
+        );
+        for mat in &self.materials {
+            mat.validate()?;
+        }
+        ensure!(
+            self.environment.is_finite() && self.environment.min_element() >= 0.0,
+            "environment radiance must be finite and non-negative"
+        );
+        self.camera.validate()?;
+        Ok(())
+    }
+}
