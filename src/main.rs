@@ -1,1 +1,222 @@
-fn main(){}
+//! `refract` command line: render | view | bench.
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use refract::cpu::{RenderOptions, Renderer};
+use refract::film::{self, ToneMap};
+use refract::scene::{MAX_IMAGE_SIDE, Scene};
+use std::path::PathBuf;
+use std::time::Duration;
+
+#[derive(Parser)]
+#[command(
+    name = "refract",
+    version,
+    about = "Physically based light transport: glass, mirrors, Fresnel, caustics"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene headless to .exr (linear float RGB) or .png (tone-mapped sRGB).
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args, Clone)]
+struct RenderArgs {
+    /// Scene: a .gltf/.glb path or builtin:NAME (cornell-glass, glass-slab, furnace, …).
+    #[arg(long, default_value = "builtin:cornell-glass")]
+    scene: String,
+    /// Samples per pixel (default: the scene's extras.render.spp).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Output file (.exr or .png).
+    #[arg(long, default_value = "out.exr")]
+    out: PathBuf,
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// Mitsuba semantics: 1 = emitters only, 2 = direct lighting, …
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Russian roulette start depth.
+    #[arg(long)]
+    rr_depth: Option<u32>,
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Stop after this much time (e.g. 10s, 2m, 500ms), keeping the samples done.
+    #[arg(long, value_parser = parse_duration)]
+    time_budget: Option<Duration>,
+    /// Exposure in stops for PNG output.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
+    /// Tone map for PNG output: clamp, reinhard, aces.
+    #[arg(long, default_value = "clamp")]
+    tonemap: String,
+    /// Hide the progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+fn parse_duration(s: &str) -> std::result::Result<Duration, String> {
+    let s = s.trim();
+    let (num, unit) = s
+        .find(|c: char| c.is_ascii_alphabetic())
+        .map(|i| s.split_at(i))
+        .unwrap_or((s, "s"));
+    let v: f64 = num
+        .trim()
+        .parse()
+        .map_err(|_| format!("invalid duration '{s}' (examples: 10s, 2m, 500ms)"))?;
+    if !v.is_finite() || v < 0.0 {
+        return Err(format!("invalid duration '{s}'"));
+    }
+    let secs = match unit {
+        "ms" => v / 1000.0,
+        "s" | "" => v,
+        "m" | "min" => v * 60.0,
+        "h" => v * 3600.0,
+        _ => {
+            return Err(format!(
+                "unknown time unit '{unit}' in '{s}' (use ms, s, m, h)"
+            ));
+        }
+    };
+    Ok(Duration::from_secs_f64(secs))
+}
+
+fn parse_tonemap(s: &str) -> Result<ToneMap> {
+    Ok(match s.to_ascii_lowercase().as_str() {
+        "clamp" | "none" => ToneMap::Clamp,
+        "reinhard" => ToneMap::Reinhard,
+        "aces" => ToneMap::Aces,
+        _ => bail!("unknown tone map '{s}' (use clamp, reinhard or aces)"),
+    })
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let tone = parse_tonemap(&args.tonemap)?;
+    if !args.exposure.is_finite() {
+        bail!("--exposure must be a finite number");
+    }
+    let mut scene = Scene::load(&args.scene)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    if let Some(w) = args.width {
+        scene.settings.width = w;
+    }
+    if let Some(h) = args.height {
+        scene.settings.height = h;
+    }
+    if let Some(d) = args.max_depth {
+        scene.settings.max_depth = d;
+    }
+    if let Some(r) = args.rr_depth {
+        scene.settings.rr_depth = r;
+    }
+    let s = scene.settings;
+    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
+        bail!(
+            "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
+            s.width,
+            s.height
+        );
+    }
+    let spp = args.spp.unwrap_or(s.spp);
+    if spp == 0 {
+        bail!("--spp must be at least 1");
+    }
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = args.threads {
+        if t == 0 {
+            bail!("--threads must be at least 1");
+        }
+        pool = pool.num_threads(t);
+    }
+    let pool = pool.build().context("cannot start worker threads")?;
+    let renderer = Renderer::new(scene)?;
+    let mut opts = RenderOptions::from_scene(&renderer.scene);
+    opts.seed = args.seed;
+    eprintln!(
+        "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
+        renderer.scene.name,
+        renderer.scene.mesh.triangle_count(),
+        renderer.bvh.build_time.as_secs_f64() * 1e3,
+        opts.width,
+        opts.height,
+        spp,
+        opts.max_depth
+    );
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(spp as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let (film, stats) =
+        pool.install(|| renderer.render(&opts, spp, args.time_budget, |d| bar.set_position(d)));
+    bar.finish_and_clear();
+    let pixels = opts.width as u64 * opts.height as u64;
+    film::save_image(
+        &args.out,
+        opts.width,
+        opts.height,
+        &film.image(),
+        args.exposure,
+        tone,
+    )?;
+    eprintln!(
+        "wrote {} — {} spp in {:.2} s, {:.3} M samples/s, {} NaN/Inf/negative samples dropped",
+        args.out.display(),
+        stats.spp,
+        stats.elapsed.as_secs_f64(),
+        stats.samples_per_sec(pixels) / 1e6,
+        stats.dropped
+    );
+    Ok(())
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Render(args)) => render(&args),
+        None => {
+            // Until the viewer lands: render the default scene into screenshots/.
+            let args = RenderArgs {
+                scene: "builtin:cornell-glass".into(),
+                spp: Some(64),
+                out: PathBuf::from("screenshots/cornell-glass.png"),
+                width: None,
+                height: None,
+                max_depth: None,
+                rr_depth: None,
+                seed: 0,
+                threads: None,
+                time_budget: None,
+                exposure: 0.0,
+                tonemap: "clamp".into(),
+                quiet: false,
+            };
+            eprintln!(
+                "no viewer yet: rendering the default scene to screenshots/cornell-glass.png"
+            );
+            render(&args)
+        }
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

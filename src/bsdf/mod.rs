@@ -123,6 +123,15 @@ impl Bsdf {
         }
     }
 
+    /// True if some lobe transmits (the sampled direction may cross the surface).
+    #[inline]
+    pub fn can_transmit(&self) -> bool {
+        match self {
+            Bsdf::Lambert(_) | Bsdf::Mirror(_) => false,
+            Bsdf::SmoothDielectric(_) => true,
+        }
+    }
+
     /// Heckbert class of the non-delta part for single-class BSDFs (used when a BSDF has one
     /// class only). Multi-lobe BSDFs report through [`Bsdf::eval_lobes`].
     #[inline]

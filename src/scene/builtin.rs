@@ -43,11 +43,17 @@ pub fn sphere(mesh: &mut Mesh, c: Vec3, r: f32, rings: u32, segments: u32, mater
         let theta = std::f32::consts::PI * i as f32 / rings as f32;
         for j in 0..=segments {
             let phi = 2.0 * std::f32::consts::PI * j as f32 / segments as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
             mesh.positions.push(c + r * n);
             mesh.normals.push(n);
-            mesh.uvs
-                .push(Vec2::new(j as f32 / segments as f32, i as f32 / rings as f32));
+            mesh.uvs.push(Vec2::new(
+                j as f32 / segments as f32,
+                i as f32 / rings as f32,
+            ));
         }
     }
     let w = segments + 1;
@@ -90,23 +96,69 @@ pub fn cornell_glass() -> Scene {
     ];
     let mut m = Mesh::default();
     let s = 1.0;
-    quad(&mut m, Vec3::new(-s, 0.0, -s), Vec3::Z * 2.0 * s, Vec3::X * 2.0 * s, 0); // floor
-    quad(&mut m, Vec3::new(-s, 2.0 * s, -s), Vec3::X * 2.0 * s, Vec3::Z * 2.0 * s, 0); // ceiling
-    quad(&mut m, Vec3::new(-s, 0.0, -s), Vec3::X * 2.0 * s, Vec3::Y * 2.0 * s, 0); // back
-    quad(&mut m, Vec3::new(-s, 0.0, -s), Vec3::Y * 2.0 * s, Vec3::Z * 2.0 * s, 1); // left red
-    quad(&mut m, Vec3::new(s, 0.0, -s), Vec3::Z * 2.0 * s, Vec3::Y * 2.0 * s, 2); // right green
+    quad(
+        &mut m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::Z * 2.0 * s,
+        Vec3::X * 2.0 * s,
+        0,
+    ); // floor
+    quad(
+        &mut m,
+        Vec3::new(-s, 2.0 * s, -s),
+        Vec3::X * 2.0 * s,
+        Vec3::Z * 2.0 * s,
+        0,
+    ); // ceiling
+    quad(
+        &mut m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::X * 2.0 * s,
+        Vec3::Y * 2.0 * s,
+        0,
+    ); // back
+    quad(
+        &mut m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::Y * 2.0 * s,
+        Vec3::Z * 2.0 * s,
+        1,
+    ); // left red
+    quad(
+        &mut m,
+        Vec3::new(s, 0.0, -s),
+        Vec3::Z * 2.0 * s,
+        Vec3::Y * 2.0 * s,
+        2,
+    ); // right green
     let l = 0.25;
-    quad(&mut m, Vec3::new(-l, 1.999, -l), Vec3::Z * 2.0 * l, Vec3::X * 2.0 * l, 3);
+    quad(
+        &mut m,
+        Vec3::new(-l, 1.999, -l),
+        Vec3::X * 2.0 * l,
+        Vec3::Z * 2.0 * l,
+        3,
+    );
     sphere(&mut m, Vec3::new(0.35, 0.35, 0.3), 0.35, 48, 96, 4);
     // rotate the mirror box slightly? keep axis aligned for the placeholder
-    cuboid(&mut m, Vec3::new(-0.75, 0.0, -0.6), Vec3::new(-0.2, 1.1, -0.1), 5);
+    cuboid(
+        &mut m,
+        Vec3::new(-0.75, 0.0, -0.6),
+        Vec3::new(-0.2, 1.1, -0.1),
+        5,
+    );
     Scene {
         name: "cornell-glass".into(),
         mesh: m,
         materials,
         textures: vec![],
         punctual_lights: vec![],
-        camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.9), Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0.6911),
+        camera: Camera::look_at(
+            Vec3::new(0.0, 1.0, 3.9),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            0.6911,
+        ),
         environment: Vec3::ZERO,
         settings: RenderSettings::default(),
         warnings: vec![],

@@ -1,0 +1,243 @@
+//! Bounding volume hierarchy: obvhs CWBVH build, CPU traversal with a watertight
+//! ray/triangle test, and robust ray-origin offsets.
+
+use crate::scene::Mesh;
+use glam::{Vec3, Vec3A};
+use obvhs::{BvhBuildParams, cwbvh::CwBvh, ray::Ray, ray::RayHit, triangle::Triangle};
+use std::time::{Duration, Instant};
+
+/// Triangle vertices stored in BVH leaf order (so leaf ids index this array directly).
+#[derive(Clone, Copy, Debug)]
+struct LeafTri {
+    v0: Vec3A,
+    v1: Vec3A,
+    v2: Vec3A,
+}
+
+/// A closest-hit result.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    /// Index into the scene's triangle list.
+    pub tri: u32,
+    /// Barycentric weights of v1 and v2 (v0 gets 1 − b1 − b2).
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// The acceleration structure of one scene.
+pub struct Bvh {
+    pub cwbvh: CwBvh,
+    leaf_tris: Vec<LeafTri>,
+    /// Scene triangle index for each leaf slot (= `cwbvh.primitive_indices`).
+    leaf_to_tri: Vec<u32>,
+    pub build_time: Duration,
+}
+
+/// Per-ray constants of the watertight test: Woop, Benthin & Wald 2013, "Watertight
+/// Ray/Triangle Intersection" (JCGT 2(1)), §3 (axis permutation and shear).
+#[derive(Clone, Copy)]
+struct WatertightRay {
+    org: Vec3A,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+impl WatertightRay {
+    #[inline(always)]
+    fn new(org: Vec3A, dir: Vec3A) -> Self {
+        let a = dir.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        WatertightRay {
+            org,
+            kx,
+            ky,
+            kz,
+            sx: dir[kx] / dir[kz],
+            sy: dir[ky] / dir[kz],
+            sz: 1.0 / dir[kz],
+        }
+    }
+
+    /// Returns (t, b1, b2) or None. Woop et al. 2013, algorithm of §3 (no back-face culling);
+    /// falls back to f64 edge functions when one of them is exactly zero (§3.3).
+    #[inline(always)]
+    fn intersect(&self, tri: &LeafTri, tmax: f32) -> Option<(f32, f32, f32)> {
+        let a = tri.v0 - self.org;
+        let b = tri.v1 - self.org;
+        let c = tri.v2 - self.org;
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let ax = a[kx] - self.sx * a[kz];
+        let ay = a[ky] - self.sy * a[kz];
+        let bx = b[kx] - self.sx * b[kz];
+        let by = b[ky] - self.sy * b[kz];
+        let cx = c[kx] - self.sx * c[kz];
+        let cy = c[ky] - self.sy * c[kz];
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        if u == 0.0 || v == 0.0 || w == 0.0 {
+            u = (cx as f64 * by as f64 - cy as f64 * bx as f64) as f32;
+            v = (ax as f64 * cy as f64 - ay as f64 * cx as f64) as f32;
+            w = (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+        }
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let az = self.sz * a[kz];
+        let bz = self.sz * b[kz];
+        let cz = self.sz * c[kz];
+        let t_scaled = u * az + v * bz + w * cz;
+        let inv = 1.0 / det;
+        let t = t_scaled * inv;
+        if !(t > 0.0 && t < tmax) {
+            return None;
+        }
+        Some((t, v * inv, w * inv))
+    }
+}
+
+impl Bvh {
+    /// Build a CWBVH over the mesh's triangles.
+    pub fn build(mesh: &Mesh) -> Bvh {
+        let start = Instant::now();
+        let tris: Vec<Triangle> = (0..mesh.triangle_count())
+            .map(|t| {
+                let [a, b, c] = mesh.tri(t);
+                Triangle {
+                    v0: a.into(),
+                    v1: b.into(),
+                    v2: c.into(),
+                }
+            })
+            .collect();
+        let mut core = Duration::ZERO;
+        let cwbvh = if tris.is_empty() {
+            CwBvh::default()
+        } else {
+            obvhs::cwbvh::builder::build_cwbvh_from_tris(
+                &tris,
+                BvhBuildParams::medium_build(),
+                &mut core,
+            )
+        };
+        let leaf_to_tri = cwbvh.primitive_indices.clone();
+        let leaf_tris = leaf_to_tri
+            .iter()
+            .map(|&i| {
+                let t = &tris[i as usize];
+                LeafTri {
+                    v0: t.v0,
+                    v1: t.v1,
+                    v2: t.v2,
+                }
+            })
+            .collect();
+        Bvh {
+            cwbvh,
+            leaf_tris,
+            leaf_to_tri,
+            build_time: start.elapsed(),
+        }
+    }
+
+    /// Closest hit along `origin + t·dir` for t in (0, tmax).
+    #[inline]
+    pub fn intersect(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<Hit> {
+        if self.leaf_tris.is_empty() {
+            return None;
+        }
+        let o: Vec3A = origin.into();
+        let d: Vec3A = dir.into();
+        let wr = WatertightRay::new(o, d);
+        let ray = Ray::new(o, d, 0.0, tmax);
+        let mut hit = RayHit::none();
+        let (mut b1, mut b2) = (0.0f32, 0.0f32);
+        let leaf_tris = &self.leaf_tris;
+        self.cwbvh.ray_traverse(ray, &mut hit, |r, id| {
+            match wr.intersect(&leaf_tris[id], r.tmax) {
+                Some((t, u, v)) => {
+                    b1 = u;
+                    b2 = v;
+                    t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        if hit.t < tmax && hit.primitive_id != obvhs::ray::INVALID_ID {
+            Some(Hit {
+                t: hit.t,
+                tri: self.leaf_to_tri[hit.primitive_id as usize],
+                b1,
+                b2,
+            })
+        } else {
+            None
+        }
+    }
+
+    /// True if anything is hit along `origin + t·dir` for t in (0, tmax).
+    #[inline]
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, tmax: f32) -> bool {
+        if self.leaf_tris.is_empty() {
+            return false;
+        }
+        let o: Vec3A = origin.into();
+        let d: Vec3A = dir.into();
+        let wr = WatertightRay::new(o, d);
+        let ray = Ray::new(o, d, 0.0, tmax);
+        let leaf_tris = &self.leaf_tris;
+        !self
+            .cwbvh
+            .ray_traverse_miss(ray, |r, id| match wr.intersect(&leaf_tris[id], r.tmax) {
+                Some((t, _, _)) => t,
+                None => f32::INFINITY,
+            })
+    }
+}
+
+/// Offset a ray origin off a surface along the geometric normal `n` (pointing to the side
+/// the ray leaves towards), by a few ULPs of the position's magnitude so that it works at any
+/// scene scale. Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
+/// Self-Intersection", Ray Tracing Gems ch. 6, listing 6-1.
+#[inline]
+pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+    const ORIGIN: f32 = 1.0 / 32.0;
+    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    const INT_SCALE: f32 = 256.0;
+    let off = |p: f32, n: f32| -> f32 {
+        let of_i = (INT_SCALE * n) as i32;
+        let bits = p.to_bits() as i32;
+        let moved = if p < 0.0 {
+            bits.wrapping_sub(of_i)
+        } else {
+            bits.wrapping_add(of_i)
+        };
+        let pi = f32::from_bits(moved as u32);
+        if p.abs() < ORIGIN {
+            p + FLOAT_SCALE * n
+        } else {
+            pi
+        }
+    };
+    Vec3::new(off(p.x, n.x), off(p.y, n.y), off(p.z, n.z))
+}
