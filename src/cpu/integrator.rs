@@ -143,10 +143,10 @@ impl<'a> Integrator<'a> {
             let frame = Frame::from_normal(ns);
             let wo_w = -d;
             let wo = frame.to_local(wo_w);
-            let uc = sampler.next();
-            let u2 = sampler.next2();
-            let ul = sampler.next();
-            let ul2 = sampler.next2();
+            let uc = sampler.next_1d();
+            let u2 = sampler.next_2d();
+            let ul = sampler.next_1d();
+            let ul2 = sampler.next_2d();
 
             // Next-event estimation.
             if !bsdf.is_delta() && !self.lights.is_empty() {
@@ -188,7 +188,7 @@ impl<'a> Integrator<'a> {
             // Russian roulette (Mitsuba 3 `path`: q = min(max(β)·η², 0.95) from rr_depth).
             if depth >= self.rr_depth {
                 let q = (beta.max_element() * eta_scale).min(0.95);
-                if q <= 0.0 || sampler.next() >= q {
+                if q <= 0.0 || sampler.next_1d() >= q {
                     break;
                 }
                 beta /= q;

@@ -90,7 +90,7 @@ impl Renderer {
                     let pixel = y as u32 * w + x as u32;
                     for s in first_spp..first_spp + count {
                         let mut sampler = Sampler::new(pixel, s, seed);
-                        let j = sampler.next2();
+                        let j = sampler.next_2d();
                         let sx = (x as f32 + j.x) / w as f32;
                         let sy = (y as f32 + j.y) / h as f32;
                         let dir = cam.ray_dir(sx, sy, aspect);
@@ -128,11 +128,10 @@ impl Renderer {
             self.render_pass(opts, &mut film, done, n);
             done += n;
             progress(done as u64);
-            if let Some(b) = budget {
-                if start.elapsed() >= b {
+            if let Some(b) = budget
+                && start.elapsed() >= b {
                     break;
                 }
-            }
         }
         let stats = RenderStats {
             spp: film.spp,

@@ -49,7 +49,7 @@ impl Sampler {
 
     /// Next uniform float in [0, 1).
     #[inline(always)]
-    pub fn next(&mut self) -> f32 {
+    pub fn next_1d(&mut self) -> f32 {
         let d = self.dim;
         self.dim += 1;
         u32_to_unit_f32(pcg_hash(self.base ^ pcg_hash(d.wrapping_add(0x9e37_79b9))))
@@ -57,9 +57,9 @@ impl Sampler {
 
     /// Two uniform floats.
     #[inline(always)]
-    pub fn next2(&mut self) -> glam::Vec2 {
-        let a = self.next();
-        let b = self.next();
+    pub fn next_2d(&mut self) -> glam::Vec2 {
+        let a = self.next_1d();
+        let b = self.next_1d();
         glam::Vec2::new(a, b)
     }
 }
@@ -82,7 +82,7 @@ mod tests {
         let n = 200_000;
         let (mut m, mut m2) = (0.0f64, 0.0f64);
         for _ in 0..n {
-            let x = s.next() as f64;
+            let x = s.next_1d() as f64;
             assert!((0.0..1.0).contains(&x));
             m += x;
             m2 += x * x;
@@ -96,10 +96,10 @@ mod tests {
 
     #[test]
     fn streams_differ() {
-        let a = Sampler::new(1, 0, 0).next();
-        let b = Sampler::new(2, 0, 0).next();
-        let c = Sampler::new(1, 1, 0).next();
-        let d = Sampler::new(1, 0, 1).next();
+        let a = Sampler::new(1, 0, 0).next_1d();
+        let b = Sampler::new(2, 0, 0).next_1d();
+        let c = Sampler::new(1, 1, 0).next_1d();
+        let d = Sampler::new(1, 0, 1).next_1d();
         assert!(a != b && a != c && a != d);
     }
 }
