@@ -4,4 +4,5 @@
 
 pub mod bsdf;
 pub mod math;
+pub mod paths;
 pub mod scene;
