@@ -7,4 +7,5 @@ pub mod bvh;
 pub mod cpu;
 pub mod film;
 pub mod math;
+pub mod paths;
 pub mod scene;
