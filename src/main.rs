@@ -61,6 +61,10 @@ struct RenderArgs {
     /// Tone map for PNG output: clamp, reinhard, aces.
     #[arg(long, default_value = "clamp")]
     tonemap: String,
+    /// Heckbert path filter over L, D, G, S, E read light→eye, e.g. 'LS+DE' (caustics),
+    /// 'LDE' (direct diffuse lighting); empty = all paths.
+    #[arg(long, default_value = "")]
+    paths: String,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
@@ -146,6 +150,11 @@ fn render(args: &RenderArgs) -> Result<()> {
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.seed = args.seed;
+    let filter = refract::paths::PathFilter::parse(&args.paths)
+        .map_err(|e| anyhow::anyhow!("invalid --paths '{}': {e}", args.paths))?;
+    if !filter.is_accept_all() {
+        opts.filter = Some(*filter.reversed());
+    }
     eprintln!(
         "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
         renderer.scene.name,
@@ -207,6 +216,7 @@ fn main() {
                 time_budget: None,
                 exposure: 0.0,
                 tonemap: "clamp".into(),
+                paths: String::new(),
                 quiet: false,
             };
             eprintln!(

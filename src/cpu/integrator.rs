@@ -7,6 +7,7 @@ use crate::bsdf::{Bsdf, BxDF, Event, TransportMode};
 use crate::bvh::{Bvh, offset_ray_origin};
 use crate::math::sampling::power_heuristic;
 use crate::math::{Color, Frame, rgb3, rng::Sampler};
+use crate::paths::{DfaTable, Symbol};
 use crate::scene::light::{LightRef, LightSet, sample_triangle, spot_falloff};
 use crate::scene::{MaterialKind, PunctualLight, Scene};
 use glam::{Vec2, Vec3};
@@ -32,6 +33,15 @@ pub struct Integrator<'a> {
     pub lights: &'a LightSet,
     pub max_depth: u32,
     pub rr_depth: u32,
+    /// Heckbert path filter in eye→light order (`PathFilter::reversed`); None = all paths.
+    pub filter: Option<&'a DfaTable>,
+}
+
+/// Which Heckbert classes a next-event connection may use at a vertex (D, G).
+#[derive(Clone, Copy)]
+struct ClassMask {
+    d: bool,
+    g: bool,
 }
 
 impl<'a> Integrator<'a> {
@@ -83,6 +93,24 @@ impl<'a> Integrator<'a> {
         p_pick / area * hit.t * hit.t / cos_l
     }
 
+    /// DFA state after `sym` (0 when unfiltered).
+    #[inline]
+    fn step(&self, q: u32, sym: Symbol) -> u32 {
+        match self.filter {
+            Some(f) => f.step(q, sym),
+            None => 0,
+        }
+    }
+
+    /// Does a path in state `q` that now reaches a light count?
+    #[inline]
+    fn accepts_light(&self, q: u32) -> bool {
+        match self.filter {
+            Some(f) => f.is_accepting(f.step(q, Symbol::L)),
+            None => true,
+        }
+    }
+
     /// Radiance along the camera ray (origin, dir) — one path sample, RGB.
     pub fn li(&self, origin: Vec3, dir: Vec3, sampler: &mut Sampler) -> Vec3 {
         let scene = self.scene;
@@ -96,10 +124,14 @@ impl<'a> Integrator<'a> {
         // Absorbing medium the ray travels in (material index), if any.
         let mut medium: Option<u32> = None;
         let mut depth: u32 = 0;
+        // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
+        let mut q = self.step(self.filter.map_or(0, |f| f.start()), Symbol::E);
         loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
                 // Escaped: uniform environment (not light-sampled, so MIS weight 1).
-                l += beta * rgb3(scene.environment);
+                if self.accepts_light(q) {
+                    l += beta * rgb3(scene.environment);
+                }
                 break;
             };
             let hit = self.surface(&h);
@@ -114,7 +146,7 @@ impl<'a> Integrator<'a> {
             let front = d.dot(hit.ng) < 0.0;
 
             // Emission (one-sided unless doubleSided).
-            if mat.is_emissive() && (front || mat.double_sided) {
+            if mat.is_emissive() && (front || mat.double_sided) && self.accepts_light(q) {
                 let w = if prev_delta {
                     1.0
                 } else {
@@ -150,7 +182,13 @@ impl<'a> Integrator<'a> {
 
             // Next-event estimation.
             if !bsdf.is_delta() && !self.lights.is_empty() {
-                l += beta * self.sample_light(&hit, ng, &frame, wo, wo_w, &bsdf, ul, ul2);
+                let mask = ClassMask {
+                    d: self.accepts_light(self.step(q, Symbol::D)),
+                    g: self.accepts_light(self.step(q, Symbol::G)),
+                };
+                if mask.d || mask.g {
+                    l += beta * self.sample_light(&hit, ng, &frame, wo, wo_w, &bsdf, ul, ul2, mask);
+                }
             }
 
             // BSDF sampling.
@@ -166,6 +204,12 @@ impl<'a> Integrator<'a> {
             };
             if !consistent || !s.weight.is_finite() {
                 break;
+            }
+            if let Some(f) = self.filter {
+                q = f.step(q, Symbol::from(s.lobe));
+                if !f.can_reach_accept(q) {
+                    break; // nothing this path can still reach counts
+                }
             }
             beta *= s.weight;
             if s.event == Event::Transmit {
@@ -211,6 +255,7 @@ impl<'a> Integrator<'a> {
         bsdf: &Bsdf,
         ul: f32,
         ul2: Vec2,
+        mask: ClassMask,
     ) -> Color {
         let scene = self.scene;
         let Some((light, p_pick)) = self.lights.pick(ul) else {
@@ -283,7 +328,12 @@ impl<'a> Integrator<'a> {
         };
         let side_i = wi_w.dot(ng);
         let wi = frame.to_local(wi_w);
-        let f = bsdf.eval(wo, wi, TransportMode::Radiance);
+        let f = if mask.d && mask.g {
+            bsdf.eval(wo, wi, TransportMode::Radiance)
+        } else {
+            let lv = bsdf.eval_lobes(wo, wi, TransportMode::Radiance);
+            (if mask.d { lv.d } else { Color::ZERO }) + (if mask.g { lv.g } else { Color::ZERO })
+        };
         // Reflection must stay on the geometric side of wo; transmission must cross it.
         if side_i == 0.0 || f.max_element() <= 0.0 {
             return Color::ZERO;

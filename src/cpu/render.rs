@@ -17,6 +17,8 @@ pub struct RenderOptions {
     pub max_depth: u32,
     pub rr_depth: u32,
     pub seed: u32,
+    /// Heckbert path filter (eye→light table); None = all paths.
+    pub filter: Option<crate::paths::DfaTable>,
 }
 
 impl RenderOptions {
@@ -28,6 +30,7 @@ impl RenderOptions {
             max_depth: s.max_depth,
             rr_depth: s.rr_depth,
             seed: 0,
+            filter: None,
         }
     }
 }
@@ -63,13 +66,14 @@ impl Renderer {
         Ok(Renderer { scene, bvh, lights })
     }
 
-    pub fn integrator(&self, opts: &RenderOptions) -> Integrator<'_> {
+    pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
         Integrator {
             scene: &self.scene,
             bvh: &self.bvh,
             lights: &self.lights,
             max_depth: opts.max_depth.max(1),
             rr_depth: opts.rr_depth,
+            filter: opts.filter.as_ref(),
         }
     }
 
@@ -129,9 +133,10 @@ impl Renderer {
             done += n;
             progress(done as u64);
             if let Some(b) = budget
-                && start.elapsed() >= b {
-                    break;
-                }
+                && start.elapsed() >= b
+            {
+                break;
+            }
         }
         let stats = RenderStats {
             spp: film.spp,
