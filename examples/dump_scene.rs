@@ -1,0 +1,62 @@
+//! Development tool: dump a scene (after loading) as OBJ meshes per material plus a JSON
+//! description, so `tools/mitsuba_ref.py` can render the same scene in Mitsuba 3.
+//! Usage: cargo run --release --example dump_scene -- builtin:cornell-glass /tmp/dump
+
+use refract::scene::{MaterialKind, Scene};
+use std::fmt::Write as _;
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    anyhow::ensure!(args.len() == 3, "usage: dump_scene <scene> <out-dir>");
+    let scene = Scene::load(&args[1])?;
+    let dir = std::path::Path::new(&args[2]);
+    std::fs::create_dir_all(dir)?;
+    let mut mats = Vec::new();
+    for (mi, m) in scene.materials.iter().enumerate() {
+        let tris: Vec<usize> = (0..scene.mesh.triangle_count())
+            .filter(|&t| scene.mesh.tri_material[t] as usize == mi)
+            .collect();
+        if tris.is_empty() {
+            continue;
+        }
+        let mut obj = String::new();
+        for &t in &tris {
+            for &v in &scene.mesh.indices[t] {
+                let p = scene.mesh.positions[v as usize];
+                let n = scene.mesh.normals[v as usize];
+                writeln!(obj, "v {} {} {}", p.x, p.y, p.z)?;
+                writeln!(obj, "vn {} {} {}", n.x, n.y, n.z)?;
+            }
+        }
+        for (k, _) in tris.iter().enumerate() {
+            let b = 3 * k + 1;
+            writeln!(obj, "f {}//{} {}//{} {}//{}", b, b, b + 1, b + 1, b + 2, b + 2)?;
+        }
+        let file = format!("mat{mi}.obj");
+        std::fs::write(dir.join(&file), obj)?;
+        let kind = match m.kind {
+            MaterialKind::Diffuse | MaterialKind::MetalRough => "diffuse",
+            MaterialKind::Mirror => "mirror",
+            MaterialKind::GlossyMetal => "glossy",
+            MaterialKind::Glass => "glass",
+            MaterialKind::ThinGlass => "thin",
+        };
+        mats.push(serde_json::json!({
+            "file": file, "kind": kind, "name": m.name,
+            "base_color": m.base_color.to_array(), "ior": m.ior, "roughness": m.roughness,
+            "distribution": m.distribution, "emission": m.emission.to_array(),
+            "double_sided": m.double_sided,
+        }));
+    }
+    let c = scene.camera;
+    let json = serde_json::json!({
+        "materials": mats,
+        "camera": { "position": c.position.to_array(), "forward": c.forward().to_array(),
+                    "up": c.rotation.y_axis.to_array(), "yfov": c.yfov },
+        "environment": scene.environment.to_array(),
+        "settings": scene.settings,
+    });
+    std::fs::write(dir.join("scene.json"), serde_json::to_string_pretty(&json)?)?;
+    eprintln!("wrote {}", dir.display());
+    Ok(())
+}
