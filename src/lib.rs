@@ -2,6 +2,7 @@
 //! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
 //! `scene`, `bvh`, `film`, then the renderers (`cpu`), then the CLI.
 
+pub mod bench;
 pub mod bsdf;
 pub mod bvh;
 pub mod cpu;

@@ -24,6 +24,36 @@ struct Cli {
 enum Command {
     /// Render a scene headless to .exr (linear float RGB) or .png (tone-mapped sRGB).
     Render(RenderArgs),
+    /// Run time against error: CSV, PNG plot and Markdown table per scene.
+    Bench(BenchArgs),
+}
+
+#[derive(clap::Args, Clone)]
+struct BenchArgs {
+    /// Scenes (paths or builtin:NAME); default: every built-in scene.
+    #[arg(long, num_args = 1..)]
+    scenes: Vec<String>,
+    /// Time budget of each measured run.
+    #[arg(long, default_value = "20s", value_parser = parse_duration)]
+    budget: Duration,
+    /// Output folder for bench.csv, bench.png, bench.md.
+    #[arg(long, default_value = "bench")]
+    out: PathBuf,
+    #[arg(long, default_value_t = 128)]
+    width: u32,
+    #[arg(long, default_value_t = 128)]
+    height: u32,
+    /// Samples per pixel of the cached reference.
+    #[arg(long, default_value_t = 4096)]
+    ref_spp: u32,
+    /// Reference cache folder.
+    #[arg(long, default_value = "target/bench-cache")]
+    cache: PathBuf,
+    /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
+    #[arg(long)]
+    quick: bool,
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 #[derive(clap::Args, Clone)]
@@ -197,10 +227,60 @@ fn render(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+fn bench(args: &BenchArgs) -> Result<()> {
+    if args.quick {
+        let spec = args
+            .scenes
+            .first()
+            .cloned()
+            .unwrap_or_else(|| "builtin:cornell-glass".into());
+        print!("{}", refract::bench::quick(&spec)?);
+        return Ok(());
+    }
+    for (n, v) in [("width", args.width), ("height", args.height)] {
+        if v == 0 || v > MAX_IMAGE_SIDE {
+            bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
+        }
+    }
+    if args.ref_spp < 2 {
+        bail!("--ref-spp must be at least 2 (two independent halves)");
+    }
+    let scenes = if args.scenes.is_empty() {
+        refract::scene::builtin::NAMES
+            .iter()
+            .map(|n| format!("builtin:{n}"))
+            .collect()
+    } else {
+        args.scenes.clone()
+    };
+    let opts = refract::bench::BenchOptions {
+        scenes,
+        budget: args.budget,
+        out: args.out.clone(),
+        width: args.width,
+        height: args.height,
+        ref_spp: args.ref_spp,
+        cache_dir: args.cache.clone(),
+    };
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = args.threads.filter(|&t| t > 0) {
+        pool = pool.num_threads(t);
+    }
+    let pool = pool.build().context("cannot start worker threads")?;
+    let table = pool.install(|| refract::bench::run(&opts))?;
+    println!("{table}");
+    eprintln!(
+        "wrote {0}/bench.csv, {0}/bench.png, {0}/bench.md",
+        args.out.display()
+    );
+    Ok(())
+}
+
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Bench(args)) => bench(&args),
         None => {
             // Until the viewer lands: render the default scene into screenshots/.
             let args = RenderArgs {

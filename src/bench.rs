@@ -1,0 +1,441 @@
+//! `refract bench`: run time against error. For each scene a high-spp reference is rendered
+//! once (two independent halves, cached by scene hash and renderer version), then the renderer
+//! runs progressively and records wall time, samples/s and error at powers-of-two spp.
+//! Error metrics: relative MSE mean((x − ref)² / (ref² + 1e-2)) over pixels and channels,
+//! RMSE, and the luminance ratio; the halves' disagreement gives the reference's noise floor.
+
+use crate::cpu::{RenderOptions, Renderer};
+use crate::film::{self, Film};
+use crate::scene::Scene;
+use anyhow::{Context, Result};
+use glam::Vec3;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Bump when a change alters rendered images (invalidates cached references).
+pub const RENDERER_VERSION: u32 = 1;
+
+/// Seeds of the reference halves and of the measured runs (all different streams).
+const REF_SEEDS: [u32; 2] = [0x5eed_0001, 0x5eed_0002];
+const RUN_SEED: u32 = 0x0bad_cafe;
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scenes: Vec<String>,
+    /// Time budget of the measured run per scene and device.
+    pub budget: Duration,
+    pub out: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel of the reference (split over two halves).
+    pub ref_spp: u32,
+    pub cache_dir: PathBuf,
+}
+
+/// One point of an error-vs-time curve.
+#[derive(Clone, Debug)]
+pub struct BenchPoint {
+    pub scene: String,
+    pub device: String,
+    pub estimator: String,
+    pub spp: u64,
+    pub seconds: f64,
+    pub samples_per_sec: f64,
+    pub rel_mse: f64,
+    pub rmse: f64,
+    pub lum_ratio: f64,
+}
+
+/// Per-scene summary for the Markdown table.
+#[derive(Clone, Debug)]
+pub struct BenchSummary {
+    pub scene: String,
+    pub device: String,
+    pub estimator: String,
+    pub samples_per_sec: f64,
+    pub t_rel_01: Option<f64>,
+    pub t_rel_001: Option<f64>,
+    pub ref_noise: f64,
+    pub ref_spp: u32,
+}
+
+/// Relative MSE: mean over pixels and channels of (x − ref)² / (ref² + 1e-2).
+pub fn rel_mse(x: &[Vec3], reference: &[Vec3]) -> f64 {
+    let mut s = 0.0f64;
+    for (a, r) in x.iter().zip(reference) {
+        for k in 0..3 {
+            let (a, r) = (a[k] as f64, r[k] as f64);
+            s += (a - r) * (a - r) / (r * r + 1e-2);
+        }
+    }
+    s / (3 * x.len().max(1)) as f64
+}
+
+/// Root mean squared error over pixels and channels.
+pub fn rmse(x: &[Vec3], reference: &[Vec3]) -> f64 {
+    let mut s = 0.0f64;
+    for (a, r) in x.iter().zip(reference) {
+        s += (*a - *r).as_dvec3().length_squared();
+    }
+    (s / (3 * x.len().max(1)) as f64).sqrt()
+}
+
+fn mean_luminance(x: &[Vec3]) -> f64 {
+    x.iter()
+        .map(|p| crate::scene::light::luminance(*p) as f64)
+        .sum::<f64>()
+        / x.len().max(1) as f64
+}
+
+/// FNV-1a 64-bit hash (stable across runs, unlike std's SipHash keys).
+fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
+    for b in bytes {
+        h ^= *b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
+    let mut h = fnv1a(spec.as_bytes(), 0xcbf2_9ce4_8422_2325);
+    if !spec.starts_with("builtin:") {
+        if let Ok(bytes) = std::fs::read(spec) {
+            h = fnv1a(&bytes, h);
+        }
+    }
+    let meta = format!(
+        "{}x{} d{} rr{} spp{} v{}",
+        opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION
+    );
+    fnv1a(meta.as_bytes(), h)
+}
+
+/// Render (or load from the cache) the two reference halves.
+fn reference(
+    r: &Renderer,
+    spec: &str,
+    opts: &RenderOptions,
+    o: &BenchOptions,
+) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
+    let h = scene_hash(spec, opts, o.ref_spp);
+    std::fs::create_dir_all(&o.cache_dir)
+        .with_context(|| format!("cannot create cache folder '{}'", o.cache_dir.display()))?;
+    let paths: Vec<PathBuf> = (0..2)
+        .map(|i| o.cache_dir.join(format!("ref-{h:016x}-{i}.exr")))
+        .collect();
+    let mut halves = Vec::new();
+    for (i, p) in paths.iter().enumerate() {
+        if let Ok((w, hh, img)) = film::load_exr(p) {
+            if w == opts.width && hh == opts.height {
+                halves.push(img);
+                continue;
+            }
+        }
+        let mut ro = *opts;
+        ro.seed = REF_SEEDS[i];
+        eprintln!(
+            "  reference half {} of {spec}: {} spp at {}x{} …",
+            i + 1,
+            o.ref_spp / 2,
+            opts.width,
+            opts.height
+        );
+        let (f, _) = r.render(&ro, (o.ref_spp / 2).max(1), None, |_| {});
+        let img = f.image();
+        film::save_image(p, opts.width, opts.height, &img, 0.0, film::ToneMap::Clamp)?;
+        halves.push(img);
+    }
+    let b = halves.pop().unwrap_or_default();
+    let a = halves.pop().unwrap_or_default();
+    Ok((a, b))
+}
+
+/// Run the benchmark for one scene on the CPU renderer.
+pub fn bench_scene_cpu(spec: &str, o: &BenchOptions) -> Result<(Vec<BenchPoint>, BenchSummary)> {
+    let mut scene = Scene::load(spec)?;
+    scene.settings.width = o.width;
+    scene.settings.height = o.height;
+    let r = Renderer::new(scene)?;
+    let mut opts = RenderOptions::from_scene(&r.scene);
+    let (a, b) = reference(&r, spec, &opts, o)?;
+    let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
+    // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
+    let ref_noise = rel_mse(&a, &b) / 4.0;
+    opts.seed = RUN_SEED;
+    let pixels = (opts.width * opts.height) as f64;
+    let mut film = Film::new(opts.width, opts.height);
+    let mut points = Vec::new();
+    let start = Instant::now();
+    let mut next_record = 1u64;
+    let mut done = 0u64;
+    while start.elapsed() < o.budget || done < 1 {
+        let n = (next_record - done) as u32;
+        r.render_pass(&opts, &mut film, done as u32, n);
+        done = next_record;
+        let secs = start.elapsed().as_secs_f64();
+        let img = film.image();
+        points.push(BenchPoint {
+            scene: spec.to_string(),
+            device: "cpu".into(),
+            estimator: "path".into(),
+            spp: done,
+            seconds: secs,
+            samples_per_sec: done as f64 * pixels / secs.max(1e-9),
+            rel_mse: rel_mse(&img, &reference),
+            rmse: rmse(&img, &reference),
+            lum_ratio: mean_luminance(&img) / mean_luminance(&reference).max(1e-12),
+        });
+        next_record *= 2;
+        if done >= 1 << 20 {
+            break;
+        }
+    }
+    let sps = points.last().map(|p| p.samples_per_sec).unwrap_or(0.0);
+    let summary = BenchSummary {
+        scene: spec.to_string(),
+        device: "cpu".into(),
+        estimator: "path".into(),
+        samples_per_sec: sps,
+        t_rel_01: time_to(&points, 0.01),
+        t_rel_001: time_to(&points, 0.001),
+        ref_noise,
+        ref_spp: o.ref_spp,
+    };
+    Ok((points, summary))
+}
+
+/// Time at which the curve first reaches `target` (log-log interpolation between points).
+pub fn time_to(points: &[BenchPoint], target: f64) -> Option<f64> {
+    for w in points.windows(2) {
+        let (p, q) = (&w[0], &w[1]);
+        if p.rel_mse <= target {
+            return Some(p.seconds);
+        }
+        if q.rel_mse <= target && p.rel_mse > 0.0 && q.rel_mse > 0.0 {
+            let (lt0, lt1) = (p.seconds.ln(), q.seconds.ln());
+            let (le0, le1) = (p.rel_mse.ln(), q.rel_mse.ln());
+            let f = (target.ln() - le0) / (le1 - le0);
+            return Some((lt0 + f * (lt1 - lt0)).exp());
+        }
+    }
+    match points {
+        [p] if p.rel_mse <= target => Some(p.seconds),
+        _ => None,
+    }
+}
+
+pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
+    let mut s =
+        String::from("scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio\n");
+    for p in points {
+        writeln!(
+            s,
+            "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6}",
+            p.scene,
+            p.device,
+            p.estimator,
+            p.spp,
+            p.seconds,
+            p.samples_per_sec,
+            p.rel_mse,
+            p.rmse,
+            p.lum_ratio
+        )?;
+    }
+    std::fs::write(path, s).with_context(|| format!("cannot write '{}'", path.display()))
+}
+
+pub fn markdown_table(summaries: &[BenchSummary]) -> String {
+    let fmt_t = |t: Option<f64>| t.map_or("not reached".to_string(), |t| format!("{t:.2} s"));
+    let mut s = String::from(
+        "| scene | device | estimator | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE) |\n|---|---|---|---|---|---|---|\n",
+    );
+    for m in summaries {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.3} | {} | {} | {:.1e} ({} spp) |",
+            m.scene,
+            m.device,
+            m.estimator,
+            m.samples_per_sec / 1e6,
+            fmt_t(m.t_rel_01),
+            fmt_t(m.t_rel_001),
+            m.ref_noise,
+            m.ref_spp
+        );
+    }
+    s
+}
+
+/// Log-log plot of relMSE against time, one curve per scene/device/estimator.
+pub fn plot(path: &Path, points: &[BenchPoint]) -> Result<()> {
+    use plotters::prelude::*;
+    use plotters::style::{FontStyle, register_font};
+    // Register the font egui ships (no system fonts needed).
+    let _ = register_font(
+        "sans-serif",
+        FontStyle::Normal,
+        epaint_default_fonts::UBUNTU_LIGHT,
+    );
+    let (w, h) = (900u32, 600u32);
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+        let finite: Vec<&BenchPoint> = points
+            .iter()
+            .filter(|p| p.rel_mse > 0.0 && p.seconds > 0.0)
+            .collect();
+        anyhow::ensure!(!finite.is_empty(), "nothing to plot");
+        let (t0, t1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+            (a.min(p.seconds), b.max(p.seconds))
+        });
+        let (e0, e1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+            (a.min(p.rel_mse), b.max(p.rel_mse))
+        });
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "refract bench: relative MSE against run time",
+                ("sans-serif", 22),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d(
+                (t0 * 0.8..t1 * 1.25).log_scale(),
+                (e0 * 0.5..e1 * 2.0).log_scale(),
+            )
+            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc("seconds")
+            .y_desc("relMSE")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+        let mut keys: Vec<(String, String, String)> = finite
+            .iter()
+            .map(|p| (p.scene.clone(), p.device.clone(), p.estimator.clone()))
+            .collect();
+        keys.dedup();
+        for (i, k) in keys.iter().enumerate() {
+            let color = Palette99::pick(i).to_rgba();
+            let series: Vec<(f64, f64)> = finite
+                .iter()
+                .filter(|p| (&p.scene, &p.device, &p.estimator) == (&k.0, &k.1, &k.2))
+                .map(|p| (p.seconds, p.rel_mse))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(series.clone(), color.stroke_width(2)))
+                .map_err(|e| anyhow::anyhow!("plot: {e}"))?
+                .label(format!("{} {} {}", k.0, k.1, k.2))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+            chart
+                .draw_series(
+                    series
+                        .iter()
+                        .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
+                )
+                .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+        root.present().map_err(|e| anyhow::anyhow!("plot: {e}"))?;
+    }
+    let img = image::RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
+    img.save(path)
+        .with_context(|| format!("cannot write '{}'", path.display()))
+}
+
+/// Run everything and write `bench.csv`, `bench.png` and `bench.md` into `o.out`.
+pub fn run(o: &BenchOptions) -> Result<String> {
+    std::fs::create_dir_all(&o.out)
+        .with_context(|| format!("cannot create '{}'", o.out.display()))?;
+    let mut all = Vec::new();
+    let mut sums = Vec::new();
+    for spec in &o.scenes {
+        eprintln!("bench {spec} (cpu, path) …");
+        let (pts, sum) = bench_scene_cpu(spec, o)?;
+        all.extend(pts);
+        sums.push(sum);
+    }
+    write_csv(&o.out.join("bench.csv"), &all)?;
+    plot(&o.out.join("bench.png"), &all)?;
+    let table = markdown_table(&sums);
+    std::fs::write(o.out.join("bench.md"), &table)
+        .with_context(|| format!("cannot write '{}'", o.out.join("bench.md").display()))?;
+    Ok(table)
+}
+
+/// `refract bench --quick`: micro-benchmarks of BVH traversal and BSDF sampling on one core.
+pub fn quick(spec: &str) -> Result<String> {
+    use crate::bsdf::{BxDF, TransportMode};
+    use crate::math::{rng::Sampler, sampling};
+    let scene = Scene::load(spec)?;
+    let r = Renderer::new(scene)?;
+    let (lo, hi) = r.scene.bounds();
+    let n = 400_000u32;
+    let mut s = Sampler::new(0, 0, 1);
+    let rays: Vec<(Vec3, Vec3)> = (0..n)
+        .map(|_| {
+            let u = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d());
+            let o = lo + (hi - lo) * (0.1 + 0.8 * u);
+            (o, sampling::uniform_sphere(s.next_2d()))
+        })
+        .collect();
+    let t = Instant::now();
+    let mut hits = 0u32;
+    for (o, d) in &rays {
+        hits += r.bvh.intersect(*o, *d, f32::INFINITY).is_some() as u32;
+    }
+    let closest = n as f64 / t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut occl = 0u32;
+    for (o, d) in &rays {
+        occl += r.bvh.occluded(*o, *d, 1.0) as u32;
+    }
+    let shadow = n as f64 / t.elapsed().as_secs_f64();
+    let mut out = format!(
+        "BVH ({} triangles, built in {:.1} ms): {:.2} M closest-hit rays/s, {:.2} M shadow rays/s (1 core, incoherent; {hits} hits, {occl} occluded)\n",
+        r.scene.mesh.triangle_count(),
+        r.bvh.build_time.as_secs_f64() * 1e3,
+        closest / 1e6,
+        shadow / 1e6
+    );
+    let bsdfs: Vec<(&str, crate::bsdf::Bsdf)> = vec![
+        (
+            "lambert",
+            crate::bsdf::Bsdf::Lambert(crate::bsdf::Lambert {
+                albedo: Vec3::splat(0.8).extend(0.0),
+            }),
+        ),
+        (
+            "smooth dielectric",
+            crate::bsdf::Bsdf::SmoothDielectric(crate::bsdf::SmoothDielectric { eta: 1.5 }),
+        ),
+    ];
+    for (name, b) in bsdfs {
+        let m = 2_000_000u32;
+        let mut s = Sampler::new(1, 0, 2);
+        let t = Instant::now();
+        let mut acc = 0.0f32;
+        for _ in 0..m {
+            let wo = sampling::cosine_hemisphere(s.next_2d());
+            if let Some(x) = b.sample(wo, s.next_1d(), s.next_2d(), TransportMode::Radiance) {
+                acc += x.weight.x;
+            }
+        }
+        let ns = t.elapsed().as_secs_f64() * 1e9 / m as f64;
+        let _ = writeln!(
+            out,
+            "BSDF sample {name}: {ns:.1} ns/sample (checksum {acc:.1})"
+        );
+    }
+    Ok(out)
+}
