@@ -99,11 +99,10 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 
 fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
     let mut h = fnv1a(spec.as_bytes(), 0xcbf2_9ce4_8422_2325);
-    if !spec.starts_with("builtin:") {
-        if let Ok(bytes) = std::fs::read(spec) {
+    if !spec.starts_with("builtin:")
+        && let Ok(bytes) = std::fs::read(spec) {
             h = fnv1a(&bytes, h);
         }
-    }
     let meta = format!(
         "{}x{} d{} rr{} spp{} v{}",
         opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION
@@ -126,12 +125,11 @@ fn reference(
         .collect();
     let mut halves = Vec::new();
     for (i, p) in paths.iter().enumerate() {
-        if let Ok((w, hh, img)) = film::load_exr(p) {
-            if w == opts.width && hh == opts.height {
+        if let Ok((w, hh, img)) = film::load_exr(p)
+            && w == opts.width && hh == opts.height {
                 halves.push(img);
                 continue;
             }
-        }
         let mut ro = *opts;
         ro.seed = REF_SEEDS[i];
         eprintln!(
