@@ -100,9 +100,10 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
     let mut h = fnv1a(spec.as_bytes(), 0xcbf2_9ce4_8422_2325);
     if !spec.starts_with("builtin:")
-        && let Ok(bytes) = std::fs::read(spec) {
-            h = fnv1a(&bytes, h);
-        }
+        && let Ok(bytes) = std::fs::read(spec)
+    {
+        h = fnv1a(&bytes, h);
+    }
     let meta = format!(
         "{}x{} d{} rr{} spp{} v{}",
         opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION
@@ -126,10 +127,12 @@ fn reference(
     let mut halves = Vec::new();
     for (i, p) in paths.iter().enumerate() {
         if let Ok((w, hh, img)) = film::load_exr(p)
-            && w == opts.width && hh == opts.height {
-                halves.push(img);
-                continue;
-            }
+            && w == opts.width
+            && hh == opts.height
+        {
+            halves.push(img);
+            continue;
+        }
         let mut ro = *opts;
         ro.seed = REF_SEEDS[i];
         eprintln!(

@@ -202,7 +202,12 @@ impl<'a> Integrator<'a> {
                 Event::Reflect => side_o * side_i > 0.0,
                 Event::Transmit => side_o * side_i < 0.0,
             };
-            if !consistent || !s.weight.is_finite() {
+            if !s.weight.is_finite() {
+                // A broken BSDF value: poison the sample so the film's firewall drops and
+                // counts it instead of silently biasing the image.
+                return Vec3::NAN;
+            }
+            if !consistent {
                 break;
             }
             if let Some(f) = self.filter {
