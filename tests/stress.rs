@@ -194,10 +194,10 @@ fn grazing_exit_and_extreme_ior_furnace() {
                     (y as f32 + 0.5) / o.height as f32,
                     1.0,
                 );
-                if let Some(h) = r.bvh.intersect(r.scene.camera.position, d, f32::INFINITY) {
-                    if integ.surface(&h).ng.dot(d).abs() < 0.3 {
-                        rim.push(img[(y * o.width + x) as usize]);
-                    }
+                if let Some(h) = r.bvh.intersect(r.scene.camera.position, d, f32::INFINITY)
+                    && integ.surface(&h).ng.dot(d).abs() < 0.3
+                {
+                    rim.push(img[(y * o.width + x) as usize]);
                 }
             }
         }
@@ -289,7 +289,7 @@ fn nan_injection() {
     );
     assert!(stats.dropped > 0, "NaN samples were not counted");
     // Pixels that miss the cube see the environment and stay exactly 1.
-    assert!(img.iter().any(|p| *p == Vec3::ONE));
+    assert!(img.contains(&Vec3::ONE));
 }
 
 /// index_matched: a glass sphere of IOR 1 is invisible: 8×8 blocks agree with the empty scene
