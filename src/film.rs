@@ -155,6 +155,21 @@ pub fn to_srgb8(img: &[Vec3], exposure: f32, tone: ToneMap) -> Vec<u8> {
     out
 }
 
+/// Check that `path` names a format we can write (call before rendering).
+pub fn check_output_path(path: &Path) -> anyhow::Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    anyhow::ensure!(
+        ext == "exr" || ext == "png",
+        "unsupported output format '{}': use .exr (linear) or .png (sRGB)",
+        path.display()
+    );
+    Ok(())
+}
+
 /// Write `img` (linear radiance) to `path`: `.exr` = linear float RGB, `.png` = tone-mapped sRGB.
 pub fn save_image(
     path: &Path,

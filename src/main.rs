@@ -138,6 +138,7 @@ fn parse_tonemap(s: &str) -> Result<ToneMap> {
 
 fn render(args: &RenderArgs) -> Result<()> {
     let tone = parse_tonemap(&args.tonemap)?;
+    film::check_output_path(&args.out)?;
     if !args.exposure.is_finite() {
         bail!("--exposure must be a finite number");
     }

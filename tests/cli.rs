@@ -1,0 +1,68 @@
+//! The command line: clear one-line errors with a non-zero exit code, and working output files.
+
+use std::process::Command;
+
+fn refract(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_refract"))
+        .args(args)
+        .output()
+        .expect("run refract");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> String {
+    let d = std::env::temp_dir().join(format!("refract-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d.join(name).display().to_string()
+}
+
+#[test]
+fn errors_are_one_clear_line() {
+    let out = tmp("x.exr");
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "--scene", "/nonexistent/scene.glb", "--out", &out], "cannot read"),
+        (&["render", "--scene", "builtin:nope", "--out", &out], "unknown built-in"),
+        (&["render", "--width", "0", "--out", &out], "out of range"),
+        (&["render", "--width", "100000", "--height", "100000", "--out", &out], "out of range"),
+        (&["render", "--spp", "0", "--out", &out], "spp"),
+        (&["render", "--spp", "1", "--width", "4", "--height", "4", "--out", "/tmp/x.bmp"], "unsupported output format"),
+        (&["render", "--tonemap", "sepia", "--out", &out], "tone map"),
+        (&["render", "--threads", "0", "--out", &out], "threads"),
+    ];
+    for (args, needle) in cases {
+        let (ok, _, err) = refract(args);
+        assert!(!ok, "{args:?} should fail");
+        let line = err.trim();
+        assert!(line.starts_with("error:"), "{args:?}: {line}");
+        assert_eq!(line.lines().count(), 1, "{args:?}: not one line: {line}");
+        assert!(line.contains(needle), "{args:?}: '{line}' lacks '{needle}'");
+        assert!(!line.contains("panicked"), "{args:?} panicked");
+    }
+    // clap's own argument errors exit non-zero without a panic
+    let (ok, _, err) = refract(&["render", "--time-budget", "ten seconds"]);
+    assert!(!ok && err.contains("invalid duration"), "{err}");
+}
+
+#[test]
+fn render_writes_exr_and_png() {
+    let exr = tmp("c.exr");
+    let png = tmp("c.png");
+    for out in [&exr, &png] {
+        let (ok, _, err) = refract(&[
+            "render", "--scene", "builtin:cornell-glass", "--spp", "2", "--width", "24",
+            "--height", "16", "--out", out, "--quiet",
+        ]);
+        assert!(ok, "{err}");
+        assert!(err.contains("samples/s") && err.contains("dropped"), "{err}");
+    }
+    let (w, h, img) = refract::film::load_exr(std::path::Path::new(&exr)).expect("read exr");
+    assert_eq!((w, h), (24, 16));
+    let mean: f32 = img.iter().map(|p| p.y).sum::<f32>() / img.len() as f32;
+    assert!(mean > 0.01 && mean.is_finite(), "mean radiance {mean}");
+    let png_img = image::open(&png).expect("read png").into_rgb8();
+    assert_eq!(png_img.dimensions(), (24, 16));
+}
