@@ -3,7 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::{Estimator, RenderOptions, Renderer};
 use refract::film::{self, ToneMap};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
@@ -95,6 +95,10 @@ struct RenderArgs {
     /// 'LDE' (direct diffuse lighting); empty = all paths.
     #[arg(long, default_value = "")]
     paths: String,
+    /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
+    /// strategies), lt (pure light tracing).
+    #[arg(long, default_value = "path")]
+    estimator: Estimator,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
@@ -183,8 +187,13 @@ fn render(args: &RenderArgs) -> Result<()> {
     opts.seed = args.seed;
     let filter = refract::paths::PathFilter::parse(&args.paths)
         .map_err(|e| anyhow::anyhow!("invalid --paths '{}': {e}", args.paths))?;
-    if !filter.is_accept_all() {
-        opts.filter = Some(*filter.reversed());
+    Renderer::set_filter(&mut opts, Some(&filter));
+    opts.estimator = args.estimator;
+    if opts.estimator != Estimator::Path && renderer.scene.features().dispersion {
+        eprintln!(
+            "warning: {:?} does not support dispersion yet; using the path tracer",
+            opts.estimator
+        );
     }
     eprintln!(
         "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
@@ -298,6 +307,7 @@ fn main() {
                 exposure: 0.0,
                 tonemap: "clamp".into(),
                 paths: String::new(),
+                estimator: Estimator::Path,
                 quiet: false,
             };
             eprintln!(

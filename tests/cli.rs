@@ -24,12 +24,36 @@ fn tmp(name: &str) -> String {
 fn errors_are_one_clear_line() {
     let out = tmp("x.exr");
     let cases: &[(&[&str], &str)] = &[
-        (&["render", "--scene", "/nonexistent/scene.glb", "--out", &out], "cannot read"),
-        (&["render", "--scene", "builtin:nope", "--out", &out], "unknown built-in"),
+        (
+            &["render", "--scene", "/nonexistent/scene.glb", "--out", &out],
+            "cannot read",
+        ),
+        (
+            &["render", "--scene", "builtin:nope", "--out", &out],
+            "unknown built-in",
+        ),
         (&["render", "--width", "0", "--out", &out], "out of range"),
-        (&["render", "--width", "100000", "--height", "100000", "--out", &out], "out of range"),
+        (
+            &[
+                "render", "--width", "100000", "--height", "100000", "--out", &out,
+            ],
+            "out of range",
+        ),
         (&["render", "--spp", "0", "--out", &out], "spp"),
-        (&["render", "--spp", "1", "--width", "4", "--height", "4", "--out", "/tmp/x.bmp"], "unsupported output format"),
+        (
+            &[
+                "render",
+                "--spp",
+                "1",
+                "--width",
+                "4",
+                "--height",
+                "4",
+                "--out",
+                "/tmp/x.bmp",
+            ],
+            "unsupported output format",
+        ),
         (&["render", "--tonemap", "sepia", "--out", &out], "tone map"),
         (&["render", "--threads", "0", "--out", &out], "threads"),
     ];
@@ -53,11 +77,24 @@ fn render_writes_exr_and_png() {
     let png = tmp("c.png");
     for out in [&exr, &png] {
         let (ok, _, err) = refract(&[
-            "render", "--scene", "builtin:cornell-glass", "--spp", "2", "--width", "24",
-            "--height", "16", "--out", out, "--quiet",
+            "render",
+            "--scene",
+            "builtin:cornell-glass",
+            "--spp",
+            "2",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--out",
+            out,
+            "--quiet",
         ]);
         assert!(ok, "{err}");
-        assert!(err.contains("samples/s") && err.contains("dropped"), "{err}");
+        assert!(
+            err.contains("samples/s") && err.contains("dropped"),
+            "{err}"
+        );
     }
     let (w, h, img) = refract::film::load_exr(std::path::Path::new(&exr)).expect("read exr");
     assert_eq!((w, h), (24, 16));

@@ -1,8 +1,9 @@
 //! The CPU reference renderer (rayon over rows): path tracing with next-event estimation and
 //! multiple importance sampling.
 
+pub mod bdpt;
 pub mod integrator;
 pub mod render;
 
 pub use integrator::{Integrator, SurfaceHit};
-pub use render::{RenderOptions, RenderStats, Renderer};
+pub use render::{Estimator, RenderOptions, RenderStats, Renderer};

@@ -9,6 +9,31 @@ use crate::scene::{Scene, light::LightSet};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
+/// Light-transport estimator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Estimator {
+    /// Unidirectional path tracing with NEE + MIS.
+    #[default]
+    Path,
+    /// Bidirectional path tracing, MIS over all strategies (incl. light-tracing splats).
+    Bdpt,
+    /// Pure light tracing (light subpaths connected to the camera only).
+    Lt,
+}
+
+impl std::str::FromStr for Estimator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "path" | "pt" => Ok(Estimator::Path),
+            "bdpt" => Ok(Estimator::Bdpt),
+            "lt" | "light" => Ok(Estimator::Lt),
+            _ => Err(format!("unknown estimator '{s}' (use path, bdpt or lt)")),
+        }
+    }
+}
+
 /// Per-render options (overrides of the scene's settings are applied by the caller).
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
@@ -19,6 +44,9 @@ pub struct RenderOptions {
     pub seed: u32,
     /// Heckbert path filter (eye→light table); None = all paths.
     pub filter: Option<crate::paths::DfaTable>,
+    /// The same filter in light→eye order (bidirectional estimators).
+    pub filter_forward: Option<crate::paths::DfaTable>,
+    pub estimator: Estimator,
 }
 
 impl RenderOptions {
@@ -31,6 +59,8 @@ impl RenderOptions {
             rr_depth: s.rr_depth,
             seed: 0,
             filter: None,
+            filter_forward: None,
+            estimator: Estimator::Path,
         }
     }
 }
@@ -77,8 +107,25 @@ impl Renderer {
         }
     }
 
+    /// Set both directions of a Heckbert filter (None or an accept-all filter = no filter).
+    pub fn set_filter(opts: &mut RenderOptions, f: Option<&crate::paths::PathFilter>) {
+        match f {
+            Some(f) if !f.is_accept_all() => {
+                opts.filter = Some(*f.reversed());
+                opts.filter_forward = Some(*f.forward());
+            }
+            _ => {
+                opts.filter = None;
+                opts.filter_forward = None;
+            }
+        }
+    }
+
     /// Add samples `first_spp .. first_spp + count` to every pixel of `film`.
     pub fn render_pass(&self, opts: &RenderOptions, film: &mut Film, first_spp: u32, count: u32) {
+        if opts.estimator != Estimator::Path && !self.scene.features().dispersion {
+            return self.render_pass_bdpt(opts, film, first_spp, count);
+        }
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
         let aspect = w as f32 / h as f32;
@@ -107,6 +154,73 @@ impl Renderer {
                 dropped
             })
             .sum();
+        let _ = h;
+        film.spp += count as u64;
+        film.dropped += dropped;
+    }
+
+    /// Bidirectional / light-tracing pass: camera contributions per pixel, light-tracing
+    /// splats into a shared buffer of atomically added f64 values, then folded into the film.
+    fn render_pass_bdpt(&self, opts: &RenderOptions, film: &mut Film, first_spp: u32, count: u32) {
+        use super::bdpt::{Bdpt, BdptMode};
+        use std::sync::atomic::{AtomicU64, Ordering};
+        let integ = self.integrator(opts);
+        let mode = if opts.estimator == Estimator::Lt {
+            BdptMode::LightTracing
+        } else {
+            BdptMode::Full
+        };
+        let (w, h) = (opts.width, opts.height);
+        let bd = Bdpt::new(&integ, mode, opts.filter_forward.as_ref(), w, h);
+        let splats: Vec<AtomicU64> = (0..(w as usize * h as usize * 3))
+            .map(|_| AtomicU64::new(0f64.to_bits()))
+            .collect();
+        let add = |i: usize, v: f64| {
+            let a = &splats[i];
+            let mut cur = a.load(Ordering::Relaxed);
+            loop {
+                let new = (f64::from_bits(cur) + v).to_bits();
+                match a.compare_exchange_weak(cur, new, Ordering::Relaxed, Ordering::Relaxed) {
+                    Ok(_) => break,
+                    Err(x) => cur = x,
+                }
+            }
+        };
+        let seed = opts.seed;
+        let dropped: u64 = film
+            .sums_mut()
+            .par_chunks_mut(w as usize)
+            .enumerate()
+            .map(|(y, row)| {
+                let mut dropped = 0u64;
+                for (x, px) in row.iter_mut().enumerate() {
+                    let pixel = y as u32 * w + x as u32;
+                    for s in first_spp..first_spp + count {
+                        let mut sampler = Sampler::new(pixel, s, seed);
+                        let mut bad_splat = false;
+                        let v = bd.sample(x as u32, y as u32, &mut sampler, &mut |sx, sy, v| {
+                            if crate::film::sample_is_valid(v) {
+                                let i = 3 * (sy as usize * w as usize + sx as usize);
+                                add(i, v.x as f64);
+                                add(i + 1, v.y as f64);
+                                add(i + 2, v.z as f64);
+                            } else {
+                                bad_splat = true;
+                            }
+                        });
+                        if !Film::add_to(px, v) || bad_splat {
+                            dropped += 1;
+                        }
+                    }
+                }
+                dropped
+            })
+            .sum();
+        for (i, px) in film.sums_mut().iter_mut().enumerate() {
+            for k in 0..3 {
+                px[k] += f64::from_bits(splats[3 * i + k].load(Ordering::Relaxed));
+            }
+        }
         let _ = h;
         film.spp += count as u64;
         film.dropped += dropped;
