@@ -83,7 +83,7 @@ pub fn cie_xyz_cmf(lambda_nm: f32) -> Vec3 {
 
 /// ∫ cmf(λ) dλ over [360, 830] nm of [`cie_xyz_cmf`] (midpoint rule, 0.005 nm steps, f64;
 /// checked by `tests/spectrum.rs`). Used to normalise the spectrum → RGB estimator.
-pub const CIE_CMF_INTEGRAL: Vec3 = Vec3::new(106.765_82, 106.922_07, 106.875_0);
+pub const CIE_CMF_INTEGRAL: Vec3 = Vec3::new(106.765_82, 106.922_07, 106.875);
 
 /// CIE XYZ → linear sRGB (Rec.709 primaries, D65 white).
 /// IEC 61966-2-1:1999, §5.2 (matrix with 4-decimal coefficients).
