@@ -43,7 +43,8 @@ impl BxDF for SmoothDielectric {
             });
         }
         let fr = fresnel_dielectric_terms(wo.z, self.eta);
-        if uc < fr.f {
+        // TIR (F = 1) must reflect even for uc = 1.0 (the same sin²θt ≥ 1 test decides both).
+        if uc < fr.f || fr.f >= 1.0 {
             // Specular reflection (includes TIR, where F = 1).
             return Some(BsdfSample {
                 wi: Vec3::new(-wo.x, -wo.y, wo.z),

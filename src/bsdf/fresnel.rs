@@ -19,6 +19,15 @@ pub struct FresnelTerms {
     pub eta_rel: f32,
 }
 
+/// cos²θt of the refracted direction for |cos θi| = `cos_i` and relative IOR `eta_rel`:
+/// cos²θt = 1 − sin²θi/η'² = (cos²θi + (η' − 1)(η' + 1)) / η'² (Snell, PBR 4th ed. §9.3.2),
+/// written without the cancellation of 1 − sin²θi (grazing angles, η' ≈ 1): exact for η' = 1.
+/// TIR when the result is ≤ 0 (sin²θt ≥ 1): Fresnel and `refract` share this one test.
+#[inline]
+pub fn cos2_transmitted(cos_i: f32, eta_rel: f32) -> f32 {
+    (cos_i * cos_i + (eta_rel - 1.0) * (eta_rel + 1.0)) / (eta_rel * eta_rel)
+}
+
 /// Exact unpolarised dielectric Fresnel with r∥ and r⊥.
 /// Hecht, "Optics" 5th ed. §4.6.2 (Fresnel equations); PBR 4th ed. §9.3.5 (`FrDielectric`).
 /// `cos_i` is the signed cosine of the incident direction with the normal; negative means the
@@ -32,9 +41,8 @@ pub fn fresnel_dielectric_terms(cos_i: f32, eta: f32) -> FresnelTerms {
         eta_rel = 1.0 / eta;
         cos_i = -cos_i;
     }
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta_rel * eta_rel);
-    if sin2_t >= 1.0 {
+    let cos2_t = cos2_transmitted(cos_i, eta_rel);
+    if cos2_t <= 0.0 {
         return FresnelTerms {
             r_par: 1.0,
             r_perp: 1.0,
@@ -43,7 +51,7 @@ pub fn fresnel_dielectric_terms(cos_i: f32, eta: f32) -> FresnelTerms {
             eta_rel,
         };
     }
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+    let cos_t = cos2_t.sqrt();
     let r_par = (eta_rel * cos_i - cos_t) / (eta_rel * cos_i + cos_t);
     let r_perp = (cos_i - eta_rel * cos_t) / (cos_i + eta_rel * cos_t);
     FresnelTerms {
@@ -74,12 +82,11 @@ pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
 #[inline]
 pub fn refract(wi: Vec3, n: Vec3, eta_rel: f32) -> Option<Vec3> {
     let cos_i = n.dot(wi);
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta_rel * eta_rel);
-    if sin2_t >= 1.0 {
+    let cos2_t = cos2_transmitted(cos_i.min(1.0), eta_rel);
+    if cos2_t <= 0.0 {
         return None;
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    let cos_t = cos2_t.sqrt();
     Some(-wi / eta_rel + (cos_i / eta_rel - cos_t) * n)
 }
 

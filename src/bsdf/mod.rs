@@ -13,6 +13,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod thin;
 
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -20,6 +21,7 @@ use glam::{Vec2, Vec3};
 pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
+pub use thin::ThinDielectric;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,6 +113,7 @@ pub enum Bsdf {
     Lambert(Lambert),
     Mirror(Mirror),
     SmoothDielectric(SmoothDielectric),
+    ThinDielectric(ThinDielectric),
 }
 
 impl Bsdf {
@@ -119,7 +122,7 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         match self {
             Bsdf::Lambert(_) => false,
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) => true,
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => true,
         }
     }
 
@@ -138,7 +141,7 @@ impl Bsdf {
     pub fn class(&self) -> Lobe {
         match self {
             Bsdf::Lambert(_) => Lobe::D,
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) => Lobe::S,
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => Lobe::S,
         }
     }
 
@@ -166,6 +169,7 @@ impl BxDF for Bsdf {
             Bsdf::Lambert(b) => b.eval(wo, wi, mode),
             Bsdf::Mirror(b) => b.eval(wo, wi, mode),
             Bsdf::SmoothDielectric(b) => b.eval(wo, wi, mode),
+            Bsdf::ThinDielectric(b) => b.eval(wo, wi, mode),
         }
     }
     #[inline]
@@ -174,6 +178,7 @@ impl BxDF for Bsdf {
             Bsdf::Lambert(b) => b.pdf(wo, wi),
             Bsdf::Mirror(b) => b.pdf(wo, wi),
             Bsdf::SmoothDielectric(b) => b.pdf(wo, wi),
+            Bsdf::ThinDielectric(b) => b.pdf(wo, wi),
         }
     }
     #[inline]
@@ -182,6 +187,7 @@ impl BxDF for Bsdf {
             Bsdf::Lambert(b) => b.sample(wo, uc, u2, mode),
             Bsdf::Mirror(b) => b.sample(wo, uc, u2, mode),
             Bsdf::SmoothDielectric(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::ThinDielectric(b) => b.sample(wo, uc, u2, mode),
         }
     }
 }

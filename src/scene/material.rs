@@ -217,9 +217,9 @@ impl Material {
             MaterialKind::Mirror => Bsdf::Mirror(bsdf::Mirror {
                 reflectance: rgb3(base),
             }),
-            MaterialKind::Glass | MaterialKind::ThinGlass => {
-                Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta })
-            }
+            MaterialKind::Glass => Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta }),
+            // Thin-walled (glTF transmission without volume): two interfaces, no bending.
+            MaterialKind::ThinGlass => Bsdf::ThinDielectric(bsdf::ThinDielectric { eta }),
             _ => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
         }
     }
