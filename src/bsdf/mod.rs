@@ -131,7 +131,7 @@ impl Bsdf {
     pub fn can_transmit(&self) -> bool {
         match self {
             Bsdf::Lambert(_) | Bsdf::Mirror(_) => false,
-            Bsdf::SmoothDielectric(_) => true,
+            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => true,
         }
     }
 
