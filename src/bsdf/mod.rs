@@ -126,6 +126,20 @@ impl Bsdf {
         }
     }
 
+    /// Apply `f` to every colour parameter (RGB → the path's spectral lanes).
+    #[inline]
+    pub fn map_colors(self, f: impl Fn(Color) -> Color) -> Bsdf {
+        match self {
+            Bsdf::Lambert(b) => Bsdf::Lambert(Lambert {
+                albedo: f(b.albedo),
+            }),
+            Bsdf::Mirror(b) => Bsdf::Mirror(Mirror {
+                reflectance: f(b.reflectance),
+            }),
+            other => other,
+        }
+    }
+
     /// True if some lobe transmits (the sampled direction may cross the surface).
     #[inline]
     pub fn can_transmit(&self) -> bool {

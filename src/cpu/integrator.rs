@@ -35,6 +35,25 @@ pub struct Integrator<'a> {
     pub rr_depth: u32,
     /// Heckbert path filter in eye→light order (`PathFilter::reversed`); None = all paths.
     pub filter: Option<&'a DfaTable>,
+    /// Hero-wavelength spectral transport (only scenes with a dispersive material pay for it).
+    pub spectral: bool,
+}
+
+/// Colour representation of one path: RGB, or four hero wavelengths (dispersive scenes).
+#[derive(Clone, Copy, Debug)]
+pub struct Spectral {
+    pub lambdas: Option<[f32; 4]>,
+}
+
+impl Spectral {
+    /// RGB parameter → the path's colour lanes (smooth uplift in spectral mode).
+    #[inline]
+    pub fn c(&self, rgb: Vec3) -> Color {
+        match self.lambdas {
+            Some(l) => crate::math::spectrum::rgb_to_spectrum4(rgb, l),
+            None => rgb3(rgb),
+        }
+    }
 }
 
 /// Which Heckbert classes a next-event connection may use at a vertex (D, G).
@@ -114,6 +133,17 @@ impl<'a> Integrator<'a> {
     /// Radiance along the camera ray (origin, dir) — one path sample, RGB.
     pub fn li(&self, origin: Vec3, dir: Vec3, sampler: &mut Sampler) -> Vec3 {
         let scene = self.scene;
+        // Hero wavelength sampling, Wilkie et al. 2014, "Hero Wavelength Spectral Sampling".
+        let sp = Spectral {
+            lambdas: if self.spectral {
+                Some(crate::math::spectrum::sample_hero_wavelengths(
+                    sampler.next_1d(),
+                ))
+            } else {
+                None
+            },
+        };
+        let mut collapsed = false;
         let mut l = Color::ZERO;
         let mut beta = Color::ONE;
         let mut o = origin;
@@ -130,16 +160,25 @@ impl<'a> Integrator<'a> {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
                 // Escaped: uniform environment (not light-sampled, so MIS weight 1).
                 if self.accepts_light(q) {
-                    l += beta * rgb3(scene.environment);
+                    l += beta * sp.c(scene.environment);
                 }
                 break;
             };
             let hit = self.surface(&h);
             if let Some(m) = medium {
-                let sa = scene.materials[m as usize].sigma_a();
-                if sa != Vec3::ZERO {
-                    // Beer–Lambert: T = exp(−σ_a t). Glassner 1995, §12; glTF KHR_materials_volume.
-                    beta *= rgb3((-sa * hit.t).exp());
+                let mm = &scene.materials[m as usize];
+                if mm.has_absorption() {
+                    // Beer–Lambert: T = exp(−σ_a t), σ_a = −ln(c)/d (glTF KHR_materials_volume).
+                    let sa = match sp.lambdas {
+                        Some(_) => {
+                            let c = sp.c(mm.attenuation_color).max(Color::splat(1e-6));
+                            -Color::new(c.x.ln(), c.y.ln(), c.z.ln(), c.w.ln())
+                                / mm.attenuation_distance
+                        }
+                        None => rgb3(mm.sigma_a()),
+                    };
+                    let tr = -sa * hit.t;
+                    beta *= Color::new(tr.x.exp(), tr.y.exp(), tr.z.exp(), tr.w.exp());
                 }
             }
             let mat = &scene.materials[hit.material as usize];
@@ -152,7 +191,7 @@ impl<'a> Integrator<'a> {
                 } else {
                     power_heuristic(prev_pdf, self.light_pdf(&hit, d))
                 };
-                l += beta * rgb3(mat.emission) * w;
+                l += beta * sp.c(mat.emission) * w;
             }
             if depth + 1 >= self.max_depth {
                 break;
@@ -171,7 +210,21 @@ impl<'a> Integrator<'a> {
             if mat.is_emissive() && mat.base_color == Vec3::ZERO {
                 break; // emitters are black surfaces otherwise
             }
-            let bsdf = mat.bsdf(&scene.textures, hit.uv, mat.ior);
+            let dispersive = sp.lambdas.is_some() && mat.abbe.is_some() && transmissive;
+            let eta = match sp.lambdas {
+                Some(l) if dispersive => mat.ior_at(l[0]),
+                _ => mat.ior,
+            };
+            if dispersive && !collapsed {
+                // Wavelength-dependent refraction: only the hero wavelength can follow this
+                // direction. Keep lane 0 (×4: it now carries the whole estimate), drop the rest.
+                beta = Color::new(4.0 * beta.x, 0.0, 0.0, 0.0);
+                collapsed = true;
+            }
+            let mut bsdf = mat.bsdf(&scene.textures, hit.uv, eta);
+            if sp.lambdas.is_some() {
+                bsdf = bsdf.map_colors(|c| sp.c(c.truncate()));
+            }
             let frame = Frame::from_normal(ns);
             let wo_w = -d;
             let wo = frame.to_local(wo_w);
@@ -187,7 +240,8 @@ impl<'a> Integrator<'a> {
                     g: self.accepts_light(self.step(q, Symbol::G)),
                 };
                 if mask.d || mask.g {
-                    l += beta * self.sample_light(&hit, ng, &frame, wo, wo_w, &bsdf, ul, ul2, mask);
+                    l += beta
+                        * self.sample_light(&hit, ng, &frame, wo, wo_w, &bsdf, ul, ul2, mask, &sp);
                 }
             }
 
@@ -245,7 +299,10 @@ impl<'a> Integrator<'a> {
                 break;
             }
         }
-        l.truncate()
+        match sp.lambdas {
+            Some(lambdas) => crate::math::spectrum::spectrum_sample_to_rgb(lambdas, l),
+            None => l.truncate(),
+        }
     }
 
     /// One next-event estimate at `hit` (without the path throughput), MIS-weighted.
@@ -261,6 +318,7 @@ impl<'a> Integrator<'a> {
         ul: f32,
         ul2: Vec2,
         mask: ClassMask,
+        sp: &Spectral,
     ) -> Color {
         let scene = self.scene;
         let Some((light, p_pick)) = self.lights.pick(ul) else {
@@ -288,7 +346,7 @@ impl<'a> Integrator<'a> {
                     return Color::ZERO;
                 }
                 let pdf = p_pick / area * dist2 / cos_l;
-                (wi, rgb3(m.emission), pdf, false, to, 1.0, Some(nl))
+                (wi, sp.c(m.emission), pdf, false, to, 1.0, Some(nl))
             }
             LightRef::Punctual(i) => match scene.punctual_lights[i as usize] {
                 PunctualLight::Point {
@@ -301,7 +359,7 @@ impl<'a> Integrator<'a> {
                         return Color::ZERO;
                     }
                     let wi = to / d2.sqrt();
-                    (wi, rgb3(intensity / d2), p_pick, true, to, 1.0, None)
+                    (wi, sp.c(intensity / d2), p_pick, true, to, 1.0, None)
                 }
                 PunctualLight::Spot {
                     position,
@@ -320,14 +378,14 @@ impl<'a> Integrator<'a> {
                     if fall <= 0.0 {
                         return Color::ZERO;
                     }
-                    (wi, rgb3(intensity * fall / d2), p_pick, true, to, 1.0, None)
+                    (wi, sp.c(intensity * fall / d2), p_pick, true, to, 1.0, None)
                 }
                 PunctualLight::Directional {
                     direction,
                     irradiance,
                 } => {
                     let wi = -direction;
-                    (wi, rgb3(irradiance), p_pick, true, wi, f32::INFINITY, None)
+                    (wi, sp.c(irradiance), p_pick, true, wi, f32::INFINITY, None)
                 }
             },
         };

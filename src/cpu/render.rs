@@ -85,6 +85,8 @@ pub struct Renderer {
     pub scene: Scene,
     pub bvh: Bvh,
     pub lights: LightSet,
+    /// The scene has a dispersive material: paths carry hero wavelengths.
+    pub spectral: bool,
 }
 
 impl Renderer {
@@ -93,7 +95,13 @@ impl Renderer {
         scene.validate()?;
         let bvh = Bvh::build(&scene.mesh);
         let lights = LightSet::build(&scene);
-        Ok(Renderer { scene, bvh, lights })
+        let spectral = scene.features().dispersion;
+        Ok(Renderer {
+            scene,
+            bvh,
+            lights,
+            spectral,
+        })
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
@@ -104,6 +112,7 @@ impl Renderer {
             max_depth: opts.max_depth.max(1),
             rr_depth: opts.rr_depth,
             filter: opts.filter.as_ref(),
+            spectral: self.spectral,
         }
     }
 

@@ -55,6 +55,19 @@ impl Sampler {
         u32_to_unit_f32(pcg_hash(self.base ^ pcg_hash(d.wrapping_add(0x9e37_79b9))))
     }
 
+    /// Alias of [`Sampler::next_1d`] (kept for callers written before the rename).
+    #[allow(clippy::should_implement_trait)]
+    #[inline(always)]
+    pub fn next(&mut self) -> f32 {
+        self.next_1d()
+    }
+
+    /// Alias of [`Sampler::next_2d`].
+    #[inline(always)]
+    pub fn next2(&mut self) -> glam::Vec2 {
+        self.next_2d()
+    }
+
     /// Two uniform floats.
     #[inline(always)]
     pub fn next_2d(&mut self) -> glam::Vec2 {
