@@ -171,10 +171,11 @@ pub fn save_image(
         .map(|e| e.to_ascii_lowercase())
         .unwrap_or_default();
     if let Some(dir) = path.parent()
-        && !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
-        }
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
+    }
     match ext.as_str() {
         "exr" => {
             let data: Vec<f32> = img.iter().flat_map(|p| [p.x, p.y, p.z]).collect();

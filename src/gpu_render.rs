@@ -71,7 +71,14 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) 
     let img = r.render_with(spp, args.time_budget, |d| bar.set_position(d))?;
     bar.finish_and_clear();
     let stats = r.stats()?;
-    film::save_image(&args.out, img.width, img.height, &img.mean, args.exposure, tone)?;
+    film::save_image(
+        &args.out,
+        img.width,
+        img.height,
+        &img.mean,
+        args.exposure,
+        tone,
+    )?;
     eprintln!(
         "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),

@@ -60,7 +60,10 @@ fn bvh_repack_leaf_order() {
         assert_eq!(bvh.primitive_indices[slot] as usize, st);
         assert_eq!(bvh.slot_of_tri[st] as usize, slot);
         let [a, b, c] = scene.mesh.tri(st);
-        assert_eq!([t.p0, t.p1, t.p2], [a.to_array(), b.to_array(), c.to_array()]);
+        assert_eq!(
+            [t.p0, t.p1, t.p2],
+            [a.to_array(), b.to_array(), c.to_array()]
+        );
         assert!(!std::mem::replace(&mut seen[st], true));
     }
     assert!(bvh.depth <= upload::MAX_BVH_DEPTH);
@@ -104,7 +107,10 @@ fn kernel_and_rng_parity() {
                     let wi = Vec3::new(-0.3, 0.4, 0.866).normalize();
                     for iu in 0..4 {
                         let uc = (iu as f32 + 0.37) / 4.0;
-                        let u2 = [(iu as f32 * 0.29 + 0.11) % 1.0, (iu as f32 * 0.61 + 0.05) % 1.0];
+                        let u2 = [
+                            (iu as f32 * 0.29 + 0.11) % 1.0,
+                            (iu as f32 * 0.61 + 0.05) % 1.0,
+                        ];
                         cases.push(ProbeCase {
                             wo: wo.to_array(),
                             uc,
@@ -149,13 +155,20 @@ fn kernel_and_rng_parity() {
         }
         // Fresnel and refraction.
         let fr = fresnel_dielectric_terms(wo.z, c.eta);
-        for (k, v) in [fr.r_par, fr.r_perp, fr.f, fr.cos_t].into_iter().enumerate() {
+        for (k, v) in [fr.r_par, fr.r_perp, fr.f, fr.cos_t]
+            .into_iter()
+            .enumerate()
+        {
             track(o.fresnel[k], v, "fresnel", c);
         }
         track(o.eta_rel, fr.eta_rel, "eta_rel", c);
         let n = if wo.z < 0.0 { -Vec3::Z } else { Vec3::Z };
         let r = refract(wo, n, fr.eta_rel);
-        assert_eq!(o.refract_ok == 1.0, r.is_some(), "refract TIR decision {c:?}");
+        assert_eq!(
+            o.refract_ok == 1.0,
+            r.is_some(),
+            "refract TIR decision {c:?}"
+        );
         if let Some(t) = r {
             for k in 0..3 {
                 track(o.refracted[k], t[k], "refract", c);
@@ -185,7 +198,10 @@ fn kernel_and_rng_parity() {
         if flags != o.sample_flags {
             // A reflect/refract choice exactly at uc ≈ F may flip by one rounding step.
             flag_flips += 1;
-            assert!((s.pdf - c.uc).abs() < 1e-5 || (1.0 - s.pdf - c.uc).abs() < 1e-5, "{c:?}");
+            assert!(
+                (s.pdf - c.uc).abs() < 1e-5 || (1.0 - s.pdf - c.uc).abs() < 1e-5,
+                "{c:?}"
+            );
             continue;
         }
         track(o.sample_pdf, s.pdf, "sample pdf", c);
@@ -195,7 +211,10 @@ fn kernel_and_rng_parity() {
             // adapters we test; lavapipe measured below).
             let tol = if c.kind == BSDF_LAMBERT { 2e-5 } else { rel };
             let (a, bb) = (o.sample_wi[k], s.wi[k]);
-            assert!((a - bb).abs() <= tol, "sample wi: GPU {a} vs CPU {bb} {c:?}");
+            assert!(
+                (a - bb).abs() <= tol,
+                "sample wi: GPU {a} vs CPU {bb} {c:?}"
+            );
             track(o.sample_weight[k], s.weight[k], "sample weight", c);
         }
     }
@@ -245,8 +264,16 @@ fn path_parity_same_seed() {
         .filter(|(a, b)| (**a - **b).abs().max_element() <= 1e-3 * b.max_element().max(1.0))
         .count();
     let frac = same as f64 / ci.len() as f64;
-    eprintln!("path parity: {same}/{} pixels equal within 1e-3 ({:.2}%)", ci.len(), frac * 100.0);
-    assert!(frac >= 0.97, "only {:.2}% of 1-spp pixels agree", frac * 100.0);
+    eprintln!(
+        "path parity: {same}/{} pixels equal within 1e-3 ({:.2}%)",
+        ci.len(),
+        frac * 100.0
+    );
+    assert!(
+        frac >= 0.97,
+        "only {:.2}% of 1-spp pixels agree",
+        frac * 100.0
+    );
 
     // Vertex-level check on a few pixels.
     let cpu = Renderer::new(scene.clone()).unwrap();
@@ -269,12 +296,26 @@ fn path_parity_same_seed() {
         let (x, y) = (pixel % w, pixel / w);
         let mut s = Sampler::new(pixel, 0, seed);
         let j = s.next_2d();
-        let dir = cam.ray_dir((x as f32 + j.x) / w as f32, (y as f32 + j.y) / h as f32, 1.0);
-        assert!((dp.camera_dir - dir).abs().max_element() < 1e-6, "camera ray differs at {pixel}");
-        let first = cpu.bvh.intersect(cam.position, dir, f32::INFINITY).map(|hh| integ.surface(&hh));
+        let dir = cam.ray_dir(
+            (x as f32 + j.x) / w as f32,
+            (y as f32 + j.y) / h as f32,
+            1.0,
+        );
+        assert!(
+            (dp.camera_dir - dir).abs().max_element() < 1e-6,
+            "camera ray differs at {pixel}"
+        );
+        let first = cpu
+            .bvh
+            .intersect(cam.position, dir, f32::INFINITY)
+            .map(|hh| integ.surface(&hh));
         if let Some(sh) = first {
             let gp = dp.hits[0].truncate();
-            assert!((gp - sh.p).abs().max_element() < 1e-5, "first hit {gp} vs {}", sh.p);
+            assert!(
+                (gp - sh.p).abs().max_element() < 1e-5,
+                "first hit {gp} vs {}",
+                sh.p
+            );
             assert!((dp.hits[0].w - sh.t).abs() < 1e-5);
         }
         let v = integ.li(cam.position, dir, &mut s);
@@ -286,11 +327,17 @@ fn path_parity_same_seed() {
             v,
             s.dim()
         );
-        if dp.dims == s.dim() && (dp.value - v).abs().max_element() <= 1e-4 * v.max_element().max(1.0) {
+        if dp.dims == s.dim()
+            && (dp.value - v).abs().max_element() <= 1e-4 * v.max_element().max(1.0)
+        {
             agree += 1;
         }
     }
-    assert!(agree + 1 >= pixels.len(), "only {agree}/{} recorded paths agree", pixels.len());
+    assert!(
+        agree + 1 >= pixels.len(),
+        "only {agree}/{} recorded paths agree",
+        pixels.len()
+    );
 }
 
 /// Per 8×8 block Z-test of GPU vs CPU means with different seeds; each side renders `k`
@@ -345,7 +392,13 @@ fn image_parity(name: &str, scene: Scene, k: u32, spp: u32) {
         gt += mg;
         ct += mc;
         vt += vg + vc;
-        let z = if vg + vc > 0.0 { (mg - mc) / (vg + vc).sqrt() } else if mg == mc { 0.0 } else { f64::INFINITY };
+        let z = if vg + vc > 0.0 {
+            (mg - mc) / (vg + vc).sqrt()
+        } else if mg == mc {
+            0.0
+        } else {
+            f64::INFINITY
+        };
         if z.abs() <= 3.0 {
             pass += 1;
         }
@@ -359,7 +412,11 @@ fn image_parity(name: &str, scene: Scene, k: u32, spp: u32) {
         tc.as_secs_f64()
     );
     // With k − 1 = 7 degrees of freedom per side a block exceeds |t| = 3 about 2% of the time.
-    assert!(rate >= 0.9, "{name}: only {:.1}% of blocks within 3σ", rate * 100.0);
+    assert!(
+        rate >= 0.9,
+        "{name}: only {:.1}% of blocks within 3σ",
+        rate * 100.0
+    );
     assert!(zt.abs() <= 4.0, "{name}: image means differ by {zt:.2}σ");
 }
 
@@ -405,10 +462,18 @@ fn gpu_white_furnace() {
     let n = img.mean.len() as f64;
     for ch in 0..3 {
         let m = img.mean.iter().map(|p| p[ch] as f64).sum::<f64>() / n;
-        let var = img.mean.iter().map(|p| (p[ch] as f64 - m).powi(2)).sum::<f64>() / (n - 1.0);
+        let var = img
+            .mean
+            .iter()
+            .map(|p| (p[ch] as f64 - m).powi(2))
+            .sum::<f64>()
+            / (n - 1.0);
         let sem = (var / n).sqrt();
         eprintln!("gpu furnace channel {ch}: {m:.5} ± {sem:.5}");
-        assert!((m - 1.0).abs() <= 3.0 * sem + 1e-5, "channel {ch} = {m} ± {sem}");
+        assert!(
+            (m - 1.0).abs() <= 3.0 * sem + 1e-5,
+            "channel {ch} = {m} ± {sem}"
+        );
     }
 }
 
@@ -420,7 +485,13 @@ fn reset_after_parameter_change() {
         return;
     };
     let mut m = Mesh::default();
-    quad(&mut m, Vec3::new(-5.0, -5.0, 0.0), Vec3::X * 10.0, Vec3::Y * 10.0, 0);
+    quad(
+        &mut m,
+        Vec3::new(-5.0, -5.0, 0.0),
+        Vec3::X * 10.0,
+        Vec3::Y * 10.0,
+        0,
+    );
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 0.8);
     let mut s = scene(
         "emitter",
@@ -433,12 +504,21 @@ fn reset_after_parameter_change() {
     let opts = GpuOptions::from_scene(&s);
     let mut g = GpuRenderer::with_context(ctx, s, opts).unwrap();
     let a = g.render(8).unwrap();
-    assert!(a.mean.iter().all(|p| *p == Vec3::new(1.0, 0.0, 0.0)), "{:?}", a.mean[0]);
+    assert!(
+        a.mean.iter().all(|p| *p == Vec3::new(1.0, 0.0, 0.0)),
+        "{:?}",
+        a.mean[0]
+    );
     let compiled = g.pipelines_compiled();
-    g.set_material(0, Material::emitter("e", Vec3::new(0.0, 0.0, 2.0))).unwrap();
+    g.set_material(0, Material::emitter("e", Vec3::new(0.0, 0.0, 2.0)))
+        .unwrap();
     let b = g.render(1).unwrap();
     assert_eq!(b.spp, 1);
-    assert!(b.mean.iter().all(|p| *p == Vec3::new(0.0, 0.0, 2.0)), "{:?}", b.mean[0]);
+    assert!(
+        b.mean.iter().all(|p| *p == Vec3::new(0.0, 0.0, 2.0)),
+        "{:?}",
+        b.mean[0]
+    );
     // IOR / colour edits on a glass scene: no recompilation either.
     assert_eq!(g.pipelines_compiled(), compiled);
     let mut cg = Scene::load("builtin:cornell-glass").unwrap();
@@ -454,6 +534,10 @@ fn reset_after_parameter_change() {
     g.set_material(0, white).unwrap();
     g.set_environment(Vec3::splat(0.3)).unwrap();
     g.render(2).unwrap();
-    assert_eq!(g.pipelines_compiled(), c1, "a slider edit recompiled the pipeline");
+    assert_eq!(
+        g.pipelines_compiled(),
+        c1,
+        "a slider edit recompiled the pipeline"
+    );
     eprintln!("pipelines compiled: {}", g.pipelines_compiled());
 }

@@ -129,9 +129,10 @@ impl Renderer {
             done += n;
             progress(done as u64);
             if let Some(b) = budget
-                && start.elapsed() >= b {
-                    break;
-                }
+                && start.elapsed() >= b
+            {
+                break;
+            }
         }
         let stats = RenderStats {
             spp: film.spp,

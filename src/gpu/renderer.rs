@@ -3,10 +3,10 @@
 //! into an f32 running mean with weights n/(n+k) and 1/(n+k) (no drift from a growing sum).
 //! Non-finite and negative samples are dropped and counted by an atomic counter.
 
+use super::GpuContext;
 use super::layout::{self, GpuLayout, Params};
 use super::pipeline::{Pipelines, Specialization};
 use super::upload::{self, GpuBvh};
-use super::GpuContext;
 use crate::film::Film;
 use crate::scene::{Camera, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
