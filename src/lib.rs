@@ -1,12 +1,13 @@
 //! refract: a physically based light-transport renderer for teaching how light meets
 //! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
-//! `scene`, `bvh`, `film`, then the renderers (`cpu`), then the CLI.
+//! `scene`, `bvh`, `film`, then the renderers (`cpu`, `gpu`), then the CLI.
 
 pub mod bench;
 pub mod bsdf;
 pub mod bvh;
 pub mod cpu;
 pub mod film;
+pub mod gpu;
 pub mod math;
 pub mod paths;
 pub mod scene;

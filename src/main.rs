@@ -9,6 +9,8 @@ use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
 
+mod gpu_render;
+
 #[derive(Parser)]
 #[command(
     name = "refract",
@@ -102,6 +104,9 @@ struct RenderArgs {
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
+    #[arg(long, default_value = "auto")]
+    device: String,
 }
 
 fn parse_duration(s: &str) -> std::result::Result<Duration, String> {
@@ -173,6 +178,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     let spp = args.spp.unwrap_or(s.spp);
     if spp == 0 {
         bail!("--spp must be at least 1");
+    }
+    if gpu_render::render(args, &scene, spp, tone)? {
+        return Ok(());
     }
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads {
@@ -309,6 +317,7 @@ fn main() {
                 paths: String::new(),
                 estimator: Estimator::Path,
                 quiet: false,
+                device: "auto".into(),
             };
             eprintln!(
                 "no viewer yet: rendering the default scene to screenshots/cornell-glass.png"

@@ -1,0 +1,18 @@
+//! The GPU progressive renderer: a wgpu compute twin of the CPU path tracer
+//! (`cpu::Integrator::li`), with the same estimator and the same counter-based RNG so single
+//! paths can be compared. See DESIGN.md ("Architecture", "Rendering").
+//!
+//! - [`context`]: adapter and device (`required_limits = adapter.limits()`).
+//! - [`layout`]: `#[repr(C)]` Pod twins of the WGSL structs, naga layout reflection.
+//! - [`upload`]: scene → GPU arrays (BVH2 repack in leaf order, materials, light CDF).
+//! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
+//! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
+
+pub mod context;
+pub mod layout;
+pub mod pipeline;
+pub mod renderer;
+pub mod upload;
+
+pub use context::GpuContext;
+pub use renderer::{GpuImage, GpuOptions, GpuRenderer, GpuStats};

@@ -1,0 +1,263 @@
+//! WGSL assembly, pipeline specialisation and the pipeline cache.
+//!
+//! The kernel is specialised by WGSL override constants (`HAS_*`), so features a scene lacks
+//! are compiled out by the driver. The key is derived from the scene's *kinds* (which BSDFs
+//! and light types exist), never from parameter values, so moving a slider (IOR, colour,
+//! roughness within a kind, emission, environment) never recompiles. Pipelines are cached per
+//! key.
+
+use super::layout::{self, GpuLayout, ProbeCase, ProbeOut};
+use super::{GpuContext, upload};
+use crate::scene::Scene;
+use anyhow::Result;
+use eframe::wgpu;
+use std::collections::HashMap;
+
+const COMMON: &str = include_str!("../shaders/common.wgsl");
+const RNG: &str = include_str!("../shaders/rng.wgsl");
+const BSDF: &str = include_str!("../shaders/bsdf.wgsl");
+const SCENE: &str = include_str!("../shaders/scene.wgsl");
+const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
+const PROBE: &str = include_str!("../shaders/probe.wgsl");
+
+/// The integrator kernel's full WGSL source.
+pub fn integrator_source() -> String {
+    [COMMON, RNG, BSDF, SCENE, INTEGRATOR].join("\n")
+}
+
+/// The probe kernel's full WGSL source (maths only, no scene).
+pub fn probe_source() -> String {
+    [COMMON, RNG, BSDF, PROBE].join("\n")
+}
+
+/// Which parts of the kernel a scene needs (the pipeline cache key).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Specialization {
+    pub lambert: bool,
+    pub mirror: bool,
+    pub smooth_dielectric: bool,
+    /// Emissive triangles (area lights).
+    pub area_lights: bool,
+    pub punctual_lights: bool,
+    /// Compiled in always: the environment radiance is a slider (value edits must not
+    /// recompile); kept as a key field for symmetry with `Features::environment`.
+    pub environment: bool,
+    /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
+    pub absorption: bool,
+}
+
+impl Specialization {
+    /// From `scene.features()` plus the BSDF kinds the materials map to.
+    pub fn for_scene(scene: &Scene) -> Specialization {
+        let f = scene.features();
+        let mut s = Specialization {
+            area_lights: f.area_lights,
+            punctual_lights: f.punctual_lights,
+            environment: true,
+            absorption: f.smooth_glass || f.rough_glass,
+            ..Default::default()
+        };
+        let mut used = vec![false; scene.materials.len()];
+        for &m in &scene.mesh.tri_material {
+            if let Some(u) = used.get_mut(m as usize) {
+                *u = true;
+            }
+        }
+        for (m, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
+            match upload::bsdf_kind(scene, m).0 {
+                layout::BSDF_LAMBERT => s.lambert = true,
+                layout::BSDF_MIRROR => s.mirror = true,
+                layout::BSDF_SMOOTH_DIELECTRIC => s.smooth_dielectric = true,
+                _ => {}
+            }
+        }
+        s
+    }
+
+    /// Union (a pipeline for `self | other` renders both).
+    pub fn union(self, o: Specialization) -> Specialization {
+        Specialization {
+            lambert: self.lambert | o.lambert,
+            mirror: self.mirror | o.mirror,
+            smooth_dielectric: self.smooth_dielectric | o.smooth_dielectric,
+            area_lights: self.area_lights | o.area_lights,
+            punctual_lights: self.punctual_lights | o.punctual_lights,
+            environment: self.environment | o.environment,
+            absorption: self.absorption | o.absorption,
+        }
+    }
+
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        let b = |x: bool| if x { 1.0 } else { 0.0 };
+        vec![
+            ("HAS_LAMBERT", b(self.lambert)),
+            ("HAS_MIRROR", b(self.mirror)),
+            ("HAS_SMOOTH_DIELECTRIC", b(self.smooth_dielectric)),
+            ("HAS_LIGHTS", b(self.area_lights)),
+            ("HAS_PUNCTUAL", b(self.punctual_lights)),
+            ("HAS_ENVIRONMENT", b(self.environment)),
+            ("HAS_ABSORPTION", b(self.absorption)),
+        ]
+    }
+}
+
+/// The integrator's bind group layout, shader module and specialised pipelines.
+pub struct Pipelines {
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    cache: HashMap<Specialization, wgpu::ComputePipeline>,
+    /// Number of pipelines compiled so far (tests check that edits do not recompile).
+    pub compiled: u32,
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Compile a WGSL module, turning validation errors into `Err` instead of a panic.
+fn create_module(ctx: &GpuContext, label: &str, source: String) -> Result<wgpu::ShaderModule> {
+    // Validate with naga first: a clear error message, and wgpu would panic on a bad module.
+    let module = naga::front::wgsl::parse_str(&source)
+        .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(&source)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(&source)))?;
+    Ok(ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        }))
+}
+
+impl Pipelines {
+    pub fn new(ctx: &GpuContext) -> Result<Pipelines> {
+        let module = create_module(ctx, "integrator.wgsl", integrator_source())?;
+        let mut entries = vec![wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }];
+        for b in 1..=5 {
+            entries.push(storage_entry(b, true));
+        }
+        entries.push(storage_entry(6, false));
+        entries.push(storage_entry(7, false));
+        let bind_group_layout =
+            ctx.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("integrator"),
+                    entries: &entries,
+                });
+        let layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("integrator"),
+                bind_group_layouts: &[Some(&bind_group_layout)],
+                immediate_size: 0,
+            });
+        Ok(Pipelines {
+            bind_group_layout,
+            layout,
+            module,
+            cache: HashMap::new(),
+            compiled: 0,
+        })
+    }
+
+    /// The pipeline for `spec` (compiled on first use, then cached).
+    pub fn get(&mut self, ctx: &GpuContext, spec: Specialization) -> &wgpu::ComputePipeline {
+        let (layout, module, compiled) = (&self.layout, &self.module, &mut self.compiled);
+        self.cache.entry(spec).or_insert_with(|| {
+            *compiled += 1;
+            let constants = spec.constants();
+            ctx.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("integrator"),
+                    layout: Some(layout),
+                    module,
+                    entry_point: Some("render"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        zero_initialize_workgroup_memory: false,
+                    },
+                    cache: None,
+                })
+        })
+    }
+}
+
+/// Run the probe kernel (src/shaders/probe.wgsl) on `cases`.
+pub fn run_probe(ctx: &GpuContext, cases: &[ProbeCase]) -> Result<Vec<ProbeOut>> {
+    use wgpu::util::DeviceExt;
+    anyhow::ensure!(!cases.is_empty(), "no probe cases");
+    let module = create_module(ctx, "probe.wgsl", probe_source())?;
+    let pipeline = ctx
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("probe"),
+            layout: None,
+            module: &module,
+            entry_point: Some("probe"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let input = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probe cases"),
+            contents: bytemuck::cast_slice(cases),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let out_size = (cases.len() * ProbeOut::size() as usize) as u64;
+    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe out"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
+    }
+    ctx.queue.submit([enc.finish()]);
+    let bytes = ctx.read_buffer(&output, out_size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}

@@ -1,0 +1,600 @@
+//! [`GpuRenderer`]: progressive accumulation on the GPU with the same estimator and RNG as the
+//! CPU path tracer. Each dispatch adds a batch of k samples per pixel, summed in f32 and folded
+//! into an f32 running mean with weights n/(n+k) and 1/(n+k) (no drift from a growing sum).
+//! Non-finite and negative samples are dropped and counted by an atomic counter.
+
+use super::GpuContext;
+use super::layout::{self, GpuLayout, Params};
+use super::pipeline::{Pipelines, Specialization};
+use super::upload::{self, GpuBvh};
+use crate::film::Film;
+use crate::scene::{Camera, Material, Scene, light::LightSet};
+use anyhow::{Result, ensure};
+use eframe::wgpu;
+use glam::{Vec3, Vec4};
+use std::time::{Duration, Instant};
+use wgpu::util::DeviceExt;
+
+/// Per-render options (as `cpu::RenderOptions`, plus the batch size).
+#[derive(Clone, Copy, Debug)]
+pub struct GpuOptions {
+    pub width: u32,
+    pub height: u32,
+    pub max_depth: u32,
+    pub rr_depth: u32,
+    pub seed: u32,
+    /// Samples per pixel per dispatch (None: about 2²⁰ samples per dispatch, 1..=16 spp).
+    pub batch_spp: Option<u32>,
+}
+
+impl GpuOptions {
+    pub fn from_scene(scene: &Scene) -> GpuOptions {
+        let s = scene.settings;
+        GpuOptions {
+            width: s.width,
+            height: s.height,
+            max_depth: s.max_depth,
+            rr_depth: s.rr_depth,
+            seed: 0,
+            batch_spp: None,
+        }
+    }
+}
+
+/// The accumulated image: per-pixel mean radiance (row-major, top row first).
+#[derive(Clone, Debug)]
+pub struct GpuImage {
+    pub width: u32,
+    pub height: u32,
+    pub mean: Vec<Vec3>,
+    pub spp: u64,
+    pub dropped: u64,
+}
+
+impl GpuImage {
+    /// A `film::Film` holding the same image (sums = mean · spp in f64).
+    pub fn to_film(&self) -> Film {
+        let mut film = Film::new(self.width, self.height);
+        let n = self.spp as f64;
+        for (s, m) in film.sums_mut().iter_mut().zip(&self.mean) {
+            *s = [m.x as f64 * n, m.y as f64 * n, m.z as f64 * n];
+        }
+        film.spp = self.spp;
+        film.dropped = self.dropped;
+        film
+    }
+}
+
+/// Counters since the last reset.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GpuStats {
+    pub spp: u64,
+    pub dropped: u64,
+    /// Closest-hit rays traced (path segments), shadow rays not included.
+    pub segments: u64,
+    /// GPU time spent in `render` (dispatch to completion) since the last reset.
+    pub elapsed: Duration,
+    pub pixels: u64,
+}
+
+impl GpuStats {
+    pub fn samples_per_sec(&self) -> f64 {
+        (self.spp * self.pixels) as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+    pub fn segments_per_sec(&self) -> f64 {
+        self.segments as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
+/// Vertices of one recorded path (the first sample of a batch at the debug pixel).
+#[derive(Clone, Debug, Default)]
+pub struct DebugPath {
+    pub camera_dir: Vec3,
+    /// Hit point and t of each vertex.
+    pub hits: Vec<Vec4>,
+    /// Throughput β after scattering at each vertex.
+    pub betas: Vec<Vec3>,
+    /// Direction leaving each vertex and the scene triangle it was on.
+    pub dirs: Vec<(Vec3, u32)>,
+    /// The sample value and the RNG dimensions it consumed.
+    pub value: Vec3,
+    pub dims: u32,
+}
+
+struct Buffers {
+    params: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+    materials: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    stats: wgpu::Buffer,
+}
+
+/// The GPU progressive renderer for one scene.
+pub struct GpuRenderer {
+    ctx: GpuContext,
+    scene: Scene,
+    opts: GpuOptions,
+    bvh: GpuBvh,
+    light_set: LightSet,
+    light_count: u32,
+    pipelines: Pipelines,
+    spec: Specialization,
+    buffers: Buffers,
+    bind_group: wgpu::BindGroup,
+    spp: u64,
+    elapsed: Duration,
+    debug_pixel: u32,
+}
+
+const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
+
+fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        })
+}
+
+fn check_options(opts: &GpuOptions) -> Result<()> {
+    use crate::scene::MAX_IMAGE_SIDE;
+    ensure!(
+        (1..=MAX_IMAGE_SIDE).contains(&opts.width) && (1..=MAX_IMAGE_SIDE).contains(&opts.height),
+        "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
+        opts.width,
+        opts.height
+    );
+    ensure!(opts.max_depth >= 1, "max_depth must be at least 1");
+    Ok(())
+}
+
+impl GpuRenderer {
+    /// Open the best adapter and prepare `scene`. Errors: no adapter, invalid scene, features
+    /// the GPU kernel lacks, buffers over 128 MiB.
+    pub fn new(scene: Scene, opts: GpuOptions) -> Result<GpuRenderer> {
+        let ctx = GpuContext::new()?;
+        Self::with_context(ctx, scene, opts)
+    }
+
+    /// Prepare `scene` on an existing device.
+    pub fn with_context(ctx: GpuContext, scene: Scene, opts: GpuOptions) -> Result<GpuRenderer> {
+        scene.validate()?;
+        upload::check_supported(&scene)?;
+        check_options(&opts)?;
+        let mut pipelines = Pipelines::new(&ctx)?;
+        let spec = Specialization::for_scene(&scene);
+        pipelines.get(&ctx, spec);
+        let bvh = upload::build_bvh(&scene)?;
+        let light_set = LightSet::build(&scene);
+        let (buffers, light_count) = Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
+        let bind_group = Self::bind(&ctx, &pipelines, &buffers);
+        Ok(GpuRenderer {
+            ctx,
+            scene,
+            opts,
+            bvh,
+            light_set,
+            light_count,
+            pipelines,
+            spec,
+            buffers,
+            bind_group,
+            spp: 0,
+            elapsed: Duration::ZERO,
+            debug_pixel: u32::MAX,
+        })
+    }
+
+    fn create_buffers(
+        ctx: &GpuContext,
+        scene: &Scene,
+        bvh: &GpuBvh,
+        light_set: &LightSet,
+        opts: &GpuOptions,
+    ) -> Result<(Buffers, u32)> {
+        let tris = upload::pack_triangles(scene, bvh, light_set);
+        let verts = upload::pack_vertices(scene);
+        let mats = upload::pack_materials(scene);
+        let (lights, light_count) = upload::pack_lights(scene, bvh, light_set);
+        let pixels = opts.width as u64 * opts.height as u64;
+        let accum_bytes = pixels * 16;
+        ensure!(
+            accum_bytes <= upload::MAX_BUFFER_BYTES,
+            "image {}x{} too large for the GPU accumulation buffer (limit {} MiB)",
+            opts.width,
+            opts.height,
+            upload::MAX_BUFFER_BYTES >> 20
+        );
+        let buffers = Buffers {
+            params: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("params"),
+                size: Params::size() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            nodes: storage(ctx, "bvh nodes", upload::checked_bytes("BVH", &bvh.nodes)?),
+            triangles: storage(ctx, "triangles", upload::checked_bytes("triangles", &tris)?),
+            vertices: storage(ctx, "vertices", upload::checked_bytes("vertices", &verts)?),
+            materials: storage(ctx, "materials", upload::checked_bytes("materials", &mats)?),
+            lights: storage(ctx, "lights", upload::checked_bytes("lights", &lights)?),
+            accum: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accum"),
+                size: accum_bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            stats: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("stats"),
+                size: STATS_BYTES,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        };
+        Ok((buffers, light_count))
+    }
+
+    fn bind(ctx: &GpuContext, p: &Pipelines, b: &Buffers) -> wgpu::BindGroup {
+        let bufs = [
+            &b.params,
+            &b.nodes,
+            &b.triangles,
+            &b.vertices,
+            &b.materials,
+            &b.lights,
+            &b.accum,
+            &b.stats,
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = bufs
+            .iter()
+            .enumerate()
+            .map(|(i, buf)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: buf.as_entire_binding(),
+            })
+            .collect();
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("integrator"),
+            layout: &p.bind_group_layout,
+            entries: &entries,
+        })
+    }
+
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.ctx.info
+    }
+    /// True on a CPU-emulated adapter (lavapipe …).
+    pub fn is_software(&self) -> bool {
+        self.ctx.is_software()
+    }
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    pub fn options(&self) -> &GpuOptions {
+        &self.opts
+    }
+    /// Samples per pixel accumulated since the last reset.
+    pub fn spp(&self) -> u64 {
+        self.spp
+    }
+    /// Pipelines compiled so far (parameter edits must not add any).
+    pub fn pipelines_compiled(&self) -> u32 {
+        self.pipelines.compiled
+    }
+    pub fn specialization(&self) -> Specialization {
+        self.spec
+    }
+    /// BVH2 build time and depth.
+    pub fn bvh_info(&self) -> (Duration, u32, usize) {
+        (self.bvh.build_time, self.bvh.depth, self.bvh.nodes.len())
+    }
+
+    /// Drop all accumulated samples and counters (the next sample index is 0 again).
+    pub fn reset(&mut self) {
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.clear_buffer(&self.buffers.accum, 0, None);
+        enc.clear_buffer(&self.buffers.stats, 0, None);
+        self.ctx.queue.submit([enc.finish()]);
+        self.spp = 0;
+        self.elapsed = Duration::ZERO;
+    }
+
+    fn params(&self, batch: u32) -> Params {
+        let cam = &self.scene.camera;
+        let (w, h) = (self.opts.width, self.opts.height);
+        let n = self.spp as f64;
+        let k = batch as f64;
+        let r = cam.rotation;
+        Params {
+            cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
+            cam_right: r.x_axis.extend(w as f32 / h as f32).to_array(),
+            cam_up: r.y_axis.extend(0.0).to_array(),
+            cam_back: r.z_axis.extend(0.0).to_array(),
+            environment: self.scene.environment.extend(0.0).to_array(),
+            width: w,
+            height: h,
+            seed: self.opts.seed,
+            max_depth: self.opts.max_depth.max(1),
+            rr_depth: self.opts.rr_depth,
+            sample_offset: self.spp as u32,
+            batch,
+            light_count: self.light_count,
+            w_old: (n / (n + k)) as f32,
+            w_new: (1.0 / (n + k)) as f32,
+            debug_pixel: self.debug_pixel,
+            _pad: 0,
+        }
+    }
+
+    /// Default batch: about 2²⁰ samples per dispatch, 1..=16 spp.
+    pub fn batch_spp(&self) -> u32 {
+        let pixels = (self.opts.width as u64 * self.opts.height as u64).max(1);
+        self.opts
+            .batch_spp
+            .unwrap_or(((1u64 << 20) / pixels).clamp(1, 16) as u32)
+            .max(1)
+    }
+
+    /// Queue one dispatch adding `k` samples per pixel (does not wait).
+    pub fn dispatch(&mut self, k: u32) {
+        if k == 0 {
+            return;
+        }
+        let params = self.params(k);
+        self.ctx
+            .queue
+            .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let pipeline = self.pipelines.get(&self.ctx, self.spec);
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("path trace"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(self.opts.width.div_ceil(8), self.opts.height.div_ceil(8), 1);
+        }
+        self.ctx.queue.submit([enc.finish()]);
+        self.spp += k as u64;
+    }
+
+    /// Add `spp` samples per pixel (in batches) and return the accumulated image.
+    pub fn render(&mut self, spp: u32) -> Result<GpuImage> {
+        self.render_with(spp, None, |_| {})
+    }
+
+    /// Add up to `spp` samples per pixel, stopping early once `budget` is spent (at least one
+    /// batch); `progress` gets the spp accumulated after each batch.
+    pub fn render_with(
+        &mut self,
+        spp: u32,
+        budget: Option<Duration>,
+        mut progress: impl FnMut(u64),
+    ) -> Result<GpuImage> {
+        let start = Instant::now();
+        let batch = self.batch_spp();
+        let mut done = 0u32;
+        while done < spp {
+            let k = batch.min(spp - done);
+            self.dispatch(k);
+            self.ctx.wait()?;
+            done += k;
+            progress(self.spp);
+            if budget.is_some_and(|b| start.elapsed() >= b) {
+                break;
+            }
+        }
+        self.elapsed += start.elapsed();
+        self.image()
+    }
+
+    fn read_stats(&self) -> Result<(layout::Stats, Vec<Vec4>)> {
+        let bytes = self.ctx.read_buffer(&self.buffers.stats, STATS_BYTES)?;
+        let head: layout::Stats = bytemuck::pod_read_unaligned(&bytes[..16]);
+        let recs: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes[16..]);
+        Ok((head, recs.into_iter().map(Vec4::from_array).collect()))
+    }
+
+    /// Read the accumulated image back.
+    pub fn image(&self) -> Result<GpuImage> {
+        let pixels = self.opts.width as u64 * self.opts.height as u64;
+        let bytes = self.ctx.read_buffer(&self.buffers.accum, pixels * 16)?;
+        let px: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let (stats, _) = self.read_stats()?;
+        Ok(GpuImage {
+            width: self.opts.width,
+            height: self.opts.height,
+            mean: px.iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect(),
+            spp: self.spp,
+            dropped: stats.dropped_lo as u64 | (stats.dropped_hi as u64) << 32,
+        })
+    }
+
+    /// Counters since the last reset.
+    pub fn stats(&self) -> Result<GpuStats> {
+        let (s, _) = self.read_stats()?;
+        Ok(GpuStats {
+            spp: self.spp,
+            dropped: s.dropped_lo as u64 | (s.dropped_hi as u64) << 32,
+            segments: s.segments_lo as u64 | (s.segments_hi as u64) << 32,
+            elapsed: self.elapsed,
+            pixels: self.opts.width as u64 * self.opts.height as u64,
+        })
+    }
+
+    /// Record the first sample of every later batch at `pixel` (linear index); None = off.
+    pub fn set_debug_pixel(&mut self, pixel: Option<u32>) {
+        self.debug_pixel = pixel.unwrap_or(u32::MAX);
+    }
+
+    /// The path recorded at the debug pixel by the last dispatch.
+    pub fn debug_path(&self) -> Result<DebugPath> {
+        let (_, r) = self.read_stats()?;
+        let dims = r[1 + layout::DEBUG_STRIDE * layout::DEBUG_MAX_VERTICES].w as u32;
+        let value = r[1 + layout::DEBUG_STRIDE * layout::DEBUG_MAX_VERTICES].truncate();
+        let mut p = DebugPath {
+            camera_dir: r[0].truncate(),
+            value,
+            dims,
+            ..Default::default()
+        };
+        for v in 0..layout::DEBUG_MAX_VERTICES {
+            let hit = r[1 + layout::DEBUG_STRIDE * v];
+            if hit.w <= 0.0 {
+                break;
+            }
+            p.hits.push(hit);
+            let b = r[2 + layout::DEBUG_STRIDE * v];
+            if b.w as usize == v + 1 {
+                p.betas.push(b.truncate());
+                let d = r[3 + layout::DEBUG_STRIDE * v];
+                p.dirs.push((d.truncate(), d.w as u32));
+            }
+        }
+        Ok(p)
+    }
+
+    /// Clear the debug records (so a shorter path does not show an older one's tail).
+    pub fn clear_debug(&mut self) {
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.clear_buffer(&self.buffers.stats, 16, None);
+        self.ctx.queue.submit([enc.finish()]);
+    }
+
+    /// Change material `index` (colour, IOR, roughness, emission …): buffers are rewritten in
+    /// place, the BVH is kept, and the pipeline is only switched if the material's *kind*
+    /// changes the specialisation (then compiled once and cached). Accumulation restarts.
+    pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
+        material.validate()?;
+        ensure!(
+            index < self.scene.materials.len(),
+            "material index {index} out of range ({} materials)",
+            self.scene.materials.len()
+        );
+        let emission_changed = self.scene.materials[index].emission != material.emission
+            || self.scene.materials[index].double_sided != material.double_sided;
+        let old = std::mem::replace(&mut self.scene.materials[index], material);
+        if let Err(e) = upload::check_supported(&self.scene) {
+            self.scene.materials[index] = old;
+            return Err(e);
+        }
+        let packed = upload::pack_material(&self.scene, &self.scene.materials[index]);
+        self.ctx.queue.write_buffer(
+            &self.buffers.materials,
+            (index * std::mem::size_of::<layout::Material>()) as u64,
+            bytemuck::bytes_of(&packed),
+        );
+        if emission_changed {
+            self.rebuild_lights()?;
+        }
+        self.respecialize();
+        self.reset();
+        Ok(())
+    }
+
+    fn respecialize(&mut self) {
+        let spec = Specialization::for_scene(&self.scene);
+        if spec != self.spec {
+            self.spec = spec;
+            self.pipelines.get(&self.ctx, spec);
+        }
+    }
+
+    /// Light distribution changed (emission edits): rewrite triangles (pick probabilities) and
+    /// the light CDF; the BVH is kept.
+    fn rebuild_lights(&mut self) -> Result<()> {
+        self.light_set = LightSet::build(&self.scene);
+        let tris = upload::pack_triangles(&self.scene, &self.bvh, &self.light_set);
+        self.ctx.queue.write_buffer(
+            &self.buffers.triangles,
+            0,
+            upload::checked_bytes("triangles", &tris)?,
+        );
+        let (lights, count) = upload::pack_lights(&self.scene, &self.bvh, &self.light_set);
+        let bytes = upload::checked_bytes("lights", &lights)?;
+        if bytes.len() as u64 <= self.buffers.lights.size() {
+            self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);
+        } else {
+            self.buffers.lights = storage(&self.ctx, "lights", bytes);
+            self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        }
+        self.light_count = count;
+        Ok(())
+    }
+
+    /// Uniform environment radiance (no recompilation). Accumulation restarts.
+    pub fn set_environment(&mut self, radiance: Vec3) -> Result<()> {
+        ensure!(
+            radiance.is_finite() && radiance.min_element() >= 0.0,
+            "environment radiance must be finite and non-negative"
+        );
+        self.scene.environment = radiance;
+        self.reset();
+        Ok(())
+    }
+
+    /// Move the camera. Accumulation restarts.
+    pub fn set_camera(&mut self, camera: Camera) -> Result<()> {
+        camera.validate()?;
+        self.scene.camera = camera;
+        self.reset();
+        Ok(())
+    }
+
+    /// Change seed, depth limits or image size (size changes reallocate the image buffer).
+    pub fn set_options(&mut self, opts: GpuOptions) -> Result<()> {
+        check_options(&opts)?;
+        let resized = (opts.width, opts.height) != (self.opts.width, self.opts.height);
+        self.opts = opts;
+        if resized {
+            let (buffers, count) =
+                Self::create_buffers(&self.ctx, &self.scene, &self.bvh, &self.light_set, &opts)?;
+            self.buffers = buffers;
+            self.light_count = count;
+            self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        }
+        self.reset();
+        Ok(())
+    }
+
+    /// Replace the scene: BVH, buffers and (if its features differ) the pipeline are rebuilt;
+    /// compiled pipelines stay cached.
+    pub fn set_scene(&mut self, scene: Scene, opts: GpuOptions) -> Result<()> {
+        scene.validate()?;
+        upload::check_supported(&scene)?;
+        check_options(&opts)?;
+        let bvh = upload::build_bvh(&scene)?;
+        let light_set = LightSet::build(&scene);
+        let (buffers, count) = Self::create_buffers(&self.ctx, &scene, &bvh, &light_set, &opts)?;
+        self.scene = scene;
+        self.opts = opts;
+        self.bvh = bvh;
+        self.light_set = light_set;
+        self.buffers = buffers;
+        self.light_count = count;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        self.respecialize();
+        self.reset();
+        Ok(())
+    }
+}

@@ -1,0 +1,92 @@
+//! `refract render --device gpu|auto`: the GPU path of the render command (kept out of
+//! main.rs so the CLI stays small).
+
+use anyhow::{Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use refract::film::{self, ToneMap};
+use refract::gpu::{GpuContext, GpuOptions, GpuRenderer};
+use refract::scene::Scene;
+
+/// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
+/// Returns false when the caller should render on the CPU instead.
+pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) -> Result<bool> {
+    let forced = match args.device.to_ascii_lowercase().as_str() {
+        "cpu" => return Ok(false),
+        "gpu" => true,
+        "auto" => false,
+        d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
+    };
+    let ctx = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) if !forced => {
+            eprintln!("no GPU adapter ({e:#}); rendering on the CPU");
+            return Ok(false);
+        }
+        Err(e) => return Err(e),
+    };
+    if ctx.is_software() {
+        if !forced {
+            eprintln!(
+                "only a software GPU adapter ({}); rendering on the CPU (use --device gpu to force it)",
+                ctx.describe()
+            );
+            return Ok(false);
+        }
+        eprintln!(
+            "note: {} is a software adapter (CPU-emulated), expect it to be slow",
+            ctx.describe()
+        );
+    }
+    let mut opts = GpuOptions::from_scene(scene);
+    opts.seed = args.seed;
+    let name = ctx.describe();
+    let mut r = match GpuRenderer::with_context(ctx, scene.clone(), opts) {
+        Ok(r) => r,
+        Err(e) if !forced => {
+            eprintln!("GPU renderer unavailable ({e:#}); rendering on the CPU");
+            return Ok(false);
+        }
+        Err(e) => return Err(e),
+    };
+    let (bvh_time, depth, nodes) = r.bvh_info();
+    eprintln!(
+        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}",
+        scene.name,
+        scene.mesh.triangle_count(),
+        bvh_time.as_secs_f64() * 1e3,
+        opts.width,
+        opts.height,
+        spp,
+        opts.max_depth
+    );
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(spp as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let img = r.render_with(spp, args.time_budget, |d| bar.set_position(d))?;
+    bar.finish_and_clear();
+    let stats = r.stats()?;
+    film::save_image(
+        &args.out,
+        img.width,
+        img.height,
+        &img.mean,
+        args.exposure,
+        tone,
+    )?;
+    eprintln!(
+        "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
+        args.out.display(),
+        stats.spp,
+        stats.elapsed.as_secs_f64(),
+        stats.samples_per_sec() / 1e6,
+        stats.segments_per_sec() / 1e6,
+        stats.dropped
+    );
+    Ok(true)
+}

@@ -1,0 +1,485 @@
+// integrator.wgsl — the path-tracing kernel, twin of `cpu::Integrator::li` (src/cpu/integrator.rs):
+// unidirectional path tracing with next-event estimation on area and punctual lights and
+// MIS (power heuristic) between light and BSDF sampling. Veach 1997, ch. 9–10;
+// PBR 4th ed. §13.4 (`PathIntegrator`). Depth and Russian roulette follow Mitsuba 3's `path`
+// integrator: `max_depth` 1 = emitters seen directly, 2 = direct lighting, RR from `rr_depth`.
+// Random dimensions are consumed in the CPU's order: jitter (2); per vertex uc, u2 (2),
+// ul, ul2 (2); Russian roulette (1).
+
+// Pipeline specialisation (absent features compiled out; values never specialised).
+override HAS_LIGHTS: bool = true;
+override HAS_PUNCTUAL: bool = true;
+override HAS_ENVIRONMENT: bool = true;
+override HAS_ABSORPTION: bool = true;
+
+struct Params {
+    // xyz camera position, w = tan(yfov / 2)
+    cam_pos: vec4<f32>,
+    // camera-to-world rotation columns; right.w = aspect
+    cam_right: vec4<f32>,
+    cam_up: vec4<f32>,
+    cam_back: vec4<f32>,
+    environment: vec4<f32>,
+    width: u32,
+    height: u32,
+    seed: u32,
+    max_depth: u32,
+    rr_depth: u32,
+    // index of the first sample of this batch
+    sample_offset: u32,
+    // samples per pixel in this batch
+    batch: u32,
+    light_count: u32,
+    // running mean: mean' = mean · w_old + batch_sum · w_new, w_old = n/(n+k), w_new = 1/(n+k)
+    w_old: f32,
+    w_new: f32,
+    // linear pixel index whose first sample of the batch is recorded in `stats.debug`
+    debug_pixel: u32,
+    _pad: u32,
+}
+
+struct Stats {
+    dropped_lo: atomic<u32>,
+    dropped_hi: atomic<u32>,
+    segments_lo: atomic<u32>,
+    segments_hi: atomic<u32>,
+    debug: array<vec4<f32>>,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
+@group(0) @binding(7) var<storage, read_write> stats: Stats;
+
+// Debug records per path vertex (gpu::renderer::DebugPath reads them).
+const DEBUG_MAX_VERTICES: u32 = 16u;
+const DEBUG_STRIDE: u32 = 3u;
+
+var<private> debug_on: bool;
+
+fn debug_write(i: u32, v: vec4<f32>) {
+    if debug_on && i < arrayLength(&stats.debug) {
+        stats.debug[i] = v;
+    }
+}
+
+// 64-bit counter out of two u32 atomics (carry on wrap-around).
+fn add_counter_dropped(x: u32) {
+    if x == 0u {
+        return;
+    }
+    let old = atomicAdd(&stats.dropped_lo, x);
+    if old + x < old {
+        atomicAdd(&stats.dropped_hi, 1u);
+    }
+}
+
+fn add_counter_segments(x: u32) {
+    if x == 0u {
+        return;
+    }
+    let old = atomicAdd(&stats.segments_lo, x);
+    if old + x < old {
+        atomicAdd(&stats.segments_hi, 1u);
+    }
+}
+
+var<private> segments: u32;
+
+// Everything known about a ray/surface intersection (cpu::SurfaceHit).
+struct SurfaceHit {
+    p: vec3<f32>,
+    ng: vec3<f32>,
+    ns: vec3<f32>,
+    uv: vec2<f32>,
+    slot: u32,
+    scene_tri: u32,
+    material: u32,
+    t: f32,
+}
+
+// Reconstruct the surface record of a BVH hit. Twin of `Integrator::surface`.
+fn integrator_surface(h: Hit) -> SurfaceHit {
+    let tri = triangles[h.slot];
+    let p0 = v3(tri.p0);
+    let p1 = v3(tri.p1);
+    let p2 = v3(tri.p2);
+    let b0 = 1.0 - h.b1 - h.b2;
+    // Barycentric hit point (more accurate than o + t·d; PBR 4th ed. §6.8.4).
+    let p = p0 * b0 + p1 * h.b1 + p2 * h.b2;
+    let ng = normalize_or_zero3(cross3(p1 - p0, p2 - p0));
+    let va = vertices[tri.i0];
+    let vb = vertices[tri.i1];
+    let vc = vertices[tri.i2];
+    var ns = normalize_or_zero3(v3(va.normal) * b0 + v3(vb.normal) * h.b1 + v3(vc.normal) * h.b2);
+    if all(ns == vec3<f32>(0.0)) || !is_finite_v3(ns) {
+        ns = ng;
+    } else if dot3(ns, ng) < 0.0 {
+        ns = -ns;
+    }
+    let uv = vec2<f32>(va.u, va.v) * b0 + vec2<f32>(vb.u, vb.v) * h.b1 + vec2<f32>(vc.u, vc.v) * h.b2;
+    return SurfaceHit(p, ng, ns, uv, h.slot, tri.scene_tri, tri.material, h.t);
+}
+
+// Solid-angle pdf with which next-event estimation would have chosen the point `hit`
+// seen from direction `dir` at distance `hit.t`. Twin of `Integrator::light_pdf`.
+fn integrator_light_pdf(hit: SurfaceHit, dir: vec3<f32>) -> f32 {
+    let tri = triangles[hit.slot];
+    let p_pick = tri.pick_prob;
+    if p_pick <= 0.0 {
+        return 0.0;
+    }
+    let area = tri.area;
+    let cos_l = abs(dot3(hit.ng, dir));
+    if cos_l <= 0.0 || area <= 0.0 {
+        return 0.0;
+    }
+    return p_pick / area * hit.t * hit.t / cos_l;
+}
+
+// The BSDF at a hit (scene::Material::bsdf; textures are not on the GPU yet).
+fn material_bsdf(m: Material) -> Bsdf {
+    return Bsdf(m.bsdf, v3(m.base_color), m.eta, m.alpha, m.metallic);
+}
+
+struct LightPick {
+    index: u32,
+    prob: f32,
+}
+
+// Pick a light with `u` ∈ [0,1): (light, probability); prob = 0 for none. Twin of
+// `LightSet::pick` (first CDF entry > u, clamped to the last light).
+fn light_set_pick(u: f32) -> LightPick {
+    let n = params.light_count;
+    if n == 0u {
+        return LightPick(0u, 0.0);
+    }
+    var lo = 0u;
+    var hi = n;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if lights[mid].cdf <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let i = min(lo, n - 1u);
+    var prev = 0.0;
+    if i > 0u {
+        prev = lights[i - 1u].cdf;
+    }
+    return LightPick(i, lights[i].cdf - prev);
+}
+
+// One next-event estimate at `hit` (without the path throughput), MIS-weighted.
+// Twin of `Integrator::sample_light`.
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>) -> vec3<f32> {
+    let zero = vec3<f32>(0.0);
+    let pick = light_set_pick(ul);
+    if pick.prob <= 0.0 {
+        return zero;
+    }
+    let light = lights[pick.index];
+    let p_pick = pick.prob;
+    let side_o = dot3(wo_w, ng);
+    var wi_w: vec3<f32>;
+    var li: vec3<f32>;
+    var pdf: f32;
+    var delta: bool;
+    var shadow_dir: vec3<f32>;
+    var tmax = 1.0;
+    var has_target_n = false;
+    var target_n = vec3<f32>(0.0);
+    if light.kind == LIGHT_TRIANGLE {
+        if !HAS_LIGHTS {
+            return zero;
+        }
+        // sample_triangle: a point sampled uniformly on the triangle.
+        let tri = triangles[light.index];
+        let a = v3(tri.p0);
+        let b = v3(tri.p1);
+        let c = v3(tri.p2);
+        let bc = uniform_triangle(ul2);
+        let pl = a * (1.0 - bc.x - bc.y) + b * bc.x + c * bc.y;
+        let nn = cross3(b - a, c - a);
+        let len = sqrt(dot3(nn, nn));
+        let nl = nn / len;
+        let area = 0.5 * len;
+        let m = materials[tri.material];
+        let to = pl - hit.p;
+        let dist2 = dot3(to, to);
+        if dist2 <= 0.0 {
+            return zero;
+        }
+        let dist = sqrt(dist2);
+        let wi = to / dist;
+        var cos_l = -dot3(wi, nl);
+        if cos_l <= 0.0 && (m.flags & MAT_DOUBLE_SIDED) == 0u {
+            return zero;
+        }
+        cos_l = abs(cos_l);
+        if cos_l <= 0.0 {
+            return zero;
+        }
+        wi_w = wi;
+        li = v3(m.emission);
+        pdf = p_pick / area * dist2 / cos_l;
+        delta = false;
+        shadow_dir = to;
+        has_target_n = true;
+        target_n = nl;
+    } else {
+        if !HAS_PUNCTUAL {
+            return zero;
+        }
+        let lp = v3(light.position);
+        let intensity = v3(light.intensity);
+        delta = true;
+        pdf = p_pick;
+        if light.kind == LIGHT_DIRECTIONAL {
+            wi_w = -v3(light.direction);
+            li = intensity;
+            shadow_dir = wi_w;
+            tmax = F32_MAX;
+        } else {
+            let to = lp - hit.p;
+            let d2 = dot3(to, to);
+            if d2 <= 0.0 {
+                return zero;
+            }
+            wi_w = to / sqrt(d2);
+            shadow_dir = to;
+            if light.kind == LIGHT_SPOT {
+                let fall = spot_falloff(dot3(-wi_w, v3(light.direction)), light.cos_inner, light.cos_outer);
+                if fall <= 0.0 {
+                    return zero;
+                }
+                li = intensity * fall / d2;
+            } else {
+                li = intensity / d2;
+            }
+        }
+    }
+    let side_i = dot3(wi_w, ng);
+    let wi = frame_to_local(frame, wi_w);
+    let f = bsdf_eval(bsdf, wo, wi, MODE_RADIANCE);
+    // Reflection must stay on the geometric side of wo; transmission must cross it.
+    if side_i == 0.0 || max(max_element3(f), 0.0) <= 0.0 {
+        return zero;
+    }
+    if !(side_i * side_o > 0.0) && !bsdf_can_transmit(bsdf) {
+        return zero;
+    }
+    var off_n = -ng;
+    if side_i > 0.0 {
+        off_n = ng;
+    }
+    let origin = offset_ray_origin(hit.p, off_n);
+    var sdir: vec3<f32>;
+    if has_target_n {
+        let pl = hit.p + shadow_dir;
+        var tn = -target_n;
+        if dot3(target_n, -wi_w) > 0.0 {
+            tn = target_n;
+        }
+        let tgt = offset_ray_origin(pl, tn);
+        sdir = tgt - origin;
+    } else if tmax < F32_MAX {
+        sdir = hit.p + shadow_dir - origin;
+    } else {
+        sdir = shadow_dir;
+    }
+    if bvh_occluded(origin, sdir, tmax) {
+        return zero;
+    }
+    var w = 1.0;
+    if !delta {
+        w = power_heuristic(pdf, bsdf_pdf(bsdf, wo, wi));
+    }
+    return f * abs(wi.z) * li * (w / pdf);
+}
+
+// Radiance along the camera ray (origin, dir) — one path sample, RGB. Twin of `Integrator::li`.
+fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampler>) -> vec3<f32> {
+    var l = vec3<f32>(0.0);
+    var beta = vec3<f32>(1.0);
+    var o = origin;
+    var d = dir;
+    var prev_pdf = 0.0;
+    var prev_delta = true;
+    var eta_scale = 1.0;
+    // Absorbing medium the ray travels in (material index); NO_MEDIUM = none.
+    let NO_MEDIUM = 0xffffffffu;
+    var medium = NO_MEDIUM;
+    var depth = 0u;
+    loop {
+        let h = bvh_intersect(o, d, F32_MAX);
+        segments++;
+        if !h.found {
+            // Escaped: uniform environment (not light-sampled, so MIS weight 1).
+            if HAS_ENVIRONMENT {
+                l += beta * params.environment.xyz;
+            }
+            break;
+        }
+        let hit = integrator_surface(h);
+        if HAS_ABSORPTION && medium != NO_MEDIUM {
+            let sa = v3(materials[medium].sigma_a);
+            if any(sa != vec3<f32>(0.0)) {
+                // Beer–Lambert: T = exp(−σ_a t). Glassner 1995, §12; glTF KHR_materials_volume.
+                beta *= exp(-sa * hit.t);
+            }
+        }
+        let mat = materials[hit.material];
+        let front = dot3(d, hit.ng) < 0.0;
+
+        // Emission (one-sided unless doubleSided).
+        if HAS_LIGHTS && (mat.flags & MAT_EMISSIVE) != 0u && (front || (mat.flags & MAT_DOUBLE_SIDED) != 0u) {
+            var w = 1.0;
+            if !prev_delta {
+                w = power_heuristic(prev_pdf, integrator_light_pdf(hit, d));
+            }
+            l += beta * v3(mat.emission) * w;
+        }
+        debug_write(1u + DEBUG_STRIDE * min(depth, DEBUG_MAX_VERTICES - 1u), vec4<f32>(hit.p, hit.t));
+        if depth + 1u >= params.max_depth {
+            break;
+        }
+
+        // Orient normals: opaque double-sided materials shade both sides alike; one-sided
+        // opaque back faces are black; dielectrics keep the outward normal (eta convention).
+        let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
+        var ng = hit.ng;
+        var ns = hit.ns;
+        if !(transmissive || front) {
+            if (mat.flags & MAT_DOUBLE_SIDED) != 0u {
+                ng = -hit.ng;
+                ns = -hit.ns;
+            } else {
+                break;
+            }
+        }
+        if (mat.flags & MAT_BLACK_EMITTER) != 0u {
+            break; // emitters are black surfaces otherwise
+        }
+        let bsdf = material_bsdf(mat);
+        let frame = frame_from_normal(ns);
+        let wo_w = -d;
+        let wo = frame_to_local(frame, wo_w);
+        let uc = sampler_next_1d(sampler);
+        let u2 = sampler_next_2d(sampler);
+        let ul = sampler_next_1d(sampler);
+        let ul2 = sampler_next_2d(sampler);
+
+        // Next-event estimation.
+        if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
+            l += beta * integrator_sample_light(hit, ng, frame, wo, wo_w, bsdf, ul, ul2);
+        }
+
+        // BSDF sampling.
+        let s = bsdf_sample(bsdf, wo, uc, u2, MODE_RADIANCE);
+        if !s.valid {
+            break;
+        }
+        let wi_w = frame_to_world(frame, s.wi);
+        let side_o = dot3(wo_w, ng);
+        let side_i = dot3(wi_w, ng);
+        var consistent: bool;
+        if s.event == EVENT_REFLECT {
+            consistent = side_o * side_i > 0.0;
+        } else {
+            consistent = side_o * side_i < 0.0;
+        }
+        if !consistent || !is_finite_v3(s.weight) {
+            break;
+        }
+        beta *= s.weight;
+        if s.event == EVENT_TRANSMIT {
+            eta_scale *= s.eta_rel * s.eta_rel;
+            if (mat.flags & MAT_SOLID) != 0u {
+                // Entering when the new direction points against the outward normal.
+                if dot3(wi_w, hit.ng) < 0.0 {
+                    medium = hit.material;
+                } else {
+                    medium = NO_MEDIUM;
+                }
+            }
+        }
+        prev_pdf = s.pdf;
+        prev_delta = s.is_delta;
+        var off_n = -ng;
+        if side_i > 0.0 {
+            off_n = ng;
+        }
+        o = offset_ray_origin(hit.p, off_n);
+        d = wi_w;
+        depth++;
+        debug_write(2u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(beta, f32(depth)));
+        debug_write(3u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(d, f32(hit.scene_tri)));
+
+        // Russian roulette (Mitsuba 3 `path`: q = min(max(β)·η², 0.95) from rr_depth).
+        if depth >= params.rr_depth {
+            let q = min(max(max_element3(beta), 0.0) * eta_scale, 0.95);
+            if q <= 0.0 || sampler_next_1d(sampler) >= q {
+                break;
+            }
+            beta /= q;
+        } else if max(max_element3(beta), 0.0) <= 0.0 {
+            break;
+        }
+    }
+    return l;
+}
+
+// A sample is accepted only if every component is finite and non-negative (film::sample_is_valid).
+fn sample_is_valid(v: vec3<f32>) -> bool {
+    return is_finite_v3(v) && min(min(v.x, v.y), v.z) >= 0.0;
+}
+
+// Camera ray through the film point (sx, sy) ∈ [0,1]², (0,0) = top-left. Twin of `Camera::ray_dir`.
+fn camera_ray_dir(sx: f32, sy: f32) -> vec3<f32> {
+    let tan_half = params.cam_pos.w;
+    let aspect = params.cam_right.w;
+    let x = (2.0 * sx - 1.0) * tan_half * aspect;
+    let y = (1.0 - 2.0 * sy) * tan_half;
+    // rotation · (x, y, −1), glam's column order.
+    let v = params.cam_right.xyz * x + params.cam_up.xyz * y + params.cam_back.xyz * -1.0;
+    return normalize3(v);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn render(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let x = gid.x;
+    let y = gid.y;
+    let w = params.width;
+    let h = params.height;
+    if x >= w || y >= h {
+        return;
+    }
+    let pixel = y * w + x;
+    segments = 0u;
+    var sum = vec3<f32>(0.0);
+    var dropped = 0u;
+    for (var k = 0u; k < params.batch; k++) {
+        let s = params.sample_offset + k;
+        debug_on = pixel == params.debug_pixel && k == 0u;
+        var sampler = sampler_new(pixel, s, params.seed);
+        let j = sampler_next_2d(&sampler);
+        let sx = (f32(x) + j.x) / f32(w);
+        let sy = (f32(y) + j.y) / f32(h);
+        let dir = camera_ray_dir(sx, sy);
+        debug_write(0u, vec4<f32>(dir, 0.0));
+        let v = integrator_li(params.cam_pos.xyz, dir, &sampler);
+        debug_write(1u + DEBUG_STRIDE * DEBUG_MAX_VERTICES, vec4<f32>(v, f32(sampler.dim)));
+        if sample_is_valid(v) {
+            sum += v;
+        } else {
+            dropped++;
+        }
+    }
+    // Fold the batch into the running mean without drift: mean·n/(n+k) + Σ/(n+k).
+    let old = accum[pixel];
+    accum[pixel] = vec4<f32>(old.xyz * params.w_old + sum * params.w_new, 1.0);
+    add_counter_dropped(dropped);
+    add_counter_segments(segments);
+}

@@ -1,0 +1,274 @@
+// scene.wgsl — scene buffers (layouts = gpu::layout, checked by naga reflection in
+// tests/gpu.rs), BVH2 traversal with a short stack and the watertight triangle test.
+// Twin of src/bvh.rs (the CPU walks a CWBVH over the same triangles; closest hits agree).
+
+struct BvhNode {
+    lo: array<f32, 3>,
+    // 0 = inner node (children at first_index, first_index + 1), else leaf primitive count.
+    prim_count: u32,
+    hi: array<f32, 3>,
+    first_index: u32,
+}
+
+// A triangle in BVH leaf order (slot k = bvh2.primitive_indices[k]).
+struct Triangle {
+    p0: array<f32, 3>,
+    material: u32,
+    p1: array<f32, 3>,
+    // Index into the scene's triangle list.
+    scene_tri: u32,
+    p2: array<f32, 3>,
+    // Light-selection probability (LightSet::tri_pick_prob).
+    pick_prob: f32,
+    i0: u32,
+    i1: u32,
+    i2: u32,
+    // Mesh::area.
+    area: f32,
+}
+
+struct Vertex {
+    normal: array<f32, 3>,
+    u: f32,
+    v: f32,
+    _pad: u32,
+}
+
+// Material flags.
+const MAT_EMISSIVE: u32 = 1u;
+const MAT_DOUBLE_SIDED: u32 = 2u;
+const MAT_TRANSMISSIVE: u32 = 4u;
+// Solid glass: the path enters its medium (Beer–Lambert absorption applies inside).
+const MAT_SOLID: u32 = 8u;
+// Emitter that is black otherwise (the path ends there).
+const MAT_BLACK_EMITTER: u32 = 16u;
+const MAT_ABSORBS: u32 = 32u;
+
+struct Material {
+    base_color: array<f32, 3>,
+    bsdf: u32,
+    emission: array<f32, 3>,
+    flags: u32,
+    sigma_a: array<f32, 3>,
+    eta: f32,
+    alpha: f32,
+    metallic: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+const LIGHT_TRIANGLE: u32 = 0u;
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
+
+struct Light {
+    position: array<f32, 3>,
+    kind: u32,
+    direction: array<f32, 3>,
+    // Leaf slot of the triangle (LIGHT_TRIANGLE).
+    index: u32,
+    intensity: array<f32, 3>,
+    cos_inner: f32,
+    // Inclusive CDF (LightSet::cdf).
+    cdf: f32,
+    cos_outer: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(3) var<storage, read> vertices: array<Vertex>;
+@group(0) @binding(4) var<storage, read> materials: array<Material>;
+@group(0) @binding(5) var<storage, read> lights: array<Light>;
+
+struct Hit {
+    found: bool,
+    t: f32,
+    // Leaf slot of the triangle.
+    slot: u32,
+    b1: f32,
+    b2: f32,
+}
+
+// Per-ray constants of the watertight test: Woop, Benthin & Wald 2013, "Watertight
+// Ray/Triangle Intersection" (JCGT 2(1)), §3 (axis permutation and shear).
+struct WatertightRay {
+    org: vec3<f32>,
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+fn watertight_ray_new(org: vec3<f32>, dir: vec3<f32>) -> WatertightRay {
+    let a = abs(dir);
+    var kz = 2u;
+    if a.x > a.y {
+        if a.x > a.z {
+            kz = 0u;
+        }
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    if dir[kz] < 0.0 {
+        let tmp = kx;
+        kx = ky;
+        ky = tmp;
+    }
+    return WatertightRay(org, kx, ky, kz, dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+}
+
+// a·b − c·d with one rounding error (replaces the CPU's f64 re-evaluation, which WGSL lacks).
+// Kahan's difference of products; Jeannerod, Louvet & Muller 2013, Math. Comp. 82(284).
+fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let cd = c * d;
+    let err = fma(-c, d, cd);
+    let dop = fma(a, b, -cd);
+    return dop + err;
+}
+
+// Returns (t, b1, b2) or None. Woop et al. 2013, algorithm of §3 (no back-face culling);
+// exact-zero edge functions are re-evaluated with `difference_of_products` (§3.3).
+fn watertight_ray_intersect(r: WatertightRay, tri: Triangle, tmax: f32) -> vec4<f32> {
+    let a = v3(tri.p0) - r.org;
+    let b = v3(tri.p1) - r.org;
+    let c = v3(tri.p2) - r.org;
+    let ax = a[r.kx] - r.sx * a[r.kz];
+    let ay = a[r.ky] - r.sy * a[r.kz];
+    let bx = b[r.kx] - r.sx * b[r.kz];
+    let by = b[r.ky] - r.sy * b[r.kz];
+    let cx = c[r.kx] - r.sx * c[r.kz];
+    let cy = c[r.ky] - r.sy * c[r.kz];
+    var u = cx * by - cy * bx;
+    var v = ax * cy - ay * cx;
+    var w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        u = difference_of_products(cx, by, cy, bx);
+        v = difference_of_products(ax, cy, ay, cx);
+        w = difference_of_products(bx, ay, by, ax);
+    }
+    let miss = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return miss;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return miss;
+    }
+    let az = r.sz * a[r.kz];
+    let bz = r.sz * b[r.kz];
+    let cz = r.sz * c[r.kz];
+    let t_scaled = u * az + v * bz + w * cz;
+    let inv = 1.0 / det;
+    let t = t_scaled * inv;
+    if !(t > 0.0 && t < tmax) {
+        return miss;
+    }
+    return vec4<f32>(t, v * inv, w * inv, 1.0);
+}
+
+// Slab test; far distance widened by 1 + 2γ₃ so boxes never miss a hit on their faces.
+// Ize 2013, "Robust BVH Ray Traversal" (JCGT 2(2)), §3.
+fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax: f32) -> f32 {
+    let t0 = (lo - org) * inv_d;
+    let t1 = (hi - org) * inv_d;
+    let tn = min(t0, t1);
+    let tf = max(t0, t1);
+    let tnear = max(max(tn.x, tn.y), max(tn.z, 0.0));
+    let tfar = min(min(tf.x, tf.y), min(tf.z, tmax)) * 1.0000004;
+    if tnear <= tfar {
+        return tnear;
+    }
+    return F32_MAX;
+}
+
+// gpu::upload checks that the tree is no deeper than this.
+const STACK_SIZE: u32 = 64u;
+
+// Closest hit (any_hit = false) or first hit (any_hit = true) along org + t·dir, t ∈ (0, tmax).
+fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
+    var hit = Hit(false, tmax_in, 0u, 0.0, 0.0);
+    let wr = watertight_ray_new(org, dir);
+    // 1/±0 = ±Inf is what the slab test wants; WGSL gives an indeterminate value there, so
+    // substitute a huge finite reciprocal of the right sign.
+    var inv_d: vec3<f32>;
+    for (var k = 0u; k < 3u; k++) {
+        if dir[k] == 0.0 {
+            inv_d[k] = select(F32_MAX, -F32_MAX, bitcast<u32>(dir[k]) != 0u);
+        } else {
+            inv_d[k] = 1.0 / dir[k];
+        }
+    }
+    var stack: array<u32, STACK_SIZE>;
+    var sp = 0u;
+    var node = 0u;
+    let root = nodes[0];
+    if ray_box(v3(root.lo), v3(root.hi), org, inv_d, hit.t) == F32_MAX {
+        return hit;
+    }
+    loop {
+        let n = nodes[node];
+        if n.prim_count > 0u {
+            for (var i = 0u; i < n.prim_count; i++) {
+                let slot = n.first_index + i;
+                let r = watertight_ray_intersect(wr, triangles[slot], hit.t);
+                if r.w > 0.0 {
+                    hit = Hit(true, r.x, slot, r.y, r.z);
+                    if any_hit {
+                        return hit;
+                    }
+                }
+            }
+        } else {
+            let l = n.first_index;
+            let nl = nodes[l];
+            let nr = nodes[l + 1u];
+            let tl = ray_box(v3(nl.lo), v3(nl.hi), org, inv_d, hit.t);
+            let tr = ray_box(v3(nr.lo), v3(nr.hi), org, inv_d, hit.t);
+            let hl = tl != F32_MAX;
+            let hr = tr != F32_MAX;
+            if hl && hr {
+                var near = l;
+                var far = l + 1u;
+                if tr < tl {
+                    near = l + 1u;
+                    far = l;
+                }
+                if sp < STACK_SIZE {
+                    stack[sp] = far;
+                    sp++;
+                }
+                node = near;
+                continue;
+            } else if hl {
+                node = l;
+                continue;
+            } else if hr {
+                node = l + 1u;
+                continue;
+            }
+        }
+        if sp == 0u {
+            break;
+        }
+        sp--;
+        node = stack[sp];
+    }
+    return hit;
+}
+
+// Closest hit along origin + t·dir for t in (0, tmax). Twin of `Bvh::intersect`.
+fn bvh_intersect(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> Hit {
+    return traverse(origin, dir, tmax, false);
+}
+
+// True if anything is hit along origin + t·dir for t in (0, tmax). Twin of `Bvh::occluded`.
+fn bvh_occluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
+    return traverse(origin, dir, tmax, true).found;
+}
