@@ -48,8 +48,8 @@ const MAX_NODE_DEPTH: usize = 1024;
 
 /// Load a `.gltf` or `.glb` file.
 pub fn load_path(path: &Path) -> anyhow::Result<Scene> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| anyhow!("cannot read scene '{}': {e}", path.display()))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| anyhow!("cannot read scene '{}': {e}", path.display()))?;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -68,8 +68,9 @@ pub fn load_slice(bytes: &[u8], base: Option<&Path>, name: &str) -> anyhow::Resu
         .map_err(|e| anyhow!("'{name}' is not valid glTF: {e}"))?;
     let root = gltf.document.as_json();
     check_uris(root)?;
-    let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
-        .map_err(|e| anyhow!("cannot load the buffers of '{name}': {e} (missing or short buffer?)"))?;
+    let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone()).map_err(|e| {
+        anyhow!("cannot load the buffers of '{name}': {e} (missing or short buffer?)")
+    })?;
     let buffers: Vec<&[u8]> = buffers.iter().map(|b| b.0.as_slice()).collect();
     let mut loader = Loader {
         root,
@@ -102,7 +103,10 @@ fn check_glb_header(bytes: &[u8]) -> anyhow::Result<&[u8]> {
         Some(u32::from_le_bytes(b))
     };
     let (Some(version), Some(length)) = (word(4), word(8)) else {
-        bail!("truncated .glb: {} bytes, the header alone needs 12", bytes.len());
+        bail!(
+            "truncated .glb: {} bytes, the header alone needs 12",
+            bytes.len()
+        );
     };
     if version != 2 {
         bail!(".glb container version {version} is not supported (only 2)");
@@ -119,9 +123,7 @@ fn check_glb_header(bytes: &[u8]) -> anyhow::Result<&[u8]> {
     }
     let json_len = word(12).unwrap_or(0) as usize;
     if json_len > length - 20 {
-        bail!(
-            "truncated .glb: JSON chunk of {json_len} bytes does not fit in {length} bytes"
-        );
+        bail!("truncated .glb: JSON chunk of {json_len} bytes does not fit in {length} bytes");
     }
     Ok(&bytes[..length])
 }
@@ -233,7 +235,12 @@ fn read_le<const N: usize>(b: &[u8], at: usize) -> Option<[u8; N]> {
 }
 
 /// One component at byte `at`, as f32 (normalised integers mapped per glTF §3.11).
-fn read_comp(b: &[u8], at: usize, c: json::accessor::ComponentType, normalized: bool) -> Option<f32> {
+fn read_comp(
+    b: &[u8],
+    at: usize,
+    c: json::accessor::ComponentType,
+    normalized: bool,
+) -> Option<f32> {
     use json::accessor::ComponentType as C;
     Some(match c {
         C::F32 => f32::from_le_bytes(read_le(b, at)?),
@@ -251,7 +258,11 @@ fn read_comp(b: &[u8], at: usize, c: json::accessor::ComponentType, normalized: 
         }
         C::I16 => {
             let v = i16::from_le_bytes(read_le(b, at)?) as f32;
-            if normalized { (v / 32767.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
         }
         C::U32 => u32::from_le_bytes(read_le(b, at)?) as f32,
     })
@@ -311,8 +322,9 @@ impl Loader<'_> {
         let root = self.root;
         self.check_extensions();
         if !root.skins.is_empty() || !root.animations.is_empty() {
-            self.warnings
-                .push("skins and animations are ignored (the scene is loaded in its rest pose)".into());
+            self.warnings.push(
+                "skins and animations are ignored (the scene is loaded in its rest pose)".into(),
+            );
         }
         let settings_value = root.scenes.first().and_then(|s| extras_value(&s.extras));
         let settings = parse_render_settings(settings_value.as_ref())?;
@@ -325,11 +337,11 @@ impl Loader<'_> {
         }
 
         // Scene traversal: the default scene (or scenes[0]); with no scenes, every root node.
-        let roots: Vec<usize> = match root
-            .scene
-            .map(|s| s.value())
-            .or(if root.scenes.is_empty() { None } else { Some(0) })
-        {
+        let roots: Vec<usize> = match root.scene.map(|s| s.value()).or(if root.scenes.is_empty() {
+            None
+        } else {
+            Some(0)
+        }) {
             Some(si) => {
                 let scene = root
                     .scenes
@@ -409,7 +421,11 @@ impl Loader<'_> {
                 self.warnings.once(&format!("ext:{n}"), || {
                     format!(
                         "unsupported extension {n}{} is ignored",
-                        if required { " (listed as required)" } else { "" }
+                        if required {
+                            " (listed as required)"
+                        } else {
+                            ""
+                        }
                     )
                 });
             }
@@ -428,12 +444,16 @@ impl Loader<'_> {
     fn traverse(&mut self, roots: &[usize]) -> anyhow::Result<()> {
         let root = self.root;
         let mut visited = vec![false; root.nodes.len()];
-        let mut stack: Vec<(usize, Mat4, usize)> =
-            roots.iter().rev().map(|&n| (n, Mat4::IDENTITY, 0)).collect();
+        let mut stack: Vec<(usize, Mat4, usize)> = roots
+            .iter()
+            .rev()
+            .map(|&n| (n, Mat4::IDENTITY, 0))
+            .collect();
         while let Some((ni, parent, depth)) = stack.pop() {
             let Some(node) = root.nodes.get(ni) else {
-                self.warnings
-                    .push(format!("node {ni} does not exist (index out of range): skipped"));
+                self.warnings.push(format!(
+                    "node {ni} does not exist (index out of range): skipped"
+                ));
                 continue;
             };
             if visited[ni] {
@@ -449,7 +469,8 @@ impl Loader<'_> {
             let local = match node_local_matrix(node) {
                 Ok(m) => m,
                 Err(e) => {
-                    self.warnings.push(format!("node {ni}: {e}; node and children skipped"));
+                    self.warnings
+                        .push(format!("node {ni}: {e}; node and children skipped"));
                     continue;
                 }
             };
@@ -465,7 +486,11 @@ impl Loader<'_> {
             if let Some(mi) = node.mesh {
                 self.mesh_node(ni, mi.value(), world)?;
             }
-            if let Some(l) = node.extensions.as_ref().and_then(|e| e.khr_lights_punctual.as_ref()) {
+            if let Some(l) = node
+                .extensions
+                .as_ref()
+                .and_then(|e| e.khr_lights_punctual.as_ref())
+            {
                 self.light_node(ni, l.light.value(), world);
             }
             for c in node.children.iter().flatten().rev() {
@@ -480,18 +505,21 @@ impl Loader<'_> {
             return Ok(());
         }
         let Some(cam) = self.root.cameras.get(ci) else {
-            self.warnings
-                .push(format!("node {ni}: camera {ci} does not exist (index out of range)"));
+            self.warnings.push(format!(
+                "node {ni}: camera {ci} does not exist (index out of range)"
+            ));
             return Ok(());
         };
         match (&cam.type_, &cam.perspective) {
-            (Checked::Valid(json::camera::Type::Perspective), Some(p)) | (Checked::Invalid, Some(p)) => {
+            (Checked::Valid(json::camera::Type::Perspective), Some(p))
+            | (Checked::Invalid, Some(p)) => {
                 let yfov = p.yfov;
                 if !(yfov.is_finite() && yfov > 1e-4 && yfov < std::f32::consts::PI - 1e-3) {
                     bail!("camera {ci}: yfov {yfov} is outside (0, π) radians");
                 }
                 let c = Camera::from_matrix(world, yfov);
-                c.validate().with_context(|| format!("camera {ci} on node {ni}"))?;
+                c.validate()
+                    .with_context(|| format!("camera {ci} on node {ni}"))?;
                 self.camera = Some(c);
             }
             _ => self.warnings.push(format!(
@@ -525,15 +553,17 @@ impl Loader<'_> {
         }
         if light.range.is_some() {
             self.warnings.once("light-range", || {
-                "KHR_lights_punctual 'range' is ignored (lights fall off with inverse square)".into()
+                "KHR_lights_punctual 'range' is ignored (lights fall off with inverse square)"
+                    .into()
             });
         }
         let position = world.transform_point3(Vec3::ZERO);
         let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let needs_dir = !matches!(light.type_, Checked::Valid(LT::Point));
         if needs_dir && direction == Vec3::ZERO {
-            self.warnings
-                .push(format!("light {li}: node {ni} has a degenerate rotation; ignored"));
+            self.warnings.push(format!(
+                "light {li}: node {ni} has a degenerate rotation; ignored"
+            ));
             return;
         }
         let l = match light.type_ {
@@ -596,7 +626,9 @@ impl Loader<'_> {
 
     fn mesh_node(&mut self, ni: usize, mi: usize, world: Mat4) -> anyhow::Result<()> {
         let Some(mesh) = self.root.meshes.get(mi) else {
-            self.skip_primitive(format!("node {ni}: mesh {mi} does not exist (index out of range)"));
+            self.skip_primitive(format!(
+                "node {ni}: mesh {mi} does not exist (index out of range)"
+            ));
             return Ok(());
         };
         for (pi, prim) in mesh.primitives.iter().enumerate() {
@@ -630,11 +662,10 @@ impl Loader<'_> {
         let Some(vi) = acc.buffer_view else {
             return Ok((acc, None, elem));
         };
-        let view = self
-            .root
-            .buffer_views
-            .get(vi.value())
-            .ok_or_else(|| format!("accessor {ai}: buffer view {} does not exist", vi.value()))?;
+        let view =
+            self.root.buffer_views.get(vi.value()).ok_or_else(|| {
+                format!("accessor {ai}: buffer view {} does not exist", vi.value())
+            })?;
         let data = self.view_bytes(vi.value(), view)?;
         let stride = view.byte_stride.map(|s| s.0).unwrap_or(elem);
         if stride < elem {
@@ -643,7 +674,8 @@ impl Loader<'_> {
             ));
         }
         let start = acc.byte_offset.map(|o| o.0).unwrap_or(0);
-        let start = usize::try_from(start).map_err(|_| format!("accessor {ai}: offset too large"))?;
+        let start =
+            usize::try_from(start).map_err(|_| format!("accessor {ai}: offset too large"))?;
         if count > 0 {
             let end = (count - 1)
                 .checked_mul(stride)
@@ -659,15 +691,22 @@ impl Loader<'_> {
                 }
             }
         }
-        Ok((acc, Some(Strided { data, start, stride }), elem))
+        Ok((
+            acc,
+            Some(Strided {
+                data,
+                start,
+                stride,
+            }),
+            elem,
+        ))
     }
 
     fn view_bytes(&self, vi: usize, view: &json::buffer::View) -> Result<&[u8], String> {
         let bi = view.buffer.value();
-        let buf = self
-            .buffers
-            .get(bi)
-            .ok_or_else(|| format!("buffer view {vi}: buffer {bi} does not exist (missing buffer)"))?;
+        let buf = self.buffers.get(bi).ok_or_else(|| {
+            format!("buffer view {vi}: buffer {bi} does not exist (missing buffer)")
+        })?;
         let off = view.byte_offset.map(|o| o.0).unwrap_or(0);
         let len = view.byte_length.0;
         let end = off.checked_add(len);
@@ -748,18 +787,19 @@ impl Loader<'_> {
     ) -> Result<(), String> {
         let n = sp.count.0;
         if n > count as u64 {
-            return Err(format!("accessor {ai}: sparse count {n} exceeds count {count}"));
+            return Err(format!(
+                "accessor {ai}: sparse count {n} exceeds count {count}"
+            ));
         }
         let n = n as usize;
         let Checked::Valid(ict) = sp.indices.component_type else {
             return Err(format!("accessor {ai}: invalid sparse index type"));
         };
         let get_view = |vi: usize| -> Result<&[u8], String> {
-            let v = self
-                .root
-                .buffer_views
-                .get(vi)
-                .ok_or_else(|| format!("accessor {ai}: sparse buffer view {vi} does not exist"))?;
+            let v =
+                self.root.buffer_views.get(vi).ok_or_else(|| {
+                    format!("accessor {ai}: sparse buffer view {vi} does not exist")
+                })?;
             self.view_bytes(vi, v)
         };
         let ib = get_view(sp.indices.buffer_view.value())?;
@@ -780,7 +820,9 @@ impl Loader<'_> {
                     AccessorData::Float(v) => {
                         v[idx * comps + k] = read_comp(vb, at, ct, normalized).ok_or_else(bad)?
                     }
-                    AccessorData::Uint(v) => v[idx * comps + k] = read_uint(vb, at, ct).ok_or_else(bad)?,
+                    AccessorData::Uint(v) => {
+                        v[idx * comps + k] = read_uint(vb, at, ct).ok_or_else(bad)?
+                    }
                 }
             }
         }
@@ -790,7 +832,9 @@ impl Loader<'_> {
     fn read_floats(&self, ai: usize, comps: usize, what: &str) -> Result<Vec<f32>, String> {
         let (data, c) = self.read_accessor(ai, false)?;
         if c != comps {
-            return Err(format!("{what} accessor {ai} has {c} components, expected {comps}"));
+            return Err(format!(
+                "{what} accessor {ai} has {c} components, expected {comps}"
+            ));
         }
         match data {
             AccessorData::Float(v) => Ok(v),
@@ -809,7 +853,8 @@ impl Loader<'_> {
             }
             Checked::Invalid => return Err("invalid primitive mode".into()),
         }
-        let attr = |s: json::mesh::Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
+        let attr =
+            |s: json::mesh::Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
         let pos_i = attr(json::mesh::Semantic::Positions).ok_or("it has no POSITION attribute")?;
         let positions = self.read_floats(pos_i, 3, "POSITION")?;
         let nv = positions.len() / 3;
@@ -867,13 +912,23 @@ impl Loader<'_> {
         }
         let normal_m = m3.inverse().transpose();
         let flip = det < 0.0;
-        let p = |i: usize| world.transform_point3(Vec3::new(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]));
+        let p = |i: usize| {
+            world.transform_point3(Vec3::new(
+                positions[3 * i],
+                positions[3 * i + 1],
+                positions[3 * i + 2],
+            ))
+        };
         let wpos: Vec<Vec3> = (0..nv).map(p).collect();
         let wnrm: Option<Vec<Vec3>> = normals.as_ref().map(|n| {
             (0..nv)
                 .map(|i| {
                     let v = normal_m * Vec3::new(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
-                    if v.is_finite() { v.normalize_or_zero() } else { Vec3::ZERO }
+                    if v.is_finite() {
+                        v.normalize_or_zero()
+                    } else {
+                        Vec3::ZERO
+                    }
                 })
                 .collect()
         });
@@ -890,7 +945,8 @@ impl Loader<'_> {
         let mut remap = vec![u32::MAX; nv];
         let out = &mut self.mesh;
         let push_vertex = |out: &mut Mesh, p: Vec3, n: Vec3, t: Vec2| -> Result<u32, String> {
-            let id = u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
+            let id =
+                u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
             out.positions.push(p);
             out.normals.push(n);
             out.uvs.push(t);
@@ -949,21 +1005,36 @@ impl Loader<'_> {
         let bc = pbr.base_color_factor.0;
         let mut base_color = Vec3::new(bc[0], bc[1], bc[2]);
         if !(base_color.is_finite() && base_color.min_element() >= 0.0) {
-            self.warnings
-                .push(format!("material '{name}': invalid baseColorFactor; using white"));
+            self.warnings.push(format!(
+                "material '{name}': invalid baseColorFactor; using white"
+            ));
             base_color = Vec3::ONE;
         }
-        let metallic = clamp01(pbr.metallic_factor.0, &name, "metallicFactor", &mut self.warnings);
-        let roughness = clamp01(pbr.roughness_factor.0, &name, "roughnessFactor", &mut self.warnings);
+        let metallic = clamp01(
+            pbr.metallic_factor.0,
+            &name,
+            "metallicFactor",
+            &mut self.warnings,
+        );
+        let roughness = clamp01(
+            pbr.roughness_factor.0,
+            &name,
+            "roughnessFactor",
+            &mut self.warnings,
+        );
         let ext = m.extensions.as_ref();
         let transmission = ext
             .and_then(|e| e.transmission.as_ref())
             .map(|t| t.transmission_factor.0)
             .unwrap_or(0.0);
-        let mut ior = ext.and_then(|e| e.ior.as_ref()).map(|i| i.ior.0).unwrap_or(1.5);
+        let mut ior = ext
+            .and_then(|e| e.ior.as_ref())
+            .map(|i| i.ior.0)
+            .unwrap_or(1.5);
         if !(ior.is_finite() && ior >= 1.0) {
-            self.warnings
-                .push(format!("material '{name}': IOR {ior} is not ≥ 1; using 1.5"));
+            self.warnings.push(format!(
+                "material '{name}': IOR {ior} is not ≥ 1; using 1.5"
+            ));
             ior = 1.5;
         }
         let volume = ext.and_then(|e| e.volume.as_ref());
@@ -978,8 +1049,9 @@ impl Loader<'_> {
             || attenuation_distance.is_nan()
             || attenuation_distance <= 0.0
         {
-            self.warnings
-                .push(format!("material '{name}': invalid volume attenuation; ignored"));
+            self.warnings.push(format!(
+                "material '{name}': invalid volume attenuation; ignored"
+            ));
             attenuation_color = Vec3::ONE;
             attenuation_distance = f32::INFINITY;
         }
@@ -998,25 +1070,35 @@ impl Loader<'_> {
         let specular_color = spec
             .map(|s| Vec3::from(s.specular_color_factor.0))
             .unwrap_or(Vec3::ONE);
-        if spec.is_some_and(|s| s.specular_texture.is_some() || s.specular_color_texture.is_some()) {
-            self.warnings
-                .once("specular-tex", || "KHR_materials_specular textures are ignored".into());
+        if spec.is_some_and(|s| s.specular_texture.is_some() || s.specular_color_texture.is_some())
+        {
+            self.warnings.once("specular-tex", || {
+                "KHR_materials_specular textures are ignored".into()
+            });
         }
         if ext
             .and_then(|e| e.transmission.as_ref())
             .is_some_and(|t| t.transmission_texture.is_some())
         {
-            self.warnings
-                .once("transmission-tex", || "transmission textures are ignored".into());
+            self.warnings.once("transmission-tex", || {
+                "transmission textures are ignored".into()
+            });
         }
-        if m.normal_texture.is_some() || m.occlusion_texture.is_some() || m.emissive_texture.is_some() {
+        if m.normal_texture.is_some()
+            || m.occlusion_texture.is_some()
+            || m.emissive_texture.is_some()
+        {
             self.warnings.once("ignored-tex", || {
                 "normal, occlusion and emissive textures are ignored".into()
             });
         }
-        if !matches!(m.alpha_mode, Checked::Valid(json::material::AlphaMode::Opaque)) {
-            self.warnings
-                .once("alpha", || "alpha modes MASK/BLEND are ignored (treated as opaque)".into());
+        if !matches!(
+            m.alpha_mode,
+            Checked::Valid(json::material::AlphaMode::Opaque)
+        ) {
+            self.warnings.once("alpha", || {
+                "alpha modes MASK/BLEND are ignored (treated as opaque)".into()
+            });
         }
 
         // KHR_materials_dispersion from the raw extension JSON.
@@ -1117,7 +1199,12 @@ impl Loader<'_> {
         mat
     }
 
-    fn texture_ref(&mut self, info: &json::texture::Info, srgb: bool, mat: &str) -> Option<TextureRef> {
+    fn texture_ref(
+        &mut self,
+        info: &json::texture::Info,
+        srgb: bool,
+        mat: &str,
+    ) -> Option<TextureRef> {
         let ti = info.index.value();
         let tex = match self.texture_cache.get(&(ti, srgb)) {
             Some(t) => *t,
@@ -1140,7 +1227,11 @@ impl Loader<'_> {
         }?;
         let mut tex_coord = info.tex_coord;
         let mut transform = Affine2::IDENTITY;
-        if let Some(tt) = info.extensions.as_ref().and_then(|e| e.texture_transform.as_ref()) {
+        if let Some(tt) = info
+            .extensions
+            .as_ref()
+            .and_then(|e| e.texture_transform.as_ref())
+        {
             // KHR_texture_transform: uv' = T · R · S · uv with
             // R = [[cos, sin], [−sin, cos]] (row-major, as in the extension spec).
             let (s, c) = tt.rotation.0.sin_cos();
@@ -1151,8 +1242,9 @@ impl Loader<'_> {
                 tex_coord = tc;
             }
             if !transform.is_finite() {
-                self.warnings
-                    .push(format!("material '{mat}': non-finite KHR_texture_transform ignored"));
+                self.warnings.push(format!(
+                    "material '{mat}': non-finite KHR_texture_transform ignored"
+                ));
                 transform = Affine2::IDENTITY;
             }
         }
@@ -1195,11 +1287,14 @@ impl Loader<'_> {
             } else if uri.contains(':') && !uri.starts_with("file:") {
                 return Err(format!("image {ii}: unsupported URI scheme"));
             } else {
-                let rel = uri.strip_prefix("file://").or(uri.strip_prefix("file:")).unwrap_or(uri);
+                let rel = uri
+                    .strip_prefix("file://")
+                    .or(uri.strip_prefix("file:"))
+                    .unwrap_or(uri);
                 let rel = percent_decode(rel).ok_or_else(|| format!("image {ii}: bad URI"))?;
-                let base = self
-                    .base
-                    .ok_or_else(|| format!("image {ii}: external file '{rel}' but no base directory"))?;
+                let base = self.base.ok_or_else(|| {
+                    format!("image {ii}: external file '{rel}' but no base directory")
+                })?;
                 std::fs::read(base.join(&rel)).map_err(|e| format!("image '{rel}': {e}"))?
             }
         } else {
@@ -1217,7 +1312,12 @@ impl Loader<'_> {
                 let v = Vec4::from(p.0);
                 let v = if v.is_finite() { v } else { Vec4::ZERO };
                 if srgb {
-                    Vec4::new(srgb_to_linear(v.x), srgb_to_linear(v.y), srgb_to_linear(v.z), v.w)
+                    Vec4::new(
+                        srgb_to_linear(v.x),
+                        srgb_to_linear(v.y),
+                        srgb_to_linear(v.z),
+                        v.w,
+                    )
                 } else {
                     v
                 }
@@ -1228,7 +1328,10 @@ impl Loader<'_> {
             if let Some(s) = root.samplers.get(si.value()) {
                 wrap_s = wrap_mode(&s.wrap_s);
                 wrap_t = wrap_mode(&s.wrap_t);
-                linear = !matches!(s.mag_filter, Some(Checked::Valid(json::texture::MagFilter::Nearest)));
+                linear = !matches!(
+                    s.mag_filter,
+                    Some(Checked::Valid(json::texture::MagFilter::Nearest))
+                );
             }
         }
         Ok(Texture {
@@ -1301,7 +1404,9 @@ fn get_u32(obj: &Value, key: &str) -> anyhow::Result<Option<u32>> {
     match obj.get(key) {
         None | Some(Value::Null) => Ok(None),
         Some(v) => {
-            let x = v.as_f64().filter(|x| x.fract() == 0.0 && *x >= 0.0 && *x <= u32::MAX as f64);
+            let x = v
+                .as_f64()
+                .filter(|x| x.fract() == 0.0 && *x >= 0.0 && *x <= u32::MAX as f64);
             match x {
                 Some(x) => Ok(Some(x as u32)),
                 None => bail!("extras.render.{key} must be a non-negative integer, got {v}"),

@@ -220,9 +220,7 @@ impl Material {
             MaterialKind::Glass | MaterialKind::ThinGlass => {
                 Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta })
             }
-            _ => Bsdf::Lambert(bsdf::Lambert {
-                albedo: rgb3(base),
-            }),
+            _ => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
         }
     }
 

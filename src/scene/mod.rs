@@ -5,6 +5,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod features;
+pub mod gltf_export;
 pub mod gltf_load;
 pub mod material;
 
@@ -84,8 +85,12 @@ impl Mesh {
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
         self.uvs.extend_from_slice(&other.uvs);
-        self.indices
-            .extend(other.indices.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        self.indices.extend(
+            other
+                .indices
+                .iter()
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
         self.tri_material.extend_from_slice(&other.tri_material);
     }
 }
@@ -167,7 +172,10 @@ impl Scene {
         use anyhow::ensure;
         let s = &self.settings;
         ensure!(
-            s.width >= 1 && s.height >= 1 && s.width <= MAX_IMAGE_SIDE && s.height <= MAX_IMAGE_SIDE,
+            s.width >= 1
+                && s.height >= 1
+                && s.width <= MAX_IMAGE_SIDE
+                && s.height <= MAX_IMAGE_SIDE,
             "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
             s.width,
             s.height
