@@ -39,7 +39,7 @@ struct Bin {
 
 impl Bin {
     fn add(&mut self, raw: &[u8], count: usize, ty: &str, ctype: u32) -> usize {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         self.views
@@ -62,7 +62,7 @@ impl Bin {
         self.add(bytemuck::cast_slice(v), v.len(), "SCALAR", 5125)
     }
     fn raw_view(&mut self, raw: &[u8]) -> usize {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         self.views
@@ -137,7 +137,7 @@ fn every_builtin_loads_and_validates() {
         let s = Scene::load(&format!("builtin:{name}")).unwrap();
         s.validate().unwrap();
         assert!(
-            s.mesh.triangle_count() > 100,
+            s.mesh.triangle_count() >= 12,
             "{name}: {} triangles",
             s.mesh.triangle_count()
         );
@@ -504,7 +504,7 @@ fn non_uniform_scale_uses_inverse_transpose_for_normals() {
     // Triangle in the plane x + z = 1 (normal (1,0,1)/√2), scaled x by 2: the plane becomes
     // x/2 + z = 1 with normal ∝ (1/2, 0, 1).
     let mut b = Bin::default();
-    let p = b.vec3(&[[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 0.0]]);
+    let p = b.vec3(&[[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     let nn = std::f32::consts::FRAC_1_SQRT_2;
     let n = b.vec3(&[[nn, 0.0, nn]; 3]);
     let doc = json!({
@@ -647,7 +647,7 @@ fn missing_normals_give_flat_normals() {
         [0.0, 1.0, 0.0],
         [0.0, 0.0, -1.0],
     ]);
-    let i = b.idx(&[0, 1, 2, 0, 3, 1]);
+    let i = b.idx(&[0, 1, 2, 0, 1, 3]);
     let doc = json!({
         "nodes": [{"mesh": 0}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": p}, "indices": i}]}]

@@ -27,7 +27,7 @@ pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
                    ctype: u32,
                    target: u32,
                    minmax: Option<(Vec3, Vec3)>| {
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let view = views.len();
@@ -191,10 +191,10 @@ pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
         "bufferViews": views,
         "buffers": [{ "byteLength": bin.len() }]
     });
-    if bin.is_empty() {
-        if let Some(o) = root.as_object_mut() {
-            o.remove("buffers");
-        }
+    if bin.is_empty()
+        && let Some(o) = root.as_object_mut()
+    {
+        o.remove("buffers");
     }
     if !lights.is_empty() {
         used_ext.push("KHR_lights_punctual");
@@ -307,11 +307,11 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
 /// Wrap JSON and binary chunks into a GLB container (glTF 2.0 §4.4).
 fn glb(json_bytes: &[u8], bin: &[u8]) -> Vec<u8> {
     let mut js = json_bytes.to_vec();
-    while js.len() % 4 != 0 {
+    while !js.len().is_multiple_of(4) {
         js.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + js.len() + if b.is_empty() { 0 } else { 8 + b.len() };

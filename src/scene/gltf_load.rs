@@ -896,7 +896,7 @@ impl Loader<'_> {
         if let Some(&bad) = indices.iter().find(|&&i| i as usize >= nv) {
             return Err(format!("vertex index {bad} out of range ({nv} vertices)"));
         }
-        if indices.len() % 3 != 0 {
+        if !indices.len().is_multiple_of(3) {
             self.warnings.push(format!(
                 "index count {} is not a multiple of 3; trailing indices ignored",
                 indices.len()
@@ -1107,9 +1107,8 @@ impl Loader<'_> {
             match d.get("dispersion").map(|v| v.as_f64()) {
                 None => {}
                 Some(Some(x)) if x.is_finite() && x >= 0.0 => {
-                    if x > 0.0 {
-                        abbe = Some((20.0 / x) as f32);
-                    }
+                    // dispersion 0 = none; otherwise V_d = 20 / dispersion.
+                    abbe = (x > 0.0).then(|| (20.0 / x) as f32);
                 }
                 Some(_) => self.warnings.push(format!(
                     "material '{name}': KHR_materials_dispersion.dispersion must be a number ≥ 0; ignored"
@@ -1324,15 +1323,15 @@ impl Loader<'_> {
             })
             .collect();
         let (mut wrap_s, mut wrap_t, mut linear) = (Wrap::Repeat, Wrap::Repeat, true);
-        if let Some(si) = t.sampler {
-            if let Some(s) = root.samplers.get(si.value()) {
-                wrap_s = wrap_mode(&s.wrap_s);
-                wrap_t = wrap_mode(&s.wrap_t);
-                linear = !matches!(
-                    s.mag_filter,
-                    Some(Checked::Valid(json::texture::MagFilter::Nearest))
-                );
-            }
+        if let Some(si) = t.sampler
+            && let Some(s) = root.samplers.get(si.value())
+        {
+            wrap_s = wrap_mode(&s.wrap_s);
+            wrap_t = wrap_mode(&s.wrap_t);
+            linear = !matches!(
+                s.mag_filter,
+                Some(Checked::Valid(json::texture::MagFilter::Nearest))
+            );
         }
         Ok(Texture {
             width: w,
