@@ -1,15 +1,35 @@
-//! Built-in scenes (`builtin:NAME`). Placeholder geometry builders; see the scene loader.
+//! Built-in scenes (`builtin:NAME`), constructed in code (fast, exact). The same scenes are
+//! committed as `assets/NAME.glb` (written by `examples/export_builtins.rs`) for Blender.
+//!
+//! 1 unit = 1 m, +Y up. Every scene sets its own [`RenderSettings`]. Geometry helpers keep
+//! shared edges bit-identical (spheres share seam and pole vertices; boxes and prisms copy
+//! each face's corners from one corner array), so a watertight intersector sees no cracks.
 
-use super::{Camera, Material, Mesh, RenderSettings, Scene};
-use glam::{Vec2, Vec3};
+use super::{Camera, Material, MaterialKind, Mesh, RenderSettings, Scene};
+use crate::bsdf::MicrofacetDistribution;
+use glam::{Quat, Vec2, Vec3};
+use std::f32::consts::PI;
 
-/// Names accepted by [`load`].
-pub const NAMES: &[&str] = &["cornell-glass", "furnace"];
+/// Names accepted by [`load`] (the first is the default scene).
+pub const NAMES: &[&str] = &[
+    "cornell-glass",
+    "glass-slab",
+    "furnace",
+    "rough-glass",
+    "prism",
+    "caustic",
+    "materials",
+];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
     match name {
         "cornell-glass" => Ok(cornell_glass()),
+        "glass-slab" => Ok(glass_slab()),
         "furnace" => Ok(furnace()),
+        "rough-glass" => Ok(rough_glass()),
+        "prism" => Ok(prism()),
+        "caustic" => Ok(caustic()),
+        "materials" => Ok(materials()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")
@@ -36,135 +56,374 @@ pub fn quad(mesh: &mut Mesh, p: Vec3, u: Vec3, v: Vec3, material: u32) {
     mesh.tri_material.extend([material, material]);
 }
 
-/// Append a UV sphere with smooth normals, CCW from outside.
+/// Append a `w × h` rectangle centred at `c` whose front face (CCW side) looks along `normal`.
+pub fn rect(mesh: &mut Mesh, c: Vec3, normal: Vec3, w: f32, h: f32, material: u32) {
+    let n = normal.normalize();
+    // Pick "up" for the rectangle's second side: world Y unless the normal is (nearly) vertical.
+    let up = if n.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
+    let u = up.cross(n).normalize() * w; // u × v ∥ n
+    let v = n.cross(u).normalize() * h;
+    quad(mesh, c - 0.5 * u - 0.5 * v, u, v, material);
+}
+
+/// Append a watertight UV sphere with smooth normals, CCW from outside: one vertex per pole
+/// and `segments` vertices per ring shared across the seam (U jumps from 1 − 1/segments
+/// back to 0 there).
 pub fn sphere(mesh: &mut Mesh, c: Vec3, r: f32, rings: u32, segments: u32, material: u32) {
+    let rings = rings.max(2);
+    let segments = segments.max(3);
     let base = mesh.positions.len() as u32;
-    for i in 0..=rings {
-        let theta = std::f32::consts::PI * i as f32 / rings as f32;
-        for j in 0..=segments {
-            let phi = 2.0 * std::f32::consts::PI * j as f32 / segments as f32;
+    let mut push = |n: Vec3, uv: Vec2| {
+        mesh.positions.push(c + r * n);
+        mesh.normals.push(n);
+        mesh.uvs.push(uv);
+    };
+    push(Vec3::Y, Vec2::new(0.5, 0.0));
+    for i in 1..rings {
+        let theta = PI * i as f32 / rings as f32;
+        for j in 0..segments {
+            let phi = 2.0 * PI * j as f32 / segments as f32;
             let n = Vec3::new(
                 theta.sin() * phi.cos(),
                 theta.cos(),
                 -theta.sin() * phi.sin(),
             );
-            mesh.positions.push(c + r * n);
-            mesh.normals.push(n);
-            mesh.uvs.push(Vec2::new(
-                j as f32 / segments as f32,
-                i as f32 / rings as f32,
-            ));
+            push(
+                n,
+                Vec2::new(j as f32 / segments as f32, i as f32 / rings as f32),
+            );
         }
     }
-    let w = segments + 1;
-    for i in 0..rings {
+    push(Vec3::NEG_Y, Vec2::new(0.5, 1.0));
+    let north = base;
+    let south = base + 1 + (rings - 1) * segments;
+    let ring = |i: u32, j: u32| base + 1 + (i - 1) * segments + (j % segments);
+    for j in 0..segments {
+        mesh.indices.push([north, ring(1, j), ring(1, j + 1)]);
+        mesh.tri_material.push(material);
+    }
+    for i in 1..rings - 1 {
         for j in 0..segments {
-            let a = base + i * w + j;
-            let b = a + w;
-            if i != 0 {
-                mesh.indices.push([a, b, a + 1]);
-                mesh.tri_material.push(material);
-            }
-            if i != rings - 1 {
-                mesh.indices.push([a + 1, b, b + 1]);
-                mesh.tri_material.push(material);
-            }
+            let (a, b, c, d) = (
+                ring(i, j),
+                ring(i + 1, j),
+                ring(i + 1, j + 1),
+                ring(i, j + 1),
+            );
+            mesh.indices.push([a, b, c]);
+            mesh.indices.push([a, c, d]);
+            mesh.tri_material.extend([material, material]);
         }
     }
+    for j in 0..segments {
+        mesh.indices
+            .push([south, ring(rings - 1, j + 1), ring(rings - 1, j)]);
+        mesh.tri_material.push(material);
+    }
+}
+
+/// Append a closed convex polyhedron with flat faces. `faces` list corner indices in cyclic
+/// order (either orientation: each face is turned to face away from the centroid). Corner
+/// positions are copied from `corners`, so shared edges are bit-identical.
+pub fn convex_polyhedron(mesh: &mut Mesh, corners: &[Vec3], faces: &[&[usize]], material: u32) {
+    let centroid = corners.iter().copied().sum::<Vec3>() / corners.len().max(1) as f32;
+    for face in faces {
+        if face.len() < 3 {
+            continue;
+        }
+        let p: Vec<Vec3> = face.iter().map(|&i| corners[i]).collect();
+        let mut n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let fc = p.iter().copied().sum::<Vec3>() / p.len() as f32;
+        let mut order: Vec<usize> = (0..p.len()).collect();
+        if n.dot(fc - centroid) < 0.0 {
+            order.reverse();
+            n = -n;
+        }
+        let base = mesh.positions.len() as u32;
+        for (k, &o) in order.iter().enumerate() {
+            mesh.positions.push(p[o]);
+            mesh.normals.push(n);
+            let a = 2.0 * PI * k as f32 / order.len() as f32;
+            mesh.uvs
+                .push(Vec2::new(0.5 + 0.5 * a.cos(), 0.5 + 0.5 * a.sin()));
+        }
+        for k in 1..order.len() as u32 - 1 {
+            mesh.indices.push([base, base + k, base + k + 1]);
+            mesh.tri_material.push(material);
+        }
+    }
+}
+
+const BOX_FACES: [&[usize]; 6] = [
+    &[0, 1, 3, 2], // −x
+    &[4, 5, 7, 6], // +x
+    &[0, 1, 5, 4], // −y
+    &[2, 3, 7, 6], // +y
+    &[0, 2, 6, 4], // −z
+    &[1, 3, 7, 5], // +z
+];
+
+/// Box with centre `c`, half extents `half`, rotated by `rot`; outward normals.
+pub fn oriented_box(mesh: &mut Mesh, c: Vec3, half: Vec3, rot: Quat, material: u32) {
+    let corners: Vec<Vec3> = (0..8)
+        .map(|k| {
+            let s = Vec3::new(
+                if k & 4 != 0 { 1.0 } else { -1.0 },
+                if k & 2 != 0 { 1.0 } else { -1.0 },
+                if k & 1 != 0 { 1.0 } else { -1.0 },
+            );
+            c + rot * (half * s)
+        })
+        .collect();
+    convex_polyhedron(mesh, &corners, &BOX_FACES, material);
 }
 
 /// Axis-aligned box with outward normals.
 pub fn cuboid(mesh: &mut Mesh, lo: Vec3, hi: Vec3, material: u32) {
-    let d = hi - lo;
-    let (x, y, z) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
-    quad(mesh, lo, y, x, material); // back (-z)
-    quad(mesh, lo + z, x, y, material); // front (+z)
-    quad(mesh, lo, z, y, material); // left (-x)
-    quad(mesh, lo + x, y, z, material); // right (+x)
-    quad(mesh, lo, x, z, material); // bottom (-y)
-    quad(mesh, lo + y, z, x, material); // top (+y)
+    oriented_box(
+        mesh,
+        0.5 * (lo + hi),
+        0.5 * (hi - lo),
+        Quat::IDENTITY,
+        material,
+    );
 }
 
-pub fn cornell_glass() -> Scene {
-    let materials = vec![
-        Material::diffuse("white", Vec3::splat(0.75)),
-        Material::diffuse("red", Vec3::new(0.63, 0.065, 0.05)),
-        Material::diffuse("green", Vec3::new(0.14, 0.45, 0.091)),
-        Material::emitter("light", Vec3::splat(17.0)),
-        Material::glass("glass", 1.5),
-        Material::mirror("mirror", Vec3::splat(0.95)),
+/// Triangular prism: the triangle `tri` (x, z) extruded from y0 to y1.
+pub fn triangular_prism(mesh: &mut Mesh, tri: [Vec2; 3], y0: f32, y1: f32, material: u32) {
+    let mut corners = Vec::with_capacity(6);
+    for y in [y0, y1] {
+        corners.extend(tri.iter().map(|p| Vec3::new(p.x, y, p.y)));
+    }
+    let faces: [&[usize]; 5] = [
+        &[0, 1, 2],
+        &[3, 4, 5],
+        &[0, 1, 4, 3],
+        &[1, 2, 5, 4],
+        &[2, 0, 3, 5],
     ];
-    let mut m = Mesh::default();
-    let s = 1.0;
-    quad(
-        &mut m,
-        Vec3::new(-s, 0.0, -s),
-        Vec3::Z * 2.0 * s,
-        Vec3::X * 2.0 * s,
-        0,
-    ); // floor
-    quad(
-        &mut m,
-        Vec3::new(-s, 2.0 * s, -s),
-        Vec3::X * 2.0 * s,
-        Vec3::Z * 2.0 * s,
-        0,
-    ); // ceiling
-    quad(
-        &mut m,
-        Vec3::new(-s, 0.0, -s),
-        Vec3::X * 2.0 * s,
-        Vec3::Y * 2.0 * s,
-        0,
-    ); // back
-    quad(
-        &mut m,
-        Vec3::new(-s, 0.0, -s),
-        Vec3::Y * 2.0 * s,
-        Vec3::Z * 2.0 * s,
-        1,
-    ); // left red
-    quad(
-        &mut m,
-        Vec3::new(s, 0.0, -s),
-        Vec3::Z * 2.0 * s,
-        Vec3::Y * 2.0 * s,
-        2,
-    ); // right green
-    let l = 0.25;
-    quad(
-        &mut m,
-        Vec3::new(-l, 1.999, -l),
-        Vec3::X * 2.0 * l,
-        Vec3::Z * 2.0 * l,
-        3,
-    );
-    sphere(&mut m, Vec3::new(0.35, 0.35, 0.3), 0.35, 48, 96, 4);
-    // rotate the mirror box slightly? keep axis aligned for the placeholder
-    cuboid(
-        &mut m,
-        Vec3::new(-0.75, 0.0, -0.6),
-        Vec3::new(-0.2, 1.1, -0.1),
-        5,
-    );
+    convex_polyhedron(mesh, &corners, &faces, material);
+}
+
+/// A flat grid of `n × n` cells in y = 0 alternating between two materials, CCW facing +Y.
+pub fn checkerboard(mesh: &mut Mesh, center: Vec3, size: f32, n: u32, mat_a: u32, mat_b: u32) {
+    let base = mesh.positions.len() as u32;
+    let cell = size / n as f32;
+    let x0 = center.x - 0.5 * size;
+    let z0 = center.z - 0.5 * size;
+    for j in 0..=n {
+        for i in 0..=n {
+            mesh.positions.push(Vec3::new(
+                x0 + i as f32 * cell,
+                center.y,
+                z0 + j as f32 * cell,
+            ));
+            mesh.normals.push(Vec3::Y);
+            mesh.uvs
+                .push(Vec2::new(i as f32 / n as f32, j as f32 / n as f32));
+        }
+    }
+    let v = |i: u32, j: u32| base + j * (n + 1) + i;
+    for j in 0..n {
+        for i in 0..n {
+            let m = if (i + j) % 2 == 0 { mat_a } else { mat_b };
+            // CCW seen from +Y: (i,j) → (i,j+1) → (i+1,j+1) (x right, z towards the viewer).
+            mesh.indices.push([v(i, j), v(i, j + 1), v(i + 1, j + 1)]);
+            mesh.indices.push([v(i, j), v(i + 1, j + 1), v(i + 1, j)]);
+            mesh.tri_material.extend([m, m]);
+        }
+    }
+}
+
+fn scene(
+    name: &str,
+    mesh: Mesh,
+    materials: Vec<Material>,
+    camera: Camera,
+    environment: Vec3,
+    settings: RenderSettings,
+) -> Scene {
     Scene {
-        name: "cornell-glass".into(),
-        mesh: m,
+        name: name.into(),
+        mesh,
         materials,
         textures: vec![],
         punctual_lights: vec![],
-        camera: Camera::look_at(
-            Vec3::new(0.0, 1.0, 3.9),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::Y,
-            0.6911,
-        ),
-        environment: Vec3::ZERO,
-        settings: RenderSettings::default(),
+        camera,
+        environment,
+        settings,
         warnings: vec![],
     }
 }
 
+fn settings(width: u32, height: u32) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        ..Default::default()
+    }
+}
+
+/// Rough dielectric (solid, GGX).
+pub fn rough_glass_material(name: &str, ior: f32, roughness: f32) -> Material {
+    Material {
+        roughness,
+        ..Material::glass(name, ior)
+    }
+}
+
+/// Glossy metal: microfacet reflection with reflectance `color`, α = roughness².
+pub fn glossy_metal(name: &str, color: Vec3, roughness: f32) -> Material {
+    Material {
+        name: name.into(),
+        kind: MaterialKind::GlossyMetal,
+        base_color: color,
+        metallic: 1.0,
+        roughness,
+        ..Default::default()
+    }
+}
+
+/// glTF metallic-roughness dielectric ("plastic"): metallic 0.
+pub fn plastic(name: &str, color: Vec3, roughness: f32) -> Material {
+    Material {
+        name: name.into(),
+        kind: MaterialKind::MetalRough,
+        base_color: color,
+        metallic: 0.0,
+        roughness,
+        ..Default::default()
+    }
+}
+
+/// Cornell box materials 0..=3 (white, red, green, light) and geometry: x, z ∈ [−1, 1],
+/// y ∈ [0, 2], open towards +z; a 0.5 × 0.5 m light 1 mm under the ceiling facing down.
+fn cornell_box(m: &mut Mesh) -> Vec<Material> {
+    let s = 1.0;
+    quad(
+        m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::Z * 2.0 * s,
+        Vec3::X * 2.0 * s,
+        0,
+    ); // floor, +Y
+    quad(
+        m,
+        Vec3::new(-s, 2.0 * s, -s),
+        Vec3::X * 2.0 * s,
+        Vec3::Z * 2.0 * s,
+        0,
+    ); // ceiling, −Y
+    quad(
+        m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::X * 2.0 * s,
+        Vec3::Y * 2.0 * s,
+        0,
+    ); // back, +Z
+    quad(
+        m,
+        Vec3::new(-s, 0.0, -s),
+        Vec3::Y * 2.0 * s,
+        Vec3::Z * 2.0 * s,
+        1,
+    ); // left red, +X
+    quad(
+        m,
+        Vec3::new(s, 0.0, -s),
+        Vec3::Z * 2.0 * s,
+        Vec3::Y * 2.0 * s,
+        2,
+    ); // right green, −X
+    let l = 0.25;
+    quad(
+        m,
+        Vec3::new(-l, 1.999, -l),
+        Vec3::X * 2.0 * l,
+        Vec3::Z * 2.0 * l,
+        3,
+    ); // light, −Y
+    vec![
+        Material::diffuse("white", Vec3::splat(0.75)),
+        Material::diffuse("red", Vec3::new(0.63, 0.065, 0.05)),
+        Material::diffuse("green", Vec3::new(0.14, 0.45, 0.091)),
+        Material::emitter("light", Vec3::splat(17.0)),
+    ]
+}
+
+fn cornell_camera() -> Camera {
+    Camera::look_at(
+        Vec3::new(0.0, 1.0, 3.9),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::Y,
+        0.6911,
+    )
+}
+
+/// Default scene: Cornell box, smooth solid glass sphere (IOR 1.5, r = 0.35 m) and a mirror
+/// box (0.55 × 1.1 × 0.5 m) turned 15° about Y.
+pub fn cornell_glass() -> Scene {
+    let mut m = Mesh::default();
+    let mut materials = cornell_box(&mut m);
+    materials.push(Material::glass("glass", 1.5));
+    materials.push(Material::mirror("mirror", Vec3::splat(0.95)));
+    sphere(&mut m, Vec3::new(0.35, 0.35, 0.3), 0.35, 48, 96, 4);
+    oriented_box(
+        &mut m,
+        Vec3::new(-0.45, 0.55, -0.35),
+        Vec3::new(0.275, 0.55, 0.25),
+        Quat::from_rotation_y(15f32.to_radians()),
+        5,
+    );
+    scene(
+        "cornell-glass",
+        m,
+        materials,
+        cornell_camera(),
+        Vec3::ZERO,
+        settings(512, 512),
+    )
+}
+
+/// A 1.2 × 0.2 × 0.8 m smooth glass slab (IOR 1.5), tilted ~26° about X and turned 20° about
+/// Y, 0.3–0.8 m over a 10 × 10 m checkerboard of 0.25 m squares (albedo 0.8 / 0.05), lit by
+/// a 2 × 2 m area light (radiance 6) 3 m up.
+pub fn glass_slab() -> Scene {
+    let materials = vec![
+        Material::diffuse("checker-light", Vec3::splat(0.8)),
+        Material::diffuse("checker-dark", Vec3::splat(0.05)),
+        Material::glass("glass", 1.5),
+        Material::emitter("light", Vec3::splat(6.0)),
+    ];
+    let mut m = Mesh::default();
+    checkerboard(&mut m, Vec3::ZERO, 10.0, 40, 0, 1);
+    oriented_box(
+        &mut m,
+        Vec3::new(0.0, 0.55, 0.0),
+        Vec3::new(0.6, 0.1, 0.4),
+        Quat::from_rotation_y(20f32.to_radians()) * Quat::from_rotation_x(26f32.to_radians()),
+        2,
+    );
+    rect(&mut m, Vec3::new(-0.6, 3.0, 0.4), Vec3::NEG_Y, 2.0, 2.0, 3);
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 2.2, 2.4),
+        Vec3::new(0.0, 0.3, 0.0),
+        Vec3::Y,
+        0.75,
+    );
+    scene(
+        "glass-slab",
+        m,
+        materials,
+        cam,
+        Vec3::ZERO,
+        settings(640, 480),
+    )
+}
+
+/// White furnace: diffuse (albedo 1), mirror (reflectance 1) and smooth glass (IOR 1.5)
+/// spheres of radius 0.5 m in a uniform environment of radiance 1; no lights. Every pixel
+/// should render exactly 1.
 pub fn furnace() -> Scene {
     let materials = vec![
         Material::diffuse("white", Vec3::ONE),
@@ -172,22 +431,270 @@ pub fn furnace() -> Scene {
         Material::glass("glass", 1.5),
     ];
     let mut m = Mesh::default();
-    sphere(&mut m, Vec3::new(-1.1, 0.0, 0.0), 0.5, 32, 64, 0);
-    sphere(&mut m, Vec3::new(0.0, 0.0, 0.0), 0.5, 32, 64, 1);
-    sphere(&mut m, Vec3::new(1.1, 0.0, 0.0), 0.5, 32, 64, 2);
-    Scene {
-        name: "furnace".into(),
-        mesh: m,
+    sphere(&mut m, Vec3::new(-1.1, 0.0, 0.0), 0.5, 48, 96, 0);
+    sphere(&mut m, Vec3::new(0.0, 0.0, 0.0), 0.5, 48, 96, 1);
+    sphere(&mut m, Vec3::new(1.1, 0.0, 0.0), 0.5, 48, 96, 2);
+    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 0.7);
+    scene("furnace", m, materials, cam, Vec3::ONE, settings(256, 128))
+}
+
+/// Cornell box with a rough solid glass sphere (IOR 1.5, roughness 0.3 → α = 0.09, GGX),
+/// r = 0.45 m, on the floor in the middle.
+pub fn rough_glass() -> Scene {
+    let mut m = Mesh::default();
+    let mut materials = cornell_box(&mut m);
+    let mut g = rough_glass_material("rough-glass", 1.5, 0.3);
+    g.distribution = MicrofacetDistribution::Ggx;
+    materials.push(g);
+    sphere(&mut m, Vec3::new(0.0, 0.45, 0.0), 0.45, 48, 96, 4);
+    scene(
+        "rough-glass",
+        m,
         materials,
-        textures: vec![],
-        punctual_lights: vec![],
-        camera: Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 0.7),
-        environment: Vec3::ONE,
-        settings: RenderSettings {
-            width: 256,
-            height: 128,
-            ..Default::default()
-        },
-        warnings: vec![],
+        cornell_camera(),
+        Vec3::ZERO,
+        settings(512, 512),
+    )
+}
+
+/// Geometry of the prism scene in the xz plane (see [`prism`]).
+pub struct PrismLayout {
+    /// Unit direction of the incoming beam (xz), 19.3° off the prism base.
+    pub beam_in: Vec2,
+    /// Unit direction of the beam at minimum deviation after the prism (xz).
+    pub beam_out: Vec2,
+    pub entry: Vec2,
+    pub exit: Vec2,
+}
+
+/// A 60° prism of side 0.35 m with its base along x, apex towards +z, centroid at the origin.
+pub fn prism_layout(side: f32, n: f32) -> PrismLayout {
+    // Minimum deviation of a 60° prism: sin θi = n sin 30°, the inside ray parallel to the base.
+    let theta_i = (n * 0.5).asin();
+    let tilt = theta_i - 30f32.to_radians();
+    let h = side * 3f32.sqrt() / 2.0;
+    PrismLayout {
+        beam_in: Vec2::new(tilt.cos(), tilt.sin()),
+        beam_out: Vec2::new(tilt.cos(), -tilt.sin()),
+        entry: Vec2::new(-side / 4.0, h / 6.0),
+        exit: Vec2::new(side / 4.0, h / 6.0),
     }
+}
+
+/// Dispersion: a 60° triangular prism (side 0.35 m, 0.35 m tall) of dispersive glass
+/// (n_d = 1.5168, Abbe V_d = 20) on a floor (albedo 0.5). A black housing (0.4 m deep) holds a
+/// 0.04 × 0.2 m emitter of radiance 4000 behind a 12 mm × 0.2 m slit, 0.7 m from the prism,
+/// aimed at minimum deviation; the spectrum lands on a white wall (albedo 0.8, 0.6 × 0.6 m)
+/// 0.9 m past the prism, perpendicular to the deviated beam. A dim environment (0.02) fills.
+pub fn prism() -> Scene {
+    let n_d = 1.5168;
+    let materials = vec![
+        Material::diffuse("floor", Vec3::splat(0.5)),
+        Material::diffuse("wall", Vec3::splat(0.8)),
+        Material {
+            abbe: Some(20.0),
+            ..Material::glass("dispersive-glass", n_d)
+        },
+        Material {
+            double_sided: true,
+            ..Material::diffuse("housing", Vec3::ZERO)
+        },
+        Material::emitter("slit-light", Vec3::splat(4000.0)),
+    ];
+    let mut m = Mesh::default();
+    rect(&mut m, Vec3::new(0.0, 0.0, 0.0), Vec3::Y, 4.0, 4.0, 0);
+
+    let side = 0.35;
+    let h = side * 3f32.sqrt() / 2.0;
+    let tri = [
+        Vec2::new(-side / 2.0, -h / 3.0),
+        Vec2::new(side / 2.0, -h / 3.0),
+        Vec2::new(0.0, 2.0 * h / 3.0),
+    ];
+    triangular_prism(&mut m, tri, 0.0, 0.35, 2);
+
+    let lay = prism_layout(side, n_d);
+    let to3 = |p: Vec2, y: f32| Vec3::new(p.x, y, p.y);
+    // Wall, perpendicular to the deviated beam, facing back towards the prism.
+    let wall_c = lay.exit + 0.9 * lay.beam_out;
+    rect(
+        &mut m,
+        to3(wall_c, 0.3),
+        -to3(lay.beam_out, 0.0),
+        0.6,
+        0.6,
+        1,
+    );
+
+    // Housing: a black box whose front plate has the slit; the emitter sits at the back.
+    let f = to3(lay.beam_in, 0.0); // forward
+    let s = Vec3::new(-lay.beam_in.y, 0.0, lay.beam_in.x); // sideways (horizontal)
+    let slit_c = to3(lay.entry - 0.7 * lay.beam_in, 0.15);
+    let (depth, half_w, half_h) = (0.4, 0.03, 0.12);
+    let (slit_hw, slit_hh) = (0.006, 0.1);
+    let back_c = slit_c - depth * f;
+    let hm = 3;
+    // Side, top and bottom walls (double-sided black quads).
+    quad(
+        &mut m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        depth * f,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        &mut m,
+        back_c + half_w * s - half_h * Vec3::Y,
+        2.0 * half_h * Vec3::Y,
+        depth * f,
+        hm,
+    );
+    quad(
+        &mut m,
+        back_c - half_w * s + half_h * Vec3::Y,
+        depth * f,
+        2.0 * half_w * s,
+        hm,
+    );
+    quad(
+        &mut m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        2.0 * half_w * s,
+        depth * f,
+        hm,
+    );
+    // Back plate.
+    quad(
+        &mut m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        2.0 * half_h * Vec3::Y,
+        2.0 * half_w * s,
+        hm,
+    );
+    // Front plate around the slit: left, right, top and bottom strips.
+    let fp = slit_c;
+    let corner = fp - half_w * s - half_h * Vec3::Y;
+    quad(
+        &mut m,
+        corner,
+        (half_w - slit_hw) * s,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        &mut m,
+        fp + slit_hw * s - half_h * Vec3::Y,
+        (half_w - slit_hw) * s,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        &mut m,
+        fp - slit_hw * s + slit_hh * Vec3::Y,
+        2.0 * slit_hw * s,
+        (half_h - slit_hh) * Vec3::Y,
+        hm,
+    );
+    quad(
+        &mut m,
+        fp - slit_hw * s - half_h * Vec3::Y,
+        2.0 * slit_hw * s,
+        (half_h - slit_hh) * Vec3::Y,
+        hm,
+    );
+    // Emitter just in front of the back plate, facing forward.
+    rect(&mut m, back_c + 0.002 * f, f, 0.04, 0.2, 4);
+
+    let cam = Camera::look_at(
+        Vec3::new(-0.1, 1.2, 1.7),
+        Vec3::new(-0.1, 0.1, -0.15),
+        Vec3::Y,
+        0.75,
+    );
+    scene(
+        "prism",
+        m,
+        materials,
+        cam,
+        Vec3::splat(0.02),
+        settings(640, 400),
+    )
+}
+
+/// Caustics: a smooth glass sphere (r = 0.3 m, IOR 1.5) and an upright glass block
+/// (0.1 × 0.4 × 0.6 m) on a 4 × 4 m diffuse floor (albedo 0.8) with a back wall, lit by a
+/// 0.1 × 0.1 m light of radiance 1000 at 45° elevation, 2 m from the sphere; the sphere
+/// focuses it to a bright spot just beyond its contact point.
+pub fn caustic() -> Scene {
+    let materials = vec![
+        Material::diffuse("floor", Vec3::splat(0.8)),
+        Material::glass("glass", 1.5),
+        Material::emitter("light", Vec3::splat(1000.0)),
+        Material::diffuse("wall", Vec3::splat(0.6)),
+    ];
+    let mut m = Mesh::default();
+    rect(&mut m, Vec3::ZERO, Vec3::Y, 4.0, 4.0, 0);
+    rect(&mut m, Vec3::new(0.0, 1.0, -1.5), Vec3::Z, 4.0, 2.0, 3);
+    let c = Vec3::new(0.0, 0.3, 0.0);
+    sphere(&mut m, c, 0.3, 48, 96, 1);
+    oriented_box(
+        &mut m,
+        Vec3::new(0.75, 0.2, -0.6),
+        Vec3::new(0.05, 0.2, 0.3),
+        Quat::IDENTITY,
+        1,
+    );
+    let to_light = Vec3::new(-1.0, 1.0, 0.0).normalize();
+    let lp = c + 2.0 * to_light;
+    rect(&mut m, lp, -to_light, 0.1, 0.1, 2);
+    let cam = Camera::look_at(
+        Vec3::new(0.3, 1.3, 2.6),
+        Vec3::new(0.2, 0.15, -0.2),
+        Vec3::Y,
+        0.6,
+    );
+    scene("caustic", m, materials, cam, Vec3::ZERO, settings(640, 480))
+}
+
+/// Material sweep: back row of gold metal spheres (mirror, GlossyMetal roughness 0.1, 0.3,
+/// 0.6), front row of blue metallic-roughness plastic (metallic 0, roughness 0.05, 0.2, 0.45,
+/// 0.8); r = 0.2 m, 0.5 m apart (rows at z = −0.5 and 0.3), on a floor (albedo 0.5) with a back wall, under a
+/// 1.5 × 0.8 m light of radiance 12 at 2.5 m; environment 0.1.
+pub fn materials() -> Scene {
+    let gold = Vec3::new(0.95, 0.78, 0.42);
+    let blue = Vec3::new(0.1, 0.25, 0.8);
+    let mut materials = vec![
+        Material::diffuse("floor", Vec3::splat(0.5)),
+        Material::emitter("light", Vec3::splat(12.0)),
+        Material::mirror("metal-r0", gold),
+    ];
+    for r in [0.1, 0.3, 0.6] {
+        materials.push(glossy_metal(&format!("metal-r{r}"), gold, r));
+    }
+    for r in [0.05, 0.2, 0.45, 0.8] {
+        materials.push(plastic(&format!("plastic-r{r}"), blue, r));
+    }
+    let mut m = Mesh::default();
+    rect(&mut m, Vec3::ZERO, Vec3::Y, 6.0, 4.0, 0);
+    rect(&mut m, Vec3::new(0.0, 1.5, -1.5), Vec3::Z, 6.0, 3.0, 0);
+    rect(&mut m, Vec3::new(0.0, 2.5, 0.2), Vec3::NEG_Y, 1.5, 0.8, 1);
+    for k in 0..4 {
+        let x = -0.75 + 0.5 * k as f32;
+        sphere(&mut m, Vec3::new(x, 0.2, -0.5), 0.2, 32, 64, 2 + k);
+        sphere(&mut m, Vec3::new(x, 0.2, 0.3), 0.2, 32, 64, 6 + k);
+    }
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.6, 2.1),
+        Vec3::new(0.0, 0.15, -0.15),
+        Vec3::Y,
+        0.6,
+    );
+    scene(
+        "materials",
+        m,
+        materials,
+        cam,
+        Vec3::splat(0.1),
+        settings(640, 360),
+    )
 }

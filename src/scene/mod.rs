@@ -5,6 +5,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod features;
+pub mod gltf_export;
 pub mod gltf_load;
 pub mod light;
 pub mod material;

@@ -1,0 +1,331 @@
+//! Minimal glTF 2.0 (.glb) writer for scenes, following the scene contract in DESIGN.md so
+//! that [`super::gltf_load::load_slice`] reads back the same scene (and Blender can open it).
+//!
+//! One mesh (and node) per used material with POSITION, NORMAL, TEXCOORD_0 and u32 indices;
+//! the camera and the punctual lights as nodes; `scenes[0].extras.render` and
+//! `.environment`. Textures are not written (built-in scenes have none).
+
+use super::{Material, MaterialKind, PunctualLight, Scene};
+use crate::bsdf::MicrofacetDistribution;
+use glam::{Quat, Vec3};
+use serde_json::{Map, Value, json};
+
+/// Binary glTF of `scene`.
+pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
+    scene.validate()?;
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views: Vec<Value> = Vec::new();
+    let mut accessors: Vec<Value> = Vec::new();
+    let mut meshes: Vec<Value> = Vec::new();
+    let mut nodes: Vec<Value> = Vec::new();
+    let mut used_ext: Vec<&str> = Vec::new();
+
+    // Append `bytes` as a buffer view + accessor; returns the accessor index.
+    let mut add = |bytes: &[u8],
+                   count: usize,
+                   ty: &str,
+                   ctype: u32,
+                   target: u32,
+                   minmax: Option<(Vec3, Vec3)>| {
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let view = views.len();
+        views.push(json!({
+            "buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target
+        }));
+        bin.extend_from_slice(bytes);
+        let mut acc = json!({
+            "bufferView": view, "componentType": ctype, "count": count, "type": ty
+        });
+        if let Some((lo, hi)) = minmax {
+            acc["min"] = json!(lo.to_array());
+            acc["max"] = json!(hi.to_array());
+        }
+        accessors.push(acc);
+        accessors.len() - 1
+    };
+
+    let mesh = &scene.mesh;
+    for (mi, mat) in scene.materials.iter().enumerate() {
+        let tris: Vec<usize> = (0..mesh.indices.len())
+            .filter(|&t| mesh.tri_material[t] as usize == mi)
+            .collect();
+        if tris.is_empty() {
+            continue;
+        }
+        let mut remap = vec![u32::MAX; mesh.positions.len()];
+        let mut verts: Vec<usize> = Vec::new();
+        let mut idx: Vec<u32> = Vec::with_capacity(tris.len() * 3);
+        for &t in &tris {
+            for v in mesh.indices[t] {
+                let v = v as usize;
+                if remap[v] == u32::MAX {
+                    remap[v] = verts.len() as u32;
+                    verts.push(v);
+                }
+                idx.push(remap[v]);
+            }
+        }
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        let (mut pos, mut nrm, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+        for &v in &verts {
+            let p = mesh.positions[v];
+            lo = lo.min(p);
+            hi = hi.max(p);
+            pos.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&p.to_array()));
+            nrm.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.normals[v].to_array()));
+            uv.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.uvs[v].to_array()));
+        }
+        let n = verts.len();
+        let a_pos = add(&pos, n, "VEC3", 5126, 34962, Some((lo, hi)));
+        let a_nrm = add(&nrm, n, "VEC3", 5126, 34962, None);
+        let a_uv = add(&uv, n, "VEC2", 5126, 34962, None);
+        let a_idx = add(
+            bytemuck::cast_slice(&idx),
+            idx.len(),
+            "SCALAR",
+            5125,
+            34963,
+            None,
+        );
+        nodes.push(json!({ "name": mat.name, "mesh": meshes.len() }));
+        meshes.push(json!({
+            "name": mat.name,
+            "primitives": [{
+                "attributes": { "POSITION": a_pos, "NORMAL": a_nrm, "TEXCOORD_0": a_uv },
+                "indices": a_idx, "material": mi, "mode": 4
+            }]
+        }));
+    }
+
+    let materials: Vec<Value> = scene
+        .materials
+        .iter()
+        .map(|m| material_json(m, &mut used_ext))
+        .collect();
+
+    // Camera: local −Z is the view direction, rotation columns right/up/back.
+    let cam = &scene.camera;
+    let q = Quat::from_mat3(&cam.rotation).normalize();
+    nodes.push(json!({
+        "name": "camera", "camera": 0,
+        "translation": cam.position.to_array(), "rotation": q.to_array()
+    }));
+    let s = &scene.settings;
+    let cameras = json!([{
+        "type": "perspective",
+        "perspective": {
+            "yfov": cam.yfov, "znear": 0.001,
+            "aspectRatio": s.width as f32 / s.height.max(1) as f32
+        }
+    }]);
+
+    let mut lights: Vec<Value> = Vec::new();
+    for (li, l) in scene.punctual_lights.iter().enumerate() {
+        let (ty, pos, dir, power) = match *l {
+            PunctualLight::Point {
+                position,
+                intensity,
+            } => ("point", Some(position), None, intensity),
+            PunctualLight::Spot {
+                position,
+                direction,
+                intensity,
+                ..
+            } => ("spot", Some(position), Some(direction), intensity),
+            PunctualLight::Directional {
+                direction,
+                irradiance,
+            } => ("directional", None, Some(direction), irradiance),
+        };
+        let (color, intensity) = split_color(power);
+        let mut lj = json!({ "type": ty, "color": color.to_array(), "intensity": intensity });
+        if let PunctualLight::Spot {
+            cos_inner,
+            cos_outer,
+            ..
+        } = *l
+        {
+            lj["spot"] = json!({
+                "innerConeAngle": cos_inner.clamp(-1.0, 1.0).acos(),
+                "outerConeAngle": cos_outer.clamp(-1.0, 1.0).acos()
+            });
+        }
+        lights.push(lj);
+        let mut node = json!({
+            "name": format!("light{li}"),
+            "extensions": { "KHR_lights_punctual": { "light": li } }
+        });
+        if let Some(p) = pos {
+            node["translation"] = json!(p.to_array());
+        }
+        if let Some(d) = dir {
+            let r = Quat::from_rotation_arc(Vec3::NEG_Z, d.normalize());
+            node["rotation"] = json!(r.to_array());
+        }
+        nodes.push(node);
+    }
+
+    let s = &scene.settings;
+    let mut root = json!({
+        "asset": { "version": "2.0", "generator": "refract gltf_export" },
+        "scene": 0,
+        "scenes": [{
+            "name": scene.name,
+            "nodes": (0..nodes.len()).collect::<Vec<_>>(),
+            "extras": {
+                "render": {
+                    "width": s.width, "height": s.height, "max_depth": s.max_depth,
+                    "rr_depth": s.rr_depth, "spp": s.spp
+                },
+                "environment": scene.environment.to_array()
+            }
+        }],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "cameras": cameras,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{ "byteLength": bin.len() }]
+    });
+    if bin.is_empty()
+        && let Some(o) = root.as_object_mut()
+    {
+        o.remove("buffers");
+    }
+    if !lights.is_empty() {
+        used_ext.push("KHR_lights_punctual");
+        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": lights } });
+    }
+    used_ext.sort_unstable();
+    used_ext.dedup();
+    if !used_ext.is_empty() {
+        root["extensionsUsed"] = json!(used_ext);
+    }
+    Ok(glb(&serde_json::to_vec(&root)?, &bin))
+}
+
+/// (colour with max component 1, intensity) so that colour × intensity = `v`.
+fn split_color(v: Vec3) -> (Vec3, f32) {
+    let m = v.max_element();
+    if m > 0.0 {
+        (v / m, m)
+    } else {
+        (Vec3::ONE, 0.0)
+    }
+}
+
+fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
+    let (metallic, roughness) = match m.kind {
+        MaterialKind::Diffuse => (0.0, 1.0),
+        MaterialKind::Mirror => (1.0, 0.0),
+        MaterialKind::GlossyMetal => (1.0, m.roughness),
+        MaterialKind::Glass | MaterialKind::ThinGlass => (0.0, m.roughness),
+        MaterialKind::MetalRough => (m.metallic, m.roughness),
+    };
+    let bc = m.base_color;
+    let mut j = json!({
+        "name": m.name,
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [bc.x, bc.y, bc.z, 1.0],
+            "metallicFactor": metallic,
+            "roughnessFactor": roughness
+        }
+    });
+    if m.double_sided {
+        j["doubleSided"] = json!(true);
+    }
+    let mut ext = Map::new();
+    if m.is_emissive() {
+        let (c, s) = split_color(m.emission);
+        if s <= 1.0 {
+            j["emissiveFactor"] = json!(m.emission.to_array());
+        } else {
+            j["emissiveFactor"] = json!(c.to_array());
+            ext.insert(
+                "KHR_materials_emissive_strength".into(),
+                json!({ "emissiveStrength": s }),
+            );
+            used.push("KHR_materials_emissive_strength");
+        }
+    }
+    if m.is_transmissive() {
+        ext.insert(
+            "KHR_materials_transmission".into(),
+            json!({ "transmissionFactor": 1.0 }),
+        );
+        ext.insert("KHR_materials_ior".into(), json!({ "ior": m.ior }));
+        used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
+        if m.kind == MaterialKind::Glass {
+            let mut v = json!({ "thicknessFactor": 1.0 });
+            if m.attenuation_distance.is_finite() {
+                v["attenuationDistance"] = json!(m.attenuation_distance);
+                v["attenuationColor"] = json!(m.attenuation_color.to_array());
+            }
+            ext.insert("KHR_materials_volume".into(), v);
+            used.push("KHR_materials_volume");
+        }
+        if let Some(abbe) = m.abbe {
+            ext.insert(
+                "KHR_materials_dispersion".into(),
+                json!({ "dispersion": 20.0 / abbe }),
+            );
+            used.push("KHR_materials_dispersion");
+        }
+    }
+    if m.kind == MaterialKind::MetalRough
+        && (m.specular_factor != 1.0 || m.specular_color != Vec3::ONE)
+    {
+        ext.insert(
+            "KHR_materials_specular".into(),
+            json!({
+                "specularFactor": m.specular_factor,
+                "specularColorFactor": m.specular_color.to_array()
+            }),
+        );
+        used.push("KHR_materials_specular");
+    }
+    if !ext.is_empty() {
+        j["extensions"] = Value::Object(ext);
+    }
+    if matches!(
+        m.kind,
+        MaterialKind::Glass | MaterialKind::ThinGlass | MaterialKind::GlossyMetal
+    ) {
+        let d = match m.distribution {
+            MicrofacetDistribution::Ggx => "ggx",
+            MicrofacetDistribution::Beckmann => "beckmann",
+        };
+        j["extras"] = json!({ "microfacet_distribution": d });
+    }
+    j
+}
+
+/// Wrap JSON and binary chunks into a GLB container (glTF 2.0 §4.4).
+fn glb(json_bytes: &[u8], bin: &[u8]) -> Vec<u8> {
+    let mut js = json_bytes.to_vec();
+    while !js.len().is_multiple_of(4) {
+        js.push(b' ');
+    }
+    let mut b = bin.to_vec();
+    while !b.len().is_multiple_of(4) {
+        b.push(0);
+    }
+    let total = 12 + 8 + js.len() + if b.is_empty() { 0 } else { 8 + b.len() };
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(js.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&js);
+    if !b.is_empty() {
+        out.extend_from_slice(&(b.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&b);
+    }
+    out
+}
