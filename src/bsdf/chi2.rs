@@ -150,8 +150,29 @@ fn simpson_rec(
     if depth <= 0 || (min_depth <= 0 && delta.abs() <= 15.0 * eps) {
         return left + right + delta / 15.0;
     }
-    simpson_rec(f, a, m, fa, flm, fm, left, 0.5 * eps, depth - 1, min_depth - 1)
-        + simpson_rec(f, m, b, fm, frm, fb, right, 0.5 * eps, depth - 1, min_depth - 1)
+    simpson_rec(
+        f,
+        a,
+        m,
+        fa,
+        flm,
+        fm,
+        left,
+        0.5 * eps,
+        depth - 1,
+        min_depth - 1,
+    ) + simpson_rec(
+        f,
+        m,
+        b,
+        fm,
+        frm,
+        fb,
+        right,
+        0.5 * eps,
+        depth - 1,
+        min_depth - 1,
+    )
 }
 
 /// ∫_a^b f with absolute tolerance `eps` (adaptive Simpson, at most 2^max_depth intervals,

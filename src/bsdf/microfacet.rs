@@ -104,7 +104,8 @@ impl Microfacet {
     /// Heitz 2014 (JCGT 3(2)), height-correlated Smith masking-shadowing.
     #[inline]
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
-        1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
+        // (Λo + Λi) summed first: symmetric in its arguments to the last bit.
+        1.0 / (1.0 + (self.lambda(wo) + self.lambda(wi)))
     }
 
     /// Distribution of visible normals D_wo(m) = G1(wo) max(0, wo·m) D(m) / |wo.z|
@@ -233,6 +234,8 @@ fn beckmann_visible_slopes(cos_t: f32, sin_t: f32, u: Vec2) -> (f32, f32) {
 
 /// Complementary error function, fractional error < 1.2e-7 everywhere.
 /// Press et al., "Numerical Recipes in C" 2nd ed. §6.2 (`erfcc`, Chebyshev fit).
+// Published coefficients kept verbatim (easier to check against the source).
+#[allow(clippy::excessive_precision)]
 #[inline]
 pub fn erfc(x: f32) -> f32 {
     let z = x.abs();
@@ -257,6 +260,8 @@ pub fn erf(x: f32) -> f32 {
 
 /// Inverse error function for |x| < 1, single precision.
 /// Giles 2010, "Approximating the erfinv function" (GPU Computing Gems Jade, ch. 10), Fig. 2.
+// Published coefficients kept verbatim (easier to check against the source).
+#[allow(clippy::excessive_precision)]
 #[inline]
 pub fn erfinv(x: f32) -> f32 {
     let w = -((1.0 - x) * (1.0 + x)).ln();

@@ -48,8 +48,16 @@ impl RoughDielectric {
             1.0 / self.eta
         };
         // Generalised half vector m ∝ n_o wo + n_i wi, Walter 2007 eq. 16 (eq. 13 for
-        // reflection), face-forwarded to the outside (m.z > 0).
-        let h = wo + wi * etap;
+        // reflection), face-forwarded to the outside (m.z > 0). Built in a canonical order
+        // (outside direction + eta · inside direction) so that swapping wo and wi gives a
+        // bit-identical m: reciprocity then holds to rounding even at grazing microfacets.
+        let h = if reflect {
+            wo + wi
+        } else if cos_o > 0.0 {
+            wo + wi * self.eta
+        } else {
+            wi + wo * self.eta
+        };
         let len2 = h.length_squared();
         if len2 <= 0.0 || !len2.is_finite() {
             return (0.0, 0.0);
@@ -74,7 +82,16 @@ impl RoughDielectric {
         let wo_up = if cos_o > 0.0 { wo } else { -wo };
         let pdf_m = mf.pdf_visible(wo_up, m);
         let g = mf.g2(wo, wi);
-        let fr = fresnel_dielectric(dot_o, self.eta);
+        // Fresnel at the microfacet, from a symmetric argument: the mean cosine for reflection
+        // (wo·m = wi·m analytically) and the outside direction's cosine for transmission
+        // (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo) share it.
+        let fr = if reflect {
+            fresnel_dielectric(0.5 * (dot_o + dot_i), self.eta)
+        } else if cos_o > 0.0 {
+            fresnel_dielectric(dot_o, self.eta)
+        } else {
+            fresnel_dielectric(dot_i, self.eta)
+        };
         if reflect {
             // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
             let f = fr * g * d / (4.0 * cos_o.abs() * cos_i.abs());
@@ -82,12 +99,17 @@ impl RoughDielectric {
             let pdf = pdf_m * fr / (4.0 * dot_o.abs());
             (f, pdf)
         } else {
-            let denom = dot_o + etap * dot_i;
+            // (wo·m + eta' wi·m)², from the canonical (outside + eta · inside) sum.
+            let denom = if cos_o > 0.0 {
+                dot_o + self.eta * dot_i
+            } else {
+                (dot_i + self.eta * dot_o) / self.eta
+            };
             let denom2 = denom * denom;
             // f_t = |wi·m||wo·m| / (|wi·n||wo·n|) · n_o² (1 − F) G D / (n_i wi·m + n_o wo·m)²,
             // Walter 2007 eq. 21 (wo = Walter's o, wi = i), divided through by n_o².
-            let f_rad = (dot_i * dot_o).abs() * (1.0 - fr) * g * d
-                / ((cos_i * cos_o).abs() * denom2);
+            let f_rad =
+                (dot_i * dot_o).abs() * (1.0 - fr) * g * d / ((cos_i * cos_o).abs() * denom2);
             // Radiance mode keeps the 1/eta'² (Walter's n_o²); importance mode removes it
             // (Veach 1997 §5.2, non-symmetric BSDF due to refraction).
             let f = match mode {

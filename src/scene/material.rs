@@ -245,9 +245,7 @@ impl Material {
                 }
             }
             MaterialKind::MetalRough => Bsdf::MetalRough(self.metal_rough_at(textures, uv, base)),
-            MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert {
-                albedo: rgb3(base),
-            }),
+            MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
         }
     }
 
