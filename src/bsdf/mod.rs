@@ -9,11 +9,16 @@
 //! sampled direction of light flow); in [`TransportMode::Importance`] it does not
 //! (Veach 1997, §5.2).
 
+pub mod chi2;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
 pub mod thin;
+pub mod glossy;
+pub mod metal_rough;
+pub mod microfacet;
+pub mod rough_dielectric;
 
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -22,6 +27,10 @@ pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
 pub use thin::ThinDielectric;
+pub use glossy::RoughConductor;
+pub use metal_rough::MetalRough;
+pub use microfacet::Microfacet;
+pub use rough_dielectric::RoughDielectric;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +86,9 @@ pub fn effectively_smooth(alpha: f32) -> bool {
 pub struct BsdfSample {
     /// Sampled direction (local frame, unit length, pointing away from the surface).
     pub wi: Vec3,
-    /// BSDF value f(wo, wi) (0 for delta lobes).
+    /// BSDF value f(wo, wi) (0 for delta lobes). For multi-class BSDFs (MetalRough) the value
+    /// of the labelled class divided by the label's probability, f_k / q_k, so that
+    /// weight = f·|cos|/pdf still holds and E[f] over the label is f(wo, wi).
     pub f: Color,
     /// f·|cos θi| / pdf (for delta lobes the weight directly).
     pub weight: Color,
@@ -114,6 +125,9 @@ pub enum Bsdf {
     Mirror(Mirror),
     SmoothDielectric(SmoothDielectric),
     ThinDielectric(ThinDielectric),
+    RoughDielectric(RoughDielectric),
+    RoughConductor(RoughConductor),
+    MetalRough(MetalRough),
 }
 
 impl Bsdf {
@@ -123,6 +137,7 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(_) => false,
             Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => true,
+            Bsdf::RoughDielectric(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => false,
         }
     }
 
@@ -136,6 +151,15 @@ impl Bsdf {
             Bsdf::Mirror(b) => Bsdf::Mirror(Mirror {
                 reflectance: f(b.reflectance),
             }),
+            Bsdf::RoughConductor(b) => Bsdf::RoughConductor(RoughConductor {
+                reflectance: f(b.reflectance),
+                ..b
+            }),
+            Bsdf::MetalRough(b) => Bsdf::MetalRough(MetalRough {
+                base_color: f(b.base_color),
+                specular_color: f(b.specular_color),
+                ..b
+            }),
             other => other,
         }
     }
@@ -144,8 +168,10 @@ impl Bsdf {
     #[inline]
     pub fn can_transmit(&self) -> bool {
         match self {
-            Bsdf::Lambert(_) | Bsdf::Mirror(_) => false,
-            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => true,
+            Bsdf::Lambert(_) | Bsdf::Mirror(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => {
+                false
+            }
+            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => true,
         }
     }
 
@@ -156,12 +182,16 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(_) => Lobe::D,
             Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => Lobe::S,
+            Bsdf::RoughDielectric(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => Lobe::G,
         }
     }
 
     /// f(wo, wi) split by Heckbert class (delta lobes contribute nothing).
     #[inline]
     pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> LobeValues {
+        if let Bsdf::MetalRough(b) = self {
+            return b.eval_lobes(wo, wi);
+        }
         let f = self.eval(wo, wi, mode);
         match self.class() {
             Lobe::D => LobeValues {
@@ -184,6 +214,9 @@ impl BxDF for Bsdf {
             Bsdf::Mirror(b) => b.eval(wo, wi, mode),
             Bsdf::SmoothDielectric(b) => b.eval(wo, wi, mode),
             Bsdf::ThinDielectric(b) => b.eval(wo, wi, mode),
+            Bsdf::RoughDielectric(b) => b.eval(wo, wi, mode),
+            Bsdf::RoughConductor(b) => b.eval(wo, wi, mode),
+            Bsdf::MetalRough(b) => b.eval(wo, wi, mode),
         }
     }
     #[inline]
@@ -193,6 +226,9 @@ impl BxDF for Bsdf {
             Bsdf::Mirror(b) => b.pdf(wo, wi),
             Bsdf::SmoothDielectric(b) => b.pdf(wo, wi),
             Bsdf::ThinDielectric(b) => b.pdf(wo, wi),
+            Bsdf::RoughDielectric(b) => b.pdf(wo, wi),
+            Bsdf::RoughConductor(b) => b.pdf(wo, wi),
+            Bsdf::MetalRough(b) => b.pdf(wo, wi),
         }
     }
     #[inline]
@@ -202,6 +238,9 @@ impl BxDF for Bsdf {
             Bsdf::Mirror(b) => b.sample(wo, uc, u2, mode),
             Bsdf::SmoothDielectric(b) => b.sample(wo, uc, u2, mode),
             Bsdf::ThinDielectric(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::RoughDielectric(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::RoughConductor(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::MetalRough(b) => b.sample(wo, uc, u2, mode),
         }
     }
 }

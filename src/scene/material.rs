@@ -217,10 +217,57 @@ impl Material {
             MaterialKind::Mirror => Bsdf::Mirror(bsdf::Mirror {
                 reflectance: rgb3(base),
             }),
-            MaterialKind::Glass => Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta }),
+            MaterialKind::Glass => {
+                let alpha = bsdf::roughness_to_alpha(self.roughness);
+                if bsdf::effectively_smooth(alpha) || eta == 1.0 {
+                    Bsdf::SmoothDielectric(bsdf::SmoothDielectric { eta })
+                } else {
+                    Bsdf::RoughDielectric(bsdf::RoughDielectric {
+                        eta,
+                        alpha,
+                        dist: self.distribution,
+                    })
+                }
+            }
             // Thin-walled (glTF transmission without volume): two interfaces, no bending.
             MaterialKind::ThinGlass => Bsdf::ThinDielectric(bsdf::ThinDielectric { eta }),
-            _ => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
+            MaterialKind::GlossyMetal => {
+                let alpha = bsdf::roughness_to_alpha(self.roughness);
+                if bsdf::effectively_smooth(alpha) {
+                    Bsdf::Mirror(bsdf::Mirror {
+                        reflectance: rgb3(base),
+                    })
+                } else {
+                    Bsdf::RoughConductor(bsdf::RoughConductor {
+                        reflectance: rgb3(base),
+                        alpha,
+                        dist: self.distribution,
+                    })
+                }
+            }
+            MaterialKind::MetalRough => Bsdf::MetalRough(self.metal_rough_at(textures, uv, base)),
+            MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
+        }
+    }
+
+    /// The glTF metallic-roughness BRDF at `uv`: metallic × texture B, roughness × texture G
+    /// (glTF 2.0 spec §3.9.2 `metallicRoughnessTexture`). α is clamped to the smooth threshold
+    /// (this BRDF has no delta lobe).
+    pub fn metal_rough_at(&self, textures: &[Texture], uv: Vec2, base: Vec3) -> bsdf::MetalRough {
+        let (mut metallic, mut roughness) = (self.metallic, self.roughness);
+        if let Some(r) = &self.metallic_roughness_texture {
+            let t = sample_texture(textures, r, uv);
+            metallic *= t.z;
+            roughness *= t.y;
+        }
+        let alpha = bsdf::roughness_to_alpha(roughness).max(bsdf::SMOOTH_ALPHA);
+        bsdf::MetalRough {
+            base_color: rgb3(base),
+            metallic: metallic.clamp(0.0, 1.0),
+            alpha,
+            ior: self.ior,
+            specular_factor: self.specular_factor.clamp(0.0, 1.0),
+            specular_color: rgb3(self.specular_color.max(Vec3::ZERO)),
         }
     }
 

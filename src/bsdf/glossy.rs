@@ -1,0 +1,95 @@
+//! Glossy mirror: microfacet reflection with constant reflectance (the scene contract's
+//! "metallic 1, roughness > 0" material; no Fresnel tint).
+
+use super::fresnel::reflect;
+use super::microfacet::Microfacet;
+use super::{BsdfSample, BxDF, Event, Lobe, MicrofacetDistribution, TransportMode};
+use crate::math::Color;
+use glam::{Vec2, Vec3};
+
+/// Rough conductor with constant reflectance R:
+/// f = R D(m) G2(wo, wi) / (4 cosθo cosθi), m = normalize(wo + wi)
+/// (Walter et al. 2007 eq. 20 with F ≡ R; Heitz 2014 height-correlated G2).
+/// One-sided like [`super::Lambert`]: wo and wi must both have z > 0.
+#[derive(Clone, Copy, Debug)]
+pub struct RoughConductor {
+    pub reflectance: Color,
+    pub alpha: f32,
+    pub dist: MicrofacetDistribution,
+}
+
+impl RoughConductor {
+    #[inline]
+    fn mf(&self) -> Microfacet {
+        Microfacet::new(self.dist, self.alpha)
+    }
+
+    /// Scalar D G2/(4 cos cos) and pdf, shared by eval/pdf/sample so they agree exactly.
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (f32, f32) {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let h = wo + wi;
+        let len2 = h.length_squared();
+        if len2 <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let m = h / len2.sqrt();
+        let dot_o = wo.dot(m);
+        if dot_o <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let mf = self.mf();
+        let d = mf.d(m);
+        // Walter 2007 eq. 20 (F = 1 here; the reflectance multiplies outside).
+        let f = d * mf.g2(wo, wi) / (4.0 * wo.z * wi.z);
+        // Visible-normal pdf × reflection Jacobian 1/(4 wo·m), Walter 2007 eq. 14.
+        let pdf = mf.pdf_visible(wo, m) / (4.0 * dot_o);
+        (f, pdf)
+    }
+}
+
+impl BxDF for RoughConductor {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
+        self.reflectance * self.eval_pdf(wo, wi).0
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.eval_pdf(wo, wi).1
+    }
+
+    /// Visible-normal sampling + mirror reflection about m (Heitz 2018); the weight is
+    /// R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
+    #[inline]
+    fn sample(&self, wo: Vec3, _uc: f32, u2: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
+        if wo.z <= 0.0 || !wo.is_finite() {
+            return None;
+        }
+        let m = self.mf().sample_visible(wo, u2);
+        if wo.dot(m) <= 0.0 {
+            return None;
+        }
+        let wi = reflect(wo, m);
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let (f, pdf) = self.eval_pdf(wo, wi);
+        if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
+            return None;
+        }
+        let f = self.reflectance * f;
+        Some(BsdfSample {
+            wi,
+            f,
+            weight: f * (wi.z / pdf),
+            pdf,
+            is_delta: false,
+            event: Event::Reflect,
+            lobe: Lobe::G,
+            eta_rel: 1.0,
+        })
+    }
+}

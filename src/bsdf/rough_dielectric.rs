@@ -1,0 +1,193 @@
+//! Rough dielectric interface: microfacet reflection and refraction
+//! (Walter, Marschner, Li, Torrance 2007, "Microfacet Models for Refraction through Rough
+//! Surfaces", EGSR).
+
+use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms, reflect, refract};
+use super::microfacet::Microfacet;
+use super::{BsdfSample, BxDF, Event, Lobe, MicrofacetDistribution, TransportMode};
+use crate::math::Color;
+use glam::{Vec2, Vec3};
+
+/// Rough dielectric boundary with relative IOR `eta` = n_inside / n_outside (outside: z > 0).
+///
+/// - Exact unpolarised Fresnel at the microfacet, reflection/transmission chosen by F(wo·m);
+///   total internal reflection on microfacets when coming from inside (relative IOR 1/eta).
+/// - Height-correlated Smith G2, visible-normal sampling from the side `wo` is on.
+/// - Radiance mode carries the 1/eta'² factor of refraction (eta' = n(wi side)/n(wo side)),
+///   importance mode does not; then f_importance(wo, wi) = f_radiance(wi, wo) (Veach 1997
+///   §5.3.2, adjoint BSDF).
+/// - eta = 1 has no interface: `sample` passes straight through (a delta event), eval/pdf are 0.
+#[derive(Clone, Copy, Debug)]
+pub struct RoughDielectric {
+    pub eta: f32,
+    pub alpha: f32,
+    pub dist: MicrofacetDistribution,
+}
+
+impl RoughDielectric {
+    #[inline]
+    fn mf(&self) -> Microfacet {
+        Microfacet::new(self.dist, self.alpha)
+    }
+
+    /// f(wo, wi) (scalar, the same for every channel) and pdf(wo, wi), computed together so that
+    /// `eval`, `pdf` and `sample` agree exactly.
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (f32, f32) {
+        let (cos_o, cos_i) = (wo.z, wi.z);
+        if cos_o == 0.0 || cos_i == 0.0 || self.eta == 1.0 {
+            return (0.0, 0.0);
+        }
+        let reflect = cos_o * cos_i > 0.0;
+        // eta' = n(wi side) / n(wo side).
+        let etap = if reflect {
+            1.0
+        } else if cos_o > 0.0 {
+            self.eta
+        } else {
+            1.0 / self.eta
+        };
+        // Generalised half vector m ∝ n_o wo + n_i wi, Walter 2007 eq. 16 (eq. 13 for
+        // reflection), face-forwarded to the outside (m.z > 0). Built in a canonical order
+        // (outside direction + eta · inside direction) so that swapping wo and wi gives a
+        // bit-identical m: reciprocity then holds to rounding even at grazing microfacets.
+        let h = if reflect {
+            wo + wi
+        } else if cos_o > 0.0 {
+            wo + wi * self.eta
+        } else {
+            wi + wo * self.eta
+        };
+        let len2 = h.length_squared();
+        if len2 <= 0.0 || !len2.is_finite() {
+            return (0.0, 0.0);
+        }
+        let mut m = h / len2.sqrt();
+        if m.z < 0.0 {
+            m = -m;
+        }
+        let dot_o = wo.dot(m);
+        let dot_i = wi.dot(m);
+        // Back-facing microfacets contribute nothing: each direction must be on the same side of
+        // m as of the macro normal (Walter 2007 §5, the χ⁺ terms of eqs. 20–21).
+        if dot_o * cos_o <= 0.0 || dot_i * cos_i <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let mf = self.mf();
+        let d = mf.d(m);
+        if d <= 0.0 {
+            return (0.0, 0.0);
+        }
+        // Visible normals of the side wo is on (wo mirrored to the upper hemisphere).
+        let wo_up = if cos_o > 0.0 { wo } else { -wo };
+        let pdf_m = mf.pdf_visible(wo_up, m);
+        let g = mf.g2(wo, wi);
+        // Fresnel at the microfacet, from a symmetric argument: the mean cosine for reflection
+        // (wo·m = wi·m analytically) and the outside direction's cosine for transmission
+        // (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo) share it.
+        let fr = if reflect {
+            fresnel_dielectric(0.5 * (dot_o + dot_i), self.eta)
+        } else if cos_o > 0.0 {
+            fresnel_dielectric(dot_o, self.eta)
+        } else {
+            fresnel_dielectric(dot_i, self.eta)
+        };
+        if reflect {
+            // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
+            let f = fr * g * d / (4.0 * cos_o.abs() * cos_i.abs());
+            // dω_m/dω_i = 1/(4 |wi·m|), Walter 2007 eq. 14 (|wi·m| = |wo·m| for reflection).
+            let pdf = pdf_m * fr / (4.0 * dot_o.abs());
+            (f, pdf)
+        } else {
+            // (wo·m + eta' wi·m)², from the canonical (outside + eta · inside) sum.
+            let denom = if cos_o > 0.0 {
+                dot_o + self.eta * dot_i
+            } else {
+                (dot_i + self.eta * dot_o) / self.eta
+            };
+            let denom2 = denom * denom;
+            // f_t = |wi·m||wo·m| / (|wi·n||wo·n|) · n_o² (1 − F) G D / (n_i wi·m + n_o wo·m)²,
+            // Walter 2007 eq. 21 (wo = Walter's o, wi = i), divided through by n_o².
+            let f_rad =
+                (dot_i * dot_o).abs() * (1.0 - fr) * g * d / ((cos_i * cos_o).abs() * denom2);
+            // Radiance mode keeps the 1/eta'² (Walter's n_o²); importance mode removes it
+            // (Veach 1997 §5.2, non-symmetric BSDF due to refraction).
+            let f = match mode {
+                TransportMode::Radiance => f_rad,
+                TransportMode::Importance => f_rad * etap * etap,
+            };
+            // dω_m/dω_i = eta'² |wi·m| / (wo·m + eta' wi·m)², Walter 2007 eq. 17.
+            let pdf = pdf_m * (1.0 - fr) * etap * etap * dot_i.abs() / denom2;
+            (f, pdf)
+        }
+    }
+}
+
+impl BxDF for RoughDielectric {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
+        Color::splat(self.eval_pdf(wo, wi, mode).0)
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.eval_pdf(wo, wi, TransportMode::Radiance).1
+    }
+
+    /// Sample a visible normal m from the side of `wo` (u2), then reflect with probability
+    /// F(wo·m) or refract (uc) (Walter 2007 §5.3; Heitz & d'Eon 2014 for visible normals).
+    #[inline]
+    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if wo.z == 0.0 || !wo.is_finite() {
+            return None;
+        }
+        if self.eta == 1.0 {
+            // Index-matched: no interface at all (same as SmoothDielectric).
+            return Some(BsdfSample {
+                wi: -wo,
+                f: Color::ZERO,
+                weight: Color::ONE,
+                pdf: 1.0,
+                is_delta: true,
+                event: Event::Transmit,
+                lobe: Lobe::S,
+                eta_rel: 1.0,
+            });
+        }
+        let side = wo.z.signum();
+        let wo_up = wo * side;
+        let m = self.mf().sample_visible(wo_up, u2);
+        let dot_o = wo.dot(m);
+        if dot_o * side <= 0.0 || m.z <= 0.0 {
+            return None;
+        }
+        let fr = fresnel_dielectric_terms(dot_o, self.eta);
+        let (wi, event, eta_rel) = if uc < fr.f {
+            // Microfacet mirror reflection (includes TIR where F = 1).
+            (reflect(wo, m), Event::Reflect, 1.0)
+        } else {
+            // Snell refraction through the microfacet (normal on wo's side).
+            let wi = refract(wo, m * side, fr.eta_rel)?;
+            (wi.normalize(), Event::Transmit, fr.eta_rel)
+        };
+        let same_side = wi.z * wo.z > 0.0;
+        if same_side != (event == Event::Reflect) || wi.z == 0.0 {
+            return None;
+        }
+        let (f, pdf) = self.eval_pdf(wo, wi, mode);
+        if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
+            return None;
+        }
+        let f = Color::splat(f);
+        Some(BsdfSample {
+            wi,
+            f,
+            weight: f * (wi.z.abs() / pdf),
+            pdf,
+            is_delta: false,
+            event,
+            lobe: Lobe::G,
+            eta_rel,
+        })
+    }
+}
