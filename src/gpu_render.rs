@@ -16,6 +16,14 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) 
         "auto" => false,
         d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
     };
+    if args.estimator != refract::cpu::Estimator::Path || !args.paths.trim().is_empty() {
+        if forced {
+            bail!(
+                "the GPU renderer supports only --estimator path without --paths yet (use --device cpu)"
+            );
+        }
+        return Ok(false);
+    }
     let ctx = match GpuContext::new() {
         Ok(c) => c,
         Err(e) if !forced => {

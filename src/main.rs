@@ -179,22 +179,22 @@ fn render(args: &RenderArgs) -> Result<()> {
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
+    if args.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
+    let filter = refract::paths::PathFilter::parse(&args.paths)
+        .map_err(|e| anyhow::anyhow!("invalid --paths '{}': {e}", args.paths))?;
     if gpu_render::render(args, &scene, spp, tone)? {
         return Ok(());
     }
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads {
-        if t == 0 {
-            bail!("--threads must be at least 1");
-        }
         pool = pool.num_threads(t);
     }
     let pool = pool.build().context("cannot start worker threads")?;
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.seed = args.seed;
-    let filter = refract::paths::PathFilter::parse(&args.paths)
-        .map_err(|e| anyhow::anyhow!("invalid --paths '{}': {e}", args.paths))?;
     Renderer::set_filter(&mut opts, Some(&filter));
     opts.estimator = args.estimator;
     if opts.estimator != Estimator::Path && renderer.scene.features().dispersion {
@@ -295,6 +295,15 @@ fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 fn main() {
+    // Vulkan drivers complain on stderr when XDG_RUNTIME_DIR is unset (headless machines, CI).
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join(format!("refract-xdg-{}", std::process::id()));
+        if std::fs::create_dir_all(&dir).is_ok() {
+            // SAFETY: called first thing in `main`, before any other thread exists, so no
+            // concurrent reader of the environment can observe the write.
+            unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+        }
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
