@@ -56,6 +56,21 @@ impl Film {
         }
     }
 
+    /// Add a spectral-mode sample: a single-wavelength estimate converted to RGB can be
+    /// legitimately outside the sRGB gamut (a negative channel), so only non-finite samples
+    /// are dropped here; per-pixel means converge to the in-gamut colour.
+    #[inline]
+    pub fn add_signed_to(px: &mut [f64; 3], v: Vec3) -> bool {
+        if v.is_finite() {
+            px[0] += v.x as f64;
+            px[1] += v.y as f64;
+            px[2] += v.z as f64;
+            true
+        } else {
+            false
+        }
+    }
+
     /// Add light-tracing splats (already divided by nothing; `scale` applied here).
     pub fn add_splat(&mut self, x: u32, y: u32, v: Vec3) -> bool {
         if x >= self.width || y >= self.height {

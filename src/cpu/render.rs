@@ -155,7 +155,12 @@ impl Renderer {
                         let sy = (y as f32 + j.y) / h as f32;
                         let dir = cam.ray_dir(sx, sy, aspect);
                         let v = integ.li(cam.position, dir, &mut sampler);
-                        if !Film::add_to(px, v) {
+                        let ok = if integ.spectral {
+                            Film::add_signed_to(px, v)
+                        } else {
+                            Film::add_to(px, v)
+                        };
+                        if !ok {
                             dropped += 1;
                         }
                     }
