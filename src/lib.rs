@@ -1,7 +1,8 @@
 //! refract: a physically based light-transport renderer for teaching how light meets
 //! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
-//! `scene`, `bvh`, `film`, then the renderers (`cpu`), then the CLI.
+//! `scene`, `bvh`, `film`, then the renderers (`cpu`), then the viewer (`app`) and the CLI.
 
+pub mod app;
 pub mod bsdf;
 pub mod bvh;
 pub mod cpu;
