@@ -206,7 +206,8 @@ impl ViewerApp {
         }
         self.settings.set_material(index, &m);
         self.scene.materials[index] = m;
-        self.backend.update_material(index, &self.scene.materials[index]);
+        self.backend
+            .update_material(index, &self.scene.materials[index]);
     }
 
     /// `settings.light` changed: rebuild the lit scene (and the BVH if the light moved).
@@ -555,13 +556,12 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     use eframe::wgpu;
     let mut create = WgpuSetupCreateNew::without_display_handle();
-    create.device_descriptor = std::sync::Arc::new(|adapter: &wgpu::Adapter| {
-        wgpu::DeviceDescriptor {
+    create.device_descriptor =
+        std::sync::Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
             label: Some("refract device"),
             required_limits: adapter.limits(),
             ..Default::default()
-        }
-    });
+        });
     WgpuConfiguration {
         wgpu_setup: WgpuSetup::CreateNew(create),
         ..Default::default()
@@ -570,7 +570,10 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
 
 /// Open the viewer window (blocks until it is closed).
 pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
-    let spec = opts.scene.clone().unwrap_or_else(|| DEFAULT_SCENE.to_owned());
+    let spec = opts
+        .scene
+        .clone()
+        .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
     // Load before opening the window so a bad path is a plain CLI error.
     let base = Scene::load(&spec)?;
     base.validate()?;
@@ -590,9 +593,8 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
         "refract",
         native,
         Box::new(move |cc| {
-            let persisted: Option<ViewerSettings> = cc
-                .storage
-                .and_then(|s| eframe::get_value(s, STORAGE_KEY));
+            let persisted: Option<ViewerSettings> =
+                cc.storage.and_then(|s| eframe::get_value(s, STORAGE_KEY));
             let mut settings = persisted.unwrap_or_else(|| ViewerSettings::for_scene(&spec));
             settings.capture = None;
             if settings.scene != spec {

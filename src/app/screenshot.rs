@@ -92,7 +92,14 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
     let exr = dir.join(format!("{stem}.exr"));
     let json = dir.join(format!("{stem}.json"));
     let d = app.settings.display;
-    film::save_image(&png, acc.width, acc.height, &acc.pixels, d.exposure, d.tone_map)?;
+    film::save_image(
+        &png,
+        acc.width,
+        acc.height,
+        &acc.pixels,
+        d.exposure,
+        d.tone_map,
+    )?;
     film::save_image(&exr, acc.width, acc.height, &acc.pixels, 0.0, d.tone_map)?;
     let mut sidecar = app.settings.clone();
     sidecar.capture = Some(CaptureInfo {

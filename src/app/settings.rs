@@ -198,7 +198,12 @@ impl Orbit {
     }
 
     pub fn camera(&self, yfov: f32) -> Camera {
-        Camera::look_at(self.position(), Vec3::from_array(self.target), Vec3::Y, yfov)
+        Camera::look_at(
+            self.position(),
+            Vec3::from_array(self.target),
+            Vec3::Y,
+            yfov,
+        )
     }
 
     /// Keep the orbit usable whatever was typed or dragged.
@@ -310,10 +315,7 @@ impl MainLight {
             let mi = scene.mesh.tri_material[t as usize] as usize;
             power[mi] += luminance(scene.materials[mi].emission) * scene.mesh.area(t as usize);
         }
-        let (material, &p) = power
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))?;
+        let (material, &p) = power.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
         if p.is_nan() || p <= 0.0 {
             return None;
         }
@@ -524,7 +526,8 @@ impl ViewerSettings {
             let p = base.mesh.positions[v as usize];
             let scaled = main.centroid + (p - main.centroid) * size;
             scene.mesh.positions[v as usize] = main.centre + rot * (scaled - main.centre);
-            scene.mesh.normals[v as usize] = (rot * base.mesh.normals[v as usize]).normalize_or(Vec3::Y);
+            scene.mesh.normals[v as usize] =
+                (rot * base.mesh.normals[v as usize]).normalize_or(Vec3::Y);
         }
     }
 
@@ -545,7 +548,10 @@ impl ViewerSettings {
                     base.camera
                 }
             }
-            None => Camera { yfov, ..base.camera },
+            None => Camera {
+                yfov,
+                ..base.camera
+            },
         }
     }
 
@@ -629,10 +635,22 @@ mod tests {
         let (scene, w) = s.apply(&base);
         assert!(w.is_empty());
         let m = main.material;
-        assert_eq!(scene.materials[m].emission, base.materials[m].emission * 2.0);
+        assert_eq!(
+            scene.materials[m].emission,
+            base.materials[m].emission * 2.0
+        );
         let moved = MainLight::find(&scene).unwrap();
-        assert!((moved.elevation_deg - 60.0).abs() < 1.0, "{}", moved.elevation_deg);
-        let area = |sc: &Scene| -> f32 { main.triangles.iter().map(|&t| sc.mesh.area(t as usize)).sum() };
+        assert!(
+            (moved.elevation_deg - 60.0).abs() < 1.0,
+            "{}",
+            moved.elevation_deg
+        );
+        let area = |sc: &Scene| -> f32 {
+            main.triangles
+                .iter()
+                .map(|&t| sc.mesh.area(t as usize))
+                .sum()
+        };
         assert!((area(&scene) - 0.25 * area(&base)).abs() < 1e-4);
         scene.validate().unwrap();
     }

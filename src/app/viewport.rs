@@ -75,12 +75,12 @@ pub fn show(
             out.camera_changed = true;
         }
     }
-    if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle)
-    {
+    if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();
         if d != Vec2::ZERO {
             // Move the pivot so the point under the cursor follows it (at the pivot's depth).
-            let world_per_point = 2.0 * orbit.distance * (0.5 * yfov).tan() / rect.height().max(1.0);
+            let world_per_point =
+                2.0 * orbit.distance * (0.5 * yfov).tan() / rect.height().max(1.0);
             let cam = orbit.camera(yfov);
             let right = cam.rotation.x_axis;
             let up = cam.rotation.y_axis;

@@ -4,7 +4,10 @@ use crate::app::ViewerApp;
 use eframe::egui::{self, Slider, SliderClamping};
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    ui.label(egui::RichText::new("Drag: orbit · right/middle drag: pan · scroll: zoom · R: reset").weak());
+    ui.label(
+        egui::RichText::new("Drag: orbit · right/middle drag: pan · scroll: zoom · R: reset")
+            .weak(),
+    );
     let mut fov = app.scene.camera.yfov.to_degrees();
     if ui
         .add(
@@ -28,15 +31,26 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 .range(0.001..=1e5)
                 .prefix("distance "),
         )
-        .on_hover_text("Distance from the camera to the orbit pivot (scroll in the image to change it).")
+        .on_hover_text(
+            "Distance from the camera to the orbit pivot (scroll in the image to change it).",
+        )
         .changed();
     ui.horizontal(|ui| {
         changed |= ui
-            .add(egui::DragValue::new(&mut o.yaw_deg).speed(0.5).suffix("° yaw"))
+            .add(
+                egui::DragValue::new(&mut o.yaw_deg)
+                    .speed(0.5)
+                    .suffix("° yaw"),
+            )
             .on_hover_text("Rotation of the camera around the vertical axis through the pivot.")
             .changed();
         changed |= ui
-            .add(egui::DragValue::new(&mut o.pitch_deg).speed(0.5).range(-89.0..=89.0).suffix("° pitch"))
+            .add(
+                egui::DragValue::new(&mut o.pitch_deg)
+                    .speed(0.5)
+                    .range(-89.0..=89.0)
+                    .suffix("° pitch"),
+            )
             .on_hover_text("Height of the camera above the pivot, as an angle.")
             .changed();
     });

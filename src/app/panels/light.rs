@@ -37,7 +37,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .on_hover_text("Hotter black bodies shift their emission towards blue, cooler ones towards red (Wien's law).");
         l.temperature_k = Some(if t.is_finite() { t } else { 6500.0 });
         let c = blackbody_rgb(t);
-        ui.label(format!("RGB ≈ ({:.2}, {:.2}, {:.2}) at luminance 1", c.x, c.y, c.z));
+        ui.label(format!(
+            "RGB ≈ ({:.2}, {:.2}, {:.2}) at luminance 1",
+            c.x, c.y, c.z
+        ));
     } else {
         l.temperature_k = None;
         ui.horizontal(|ui| {
@@ -54,7 +57,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
 
     match &main {
         Some(m) => {
-            ui.label(format!("Main area light: '{}'", app.base.materials[m.material].name));
+            ui.label(format!(
+                "Main area light: '{}'",
+                app.base.materials[m.material].name
+            ));
             ui.add(
                 Slider::new(&mut l.size, 0.1..=4.0)
                     .text("Size ×")
@@ -68,8 +74,14 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 .add(Slider::new(&mut el, -90.0..=90.0).text("Elevation °").clamping(SliderClamping::Always))
                 .on_hover_text("Height of the light seen from the scene centre; it keeps facing the centre, so shadows swing.");
             let r2 = ui
-                .add(Slider::new(&mut az, -180.0..=180.0).text("Azimuth °").clamping(SliderClamping::Always))
-                .on_hover_text("Direction of the light around the vertical axis through the scene centre.");
+                .add(
+                    Slider::new(&mut az, -180.0..=180.0)
+                        .text("Azimuth °")
+                        .clamping(SliderClamping::Always),
+                )
+                .on_hover_text(
+                    "Direction of the light around the vertical axis through the scene centre.",
+                );
             if r1.changed() && el.is_finite() {
                 l.elevation_deg = Some(el);
                 l.azimuth_deg.get_or_insert(m.azimuth_deg);
@@ -93,7 +105,9 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         }
     }
 
-    let mut env = l.environment.unwrap_or_else(|| luminance(app.base.environment));
+    let mut env = l
+        .environment
+        .unwrap_or_else(|| luminance(app.base.environment));
     if ui
         .add(
             Slider::new(&mut env, 0.0..=10.0)

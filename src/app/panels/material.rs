@@ -33,12 +33,24 @@ fn kind_label(k: MaterialKind) -> &'static str {
 
 fn kind_tip(k: MaterialKind) -> &'static str {
     match k {
-        MaterialKind::Diffuse => "Lambertian: scatters light equally in all directions, radiance independent of view.",
-        MaterialKind::Mirror => "Perfect specular reflection: the angle of reflection equals the angle of incidence.",
-        MaterialKind::GlossyMetal => "Rough metal: microfacets spread the mirror reflection into a lobe whose width grows with roughness.",
-        MaterialKind::Glass => "Solid dielectric: Fresnel splits light into a reflected and a refracted part, Snell's law bends the latter.",
-        MaterialKind::ThinGlass => "Thin sheet with two interfaces: reflects like glass but passes light straight through without bending.",
-        MaterialKind::MetalRough => "glTF's metallic-roughness model: a Fresnel-weighted GGX layer over a diffuse base.",
+        MaterialKind::Diffuse => {
+            "Lambertian: scatters light equally in all directions, radiance independent of view."
+        }
+        MaterialKind::Mirror => {
+            "Perfect specular reflection: the angle of reflection equals the angle of incidence."
+        }
+        MaterialKind::GlossyMetal => {
+            "Rough metal: microfacets spread the mirror reflection into a lobe whose width grows with roughness."
+        }
+        MaterialKind::Glass => {
+            "Solid dielectric: Fresnel splits light into a reflected and a refracted part, Snell's law bends the latter."
+        }
+        MaterialKind::ThinGlass => {
+            "Thin sheet with two interfaces: reflects like glass but passes light straight through without bending."
+        }
+        MaterialKind::MetalRough => {
+            "glTF's metallic-roughness model: a Fresnel-weighted GGX layer over a diffuse base."
+        }
     }
 }
 
@@ -91,7 +103,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
 /// The material controls; edits `m` in place with sanitised values.
 fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     if m.is_emissive() {
-        ui.label(egui::RichText::new("This object emits light: edit its emission in the Light group.").weak());
+        ui.label(
+            egui::RichText::new("This object emits light: edit its emission in the Light group.")
+                .weak(),
+        );
     }
     let before = m.kind;
     egui::ComboBox::from_label("Type")
@@ -145,7 +160,9 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     if m.kind == MaterialKind::ThinGlass
         && ui
             .button("Make solid glass")
-            .on_hover_text("Blender exports glass as a thin sheet; a solid bends light by Snell's law.")
+            .on_hover_text(
+                "Blender exports glass as a thin sheet; a solid bends light by Snell's law.",
+            )
             .clicked()
     {
         m.kind = MaterialKind::Glass;
@@ -155,7 +172,13 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     if transmissive {
         ior_controls(ui, m);
     }
-    if matches!(m.kind, MaterialKind::GlossyMetal | MaterialKind::Glass | MaterialKind::ThinGlass | MaterialKind::MetalRough) {
+    if matches!(
+        m.kind,
+        MaterialKind::GlossyMetal
+            | MaterialKind::Glass
+            | MaterialKind::ThinGlass
+            | MaterialKind::MetalRough
+    ) {
         roughness_controls(ui, m);
     }
     if transmissive {
@@ -191,7 +214,11 @@ fn ior_controls(ui: &mut egui::Ui, m: &mut Material) {
     )
     .on_hover_text("Index of refraction n: light is c/n slower inside, so it bends by Snell's law n₁ sinθ₁ = n₂ sinθ₂.");
     // A typed "NaN" or garbage never reaches the renderer.
-    m.ior = if ior.is_finite() && ior > 0.0 { ior.clamp(*IOR_RANGE.start(), *IOR_RANGE.end()) } else { old };
+    m.ior = if ior.is_finite() && ior > 0.0 {
+        ior.clamp(*IOR_RANGE.start(), *IOR_RANGE.end())
+    } else {
+        old
+    };
     ui.horizontal_wrapped(|ui| {
         for (name, n) in IOR_PRESETS {
             if ui
@@ -214,7 +241,9 @@ fn preset_tip(name: &str) -> &'static str {
         "crown glass" => "ordinary window and lens glass, low dispersion.",
         "flint glass" => "lead glass: higher index and stronger dispersion than crown glass.",
         "sapphire" => "a crystal with a high index, used for scratch-proof windows.",
-        "diamond" => "a very high index: a small critical angle traps light by total internal reflection.",
+        "diamond" => {
+            "a very high index: a small critical angle traps light by total internal reflection."
+        }
         _ => "",
     }
 }
@@ -283,7 +312,11 @@ fn dispersion_controls(ui: &mut egui::Ui, m: &mut Material) {
             .logarithmic(true),
     )
     .on_hover_text("V_d = (n_d − 1)/(n_F − n_C): low values disperse strongly (flint ≈ 36), high values weakly (crown ≈ 59).");
-    m.abbe = Some(if v.is_finite() { v.clamp(10.0, 100.0) } else { 40.0 });
+    m.abbe = Some(if v.is_finite() {
+        v.clamp(10.0, 100.0)
+    } else {
+        40.0
+    });
 }
 
 fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
@@ -296,20 +329,32 @@ fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
     }
     let mut c = m.attenuation_color.to_array();
     ui.horizontal(|ui| {
-        ui.color_edit_button_rgb(&mut c)
-            .on_hover_text("The colour white light has after travelling the absorption distance inside.");
+        ui.color_edit_button_rgb(&mut c).on_hover_text(
+            "The colour white light has after travelling the absorption distance inside.",
+        );
         ui.label("Absorption colour");
     });
     if c.iter().all(|v| v.is_finite()) {
-        m.attenuation_color = glam::Vec3::from_array(c).clamp(glam::Vec3::splat(1e-4), glam::Vec3::ONE);
+        m.attenuation_color =
+            glam::Vec3::from_array(c).clamp(glam::Vec3::splat(1e-4), glam::Vec3::ONE);
     }
-    let mut d = if m.attenuation_distance.is_finite() { m.attenuation_distance } else { 1.0 };
+    let mut d = if m.attenuation_distance.is_finite() {
+        m.attenuation_distance
+    } else {
+        1.0
+    };
     ui.add(
         Slider::new(&mut d, 0.01..=100.0)
             .text("Distance (m)")
             .logarithmic(true)
             .clamping(SliderClamping::Always),
     )
-    .on_hover_text("Path length inside after which light has the absorption colour; σ = −ln(colour)/distance.");
-    m.attenuation_distance = if d.is_finite() && d > 0.0 { d.clamp(0.01, 100.0) } else { 1.0 };
+    .on_hover_text(
+        "Path length inside after which light has the absorption colour; σ = −ln(colour)/distance.",
+    );
+    m.attenuation_distance = if d.is_finite() && d > 0.0 {
+        d.clamp(0.01, 100.0)
+    } else {
+        1.0
+    };
 }

@@ -40,8 +40,10 @@ fn messages(app: &mut ViewerApp, ui: &mut egui::Ui) {
                         app.messages.error = None;
                     }
                     ui.add(
-                        egui::Label::new(RichText::new(format!("Error: {e}")).color(Color32::WHITE))
-                            .wrap(),
+                        egui::Label::new(
+                            RichText::new(format!("Error: {e}")).color(Color32::WHITE),
+                        )
+                        .wrap(),
                     );
                 });
             });

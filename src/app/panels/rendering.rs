@@ -8,11 +8,31 @@ use eframe::egui::{self, Color32, Slider, SliderClamping};
 /// Path filter presets (read light → eye) with what they show.
 pub const PATH_PRESETS: &[(&str, &str, &str)] = &[
     ("all", "", "Every path: the full image."),
-    ("LDE", "LDE", "Direct diffuse lighting only: light hits a diffuse surface, then the eye."),
-    ("L(D|S)*E", "L(D|S)*E", "Any mix of diffuse and specular bounces (no glossy ones)."),
-    ("LS+DE", "LS+DE", "Caustics: light focused by mirrors or glass onto a diffuse surface."),
-    ("LDS+E", "LDS+E", "Diffusely lit surfaces seen through or in specular objects (reflections, refractions)."),
-    ("L(S|G)+E", "L(S|G)+E", "The light seen only through specular or glossy surfaces."),
+    (
+        "LDE",
+        "LDE",
+        "Direct diffuse lighting only: light hits a diffuse surface, then the eye.",
+    ),
+    (
+        "L(D|S)*E",
+        "L(D|S)*E",
+        "Any mix of diffuse and specular bounces (no glossy ones).",
+    ),
+    (
+        "LS+DE",
+        "LS+DE",
+        "Caustics: light focused by mirrors or glass onto a diffuse surface.",
+    ),
+    (
+        "LDS+E",
+        "LDS+E",
+        "Diffusely lit surfaces seen through or in specular objects (reflections, refractions).",
+    ),
+    (
+        "L(S|G)+E",
+        "L(S|G)+E",
+        "The light seen only through specular or glossy surfaces.",
+    ),
 ];
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
@@ -31,7 +51,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     }
 
     // Path filter: an invalid expression is highlighted and the last valid one keeps rendering.
-    let label = ui.label("Path filter (Heckbert, light → eye)");
+    let label = ui.label("Path filter (Heckbert, light to eye)");
     let mut text = app.filter_text.clone();
     let bad = app.filter_error.is_some();
     let edit = egui::TextEdit::singleline(&mut text)
@@ -47,7 +67,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     }
     if let Some(e) = &app.filter_error {
         ui.colored_label(Color32::from_rgb(255, 110, 110), format!("invalid: {e}"));
-        let shown = if app.settings.render.paths.is_empty() { "all paths" } else { app.settings.render.paths.as_str() };
+        let shown = if app.settings.render.paths.is_empty() {
+            "all paths"
+        } else {
+            app.settings.render.paths.as_str()
+        };
         ui.label(egui::RichText::new(format!("still rendering '{shown}'")).weak());
     }
     ui.horizontal_wrapped(|ui| {
@@ -88,7 +112,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
 
     ui.separator();
     ui.horizontal(|ui| {
-        let label = if app.paused { "▶ Resume" } else { "⏸ Pause" };
+        let label = if app.paused { "Resume" } else { "Pause" };
         if ui
             .button(label)
             .on_hover_text("Stop or continue adding samples (Space); the image keeps its samples.")
@@ -112,9 +136,17 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 .range(0..=1_000_000)
                 .speed(4.0)
                 .prefix("spp target ")
-                .custom_formatter(|v, _| if v == 0.0 { "∞".into() } else { format!("{v:.0}") }),
+                .custom_formatter(|v, _| {
+                    if v == 0.0 {
+                        "∞".into()
+                    } else {
+                        format!("{v:.0}")
+                    }
+                }),
         )
-        .on_hover_text("Stop at this many samples per pixel (0 = never); Monte Carlo noise falls as 1/√spp.");
+        .on_hover_text(
+            "Stop at this many samples per pixel (0 = never); Monte Carlo noise falls as 1/√spp.",
+        );
         ui.add(
             Slider::new(&mut r.render_scale, 0.1..=1.0)
                 .text("Render scale")
@@ -135,7 +167,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     ui.separator();
     ui.horizontal(|ui| {
         if ui
-            .button("📷 Screenshot")
+            .button("Screenshot")
             .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
             .clicked()
         {

@@ -31,7 +31,9 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     .hint_text("path/to/scene.glb")
                     .desired_width(170.0),
             )
-            .on_hover_text("A glTF 2.0 scene file; its materials follow the scene contract (meters, +Y up).");
+            .on_hover_text(
+                "A glTF 2.0 scene file; its materials follow the scene contract (meters, +Y up).",
+            );
         let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         if ui
             .button("Open")
@@ -50,9 +52,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             app.open_dialog();
         }
     });
-    ui.label(
-        egui::RichText::new("Tip: drop a .glb/.gltf file on the window to open it.").weak(),
-    );
+    ui.label(egui::RichText::new("Tip: drop a .glb/.gltf file on the window to open it.").weak());
     let s = &app.scene;
     ui.label(format!(
         "{}: {} triangles, {} materials, {} area-light triangles, {} punctual lights",
