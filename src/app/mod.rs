@@ -85,6 +85,7 @@ pub struct ViewerApp {
     exit_after: Option<Duration>,
     stats: FrameStats,
     dragging: bool,
+    closing: bool,
 }
 
 impl ViewerApp {
@@ -131,6 +132,7 @@ impl ViewerApp {
                 ui_ema: 0.0,
             },
             dragging: false,
+            closing: false,
         };
         app.report_warnings(&warnings);
         app.backend.set_scene(&app.scene);
@@ -534,7 +536,10 @@ impl eframe::App for ViewerApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.show(ui);
         if self.exit_frames.is_some() || self.exit_after.is_some() {
-            if self.should_exit() {
+            if self.closing {
+                // Close already requested; frames may still arrive until the window goes.
+            } else if self.should_exit() {
+                self.closing = true;
                 eprintln!("refract view: {}", self.frame_summary());
                 ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
             } else {
