@@ -30,16 +30,7 @@ fn main() -> anyhow::Result<()> {
         }
         for (k, _) in tris.iter().enumerate() {
             let b = 3 * k + 1;
-            writeln!(
-                obj,
-                "f {}//{} {}//{} {}//{}",
-                b,
-                b,
-                b + 1,
-                b + 1,
-                b + 2,
-                b + 2
-            )?;
+            writeln!(obj, "f {}//{} {}//{} {}//{}", b, b, b + 1, b + 1, b + 2, b + 2)?;
         }
         let file = format!("mat{mi}.obj");
         std::fs::write(dir.join(&file), obj)?;
