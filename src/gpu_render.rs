@@ -9,14 +9,24 @@ use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
-pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) -> Result<bool> {
+/// Values of the render command resolved from flags and the settings sidecar.
+pub struct Job<'a> {
+    pub spp: u32,
+    pub tone: ToneMap,
+    pub exposure: f32,
+    pub seed: u32,
+    pub filter: &'a refract::paths::PathFilter,
+}
+
+pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
+    let (spp, tone) = (job.spp, job.tone);
     let forced = match args.device.to_ascii_lowercase().as_str() {
         "cpu" => return Ok(false),
         "gpu" => true,
         "auto" => false,
         d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
     };
-    if args.estimator != refract::cpu::Estimator::Path || !args.paths.trim().is_empty() {
+    if args.estimator != refract::cpu::Estimator::Path || !job.filter.is_accept_all() {
         if forced {
             bail!(
                 "the GPU renderer supports only --estimator path without --paths yet (use --device cpu)"
@@ -46,7 +56,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) 
         );
     }
     let mut opts = GpuOptions::from_scene(scene);
-    opts.seed = args.seed;
+    opts.seed = job.seed;
     let name = ctx.describe();
     let mut r = match GpuRenderer::with_context(ctx, scene.clone(), opts) {
         Ok(r) => r,
@@ -84,7 +94,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, spp: u32, tone: ToneMap) 
         img.width,
         img.height,
         &img.mean,
-        args.exposure,
+        job.exposure,
         tone,
     )?;
     eprintln!(

@@ -1,7 +1,9 @@
 //! refract: a physically based light-transport renderer for teaching how light meets
 //! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
-//! `scene`, `bvh`, `film`, then the renderers (`cpu`, `gpu`), then the CLI.
+//! `scene`, `bvh`, `film`, then the renderers (`cpu`, `gpu`), then the viewer (`app`), the
+//! benchmark and the CLI.
 
+pub mod app;
 pub mod bench;
 pub mod bsdf;
 pub mod bvh;

@@ -1,8 +1,9 @@
-//! `refract` command line: render | view | bench.
+//! `refract` command line: view | render | bench. No subcommand opens the viewer.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use refract::app::settings::{DEFAULT_SCENE, ViewerSettings};
 use refract::cpu::{Estimator, RenderOptions, Renderer};
 use refract::film::{self, ToneMap};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
@@ -24,6 +25,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the interactive viewer (the default when no subcommand is given).
+    View(ViewArgs),
     /// Render a scene headless to .exr (linear float RGB) or .png (tone-mapped sRGB).
     Render(RenderArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
@@ -58,12 +61,29 @@ struct BenchArgs {
     threads: Option<usize>,
 }
 
+#[derive(clap::Args, Clone, Default)]
+struct ViewArgs {
+    /// Scene: a .gltf/.glb path or builtin:NAME (default builtin:cornell-glass).
+    scene: Option<String>,
+    /// Close the window after this many frames (CI, screenshots).
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Close the window after this much time (e.g. 5s, 2m).
+    #[arg(long, value_parser = parse_duration)]
+    exit_after: Option<Duration>,
+}
+
 #[derive(clap::Args, Clone)]
 struct RenderArgs {
-    /// Scene: a .gltf/.glb path or builtin:NAME (cornell-glass, glass-slab, furnace, …).
-    #[arg(long, default_value = "builtin:cornell-glass")]
-    scene: String,
-    /// Samples per pixel (default: the scene's extras.render.spp).
+    /// Scene: a .gltf/.glb path or builtin:NAME (default: the settings' scene, else
+    /// builtin:cornell-glass).
+    #[arg(long)]
+    scene: Option<String>,
+    /// A viewer screenshot's .json sidecar: its scene, edits, options, exposure, tone map and
+    /// spp; flags given explicitly override it.
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    /// Samples per pixel (default: the sidecar's, else the scene's extras.render.spp).
     #[arg(long)]
     spp: Option<u32>,
     /// Output file (.exr or .png).
@@ -79,24 +99,25 @@ struct RenderArgs {
     /// Russian roulette start depth.
     #[arg(long)]
     rr_depth: Option<u32>,
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
+    /// Random seed (default 0).
+    #[arg(long)]
+    seed: Option<u32>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// Stop after this much time (e.g. 10s, 2m, 500ms), keeping the samples done.
     #[arg(long, value_parser = parse_duration)]
     time_budget: Option<Duration>,
-    /// Exposure in stops for PNG output.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
-    /// Tone map for PNG output: clamp, reinhard, aces.
-    #[arg(long, default_value = "clamp")]
-    tonemap: String,
+    /// Exposure in stops for PNG output (default 0).
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f32>,
+    /// Tone map for PNG output: clamp, reinhard, aces (default clamp).
+    #[arg(long)]
+    tonemap: Option<String>,
     /// Heckbert path filter over L, D, G, S, E read light→eye, e.g. 'LS+DE' (caustics),
-    /// 'LDE' (direct diffuse lighting); empty = all paths.
-    #[arg(long, default_value = "")]
-    paths: String,
+    /// 'LDE' (direct diffuse lighting); empty = all paths (the default).
+    #[arg(long)]
+    paths: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
     /// strategies), lt (pure light tracing).
     #[arg(long, default_value = "path")]
@@ -146,14 +167,47 @@ fn parse_tonemap(s: &str) -> Result<ToneMap> {
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
-    let tone = parse_tonemap(&args.tonemap)?;
     film::check_output_path(&args.out)?;
-    if !args.exposure.is_finite() {
+    let sidecar = args
+        .settings
+        .as_deref()
+        .map(ViewerSettings::load)
+        .transpose()?;
+    let spec = args
+        .scene
+        .clone()
+        .or_else(|| sidecar.as_ref().map(|s| s.scene.clone()))
+        .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
+    let tone = match (&args.tonemap, &sidecar) {
+        (Some(t), _) => parse_tonemap(t)?,
+        (None, Some(s)) => s.display.tone_map,
+        (None, None) => ToneMap::Clamp,
+    };
+    let exposure = args
+        .exposure
+        .or(sidecar.as_ref().map(|s| s.display.exposure))
+        .unwrap_or(0.0);
+    if !exposure.is_finite() {
         bail!("--exposure must be a finite number");
     }
-    let mut scene = Scene::load(&args.scene)?;
+    let mut scene = Scene::load(&spec)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
+    }
+    let mut sidecar_spp = None;
+    if let Some(s) = &sidecar {
+        // The viewer's edits and options, exactly as the viewer applies them.
+        let (edited, warnings) = s.apply(&scene);
+        for w in warnings {
+            eprintln!("warning: {w}");
+        }
+        let o = s.render_options(&edited)?;
+        scene = edited;
+        scene.settings.width = o.width;
+        scene.settings.height = o.height;
+        scene.settings.max_depth = o.max_depth;
+        scene.settings.rr_depth = o.rr_depth;
+        sidecar_spp = s.capture.as_ref().map(|c| c.spp);
     }
     if let Some(w) = args.width {
         scene.settings.width = w;
@@ -175,16 +229,36 @@ fn render(args: &RenderArgs) -> Result<()> {
             s.height
         );
     }
-    let spp = args.spp.unwrap_or(s.spp);
+    let spp = match (args.spp, sidecar_spp) {
+        (Some(n), _) => n,
+        (None, Some(n)) => u32::try_from(n).unwrap_or(u32::MAX),
+        (None, None) => s.spp,
+    };
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
-    let filter = refract::paths::PathFilter::parse(&args.paths)
-        .map_err(|e| anyhow::anyhow!("invalid --paths '{}': {e}", args.paths))?;
-    if gpu_render::render(args, &scene, spp, tone)? {
+    let seed = args
+        .seed
+        .or(sidecar.as_ref().map(|s| s.render.seed))
+        .unwrap_or(0);
+    let paths = args
+        .paths
+        .clone()
+        .or_else(|| sidecar.as_ref().map(|s| s.render.paths.clone()))
+        .unwrap_or_default();
+    let filter = refract::paths::PathFilter::parse(&paths)
+        .map_err(|e| anyhow::anyhow!("invalid --paths '{paths}': {e}"))?;
+    let job = gpu_render::Job {
+        spp,
+        tone,
+        exposure,
+        seed,
+        filter: &filter,
+    };
+    if gpu_render::render(args, &scene, &job)? {
         return Ok(());
     }
     let mut pool = rayon::ThreadPoolBuilder::new();
@@ -194,10 +268,10 @@ fn render(args: &RenderArgs) -> Result<()> {
     let pool = pool.build().context("cannot start worker threads")?;
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
-    opts.seed = args.seed;
+    opts.seed = seed;
     Renderer::set_filter(&mut opts, Some(&filter));
     opts.estimator = args.estimator;
-    if opts.estimator != Estimator::Path && renderer.scene.features().dispersion {
+    if opts.estimator != Estimator::Path && renderer.spectral {
         eprintln!(
             "warning: {:?} does not support dispersion yet; using the path tracer",
             opts.estimator
@@ -231,7 +305,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         opts.width,
         opts.height,
         &film.image(),
-        args.exposure,
+        exposure,
         tone,
     )?;
     eprintln!(
@@ -294,6 +368,14 @@ fn bench(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
+fn view(args: ViewArgs) -> Result<()> {
+    refract::app::run(refract::app::ViewOptions {
+        scene: args.scene,
+        frames: args.frames,
+        exit_after: args.exit_after,
+    })
+}
+
 fn main() {
     // Vulkan drivers complain on stderr when XDG_RUNTIME_DIR is unset (headless machines, CI).
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
@@ -308,31 +390,8 @@ fn main() {
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
-        None => {
-            // Until the viewer lands: render the default scene into screenshots/.
-            let args = RenderArgs {
-                scene: "builtin:cornell-glass".into(),
-                spp: Some(64),
-                out: PathBuf::from("screenshots/cornell-glass.png"),
-                width: None,
-                height: None,
-                max_depth: None,
-                rr_depth: None,
-                seed: 0,
-                threads: None,
-                time_budget: None,
-                exposure: 0.0,
-                tonemap: "clamp".into(),
-                paths: String::new(),
-                estimator: Estimator::Path,
-                quiet: false,
-                device: "auto".into(),
-            };
-            eprintln!(
-                "no viewer yet: rendering the default scene to screenshots/cornell-glass.png"
-            );
-            render(&args)
-        }
+        Some(Command::View(args)) => view(args),
+        None => view(ViewArgs::default()),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

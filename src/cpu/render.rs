@@ -132,19 +132,39 @@ impl Renderer {
 
     /// Add samples `first_spp .. first_spp + count` to every pixel of `film`.
     pub fn render_pass(&self, opts: &RenderOptions, film: &mut Film, first_spp: u32, count: u32) {
-        if opts.estimator != Estimator::Path && !self.scene.features().dispersion {
-            return self.render_pass_bdpt(opts, film, first_spp, count);
+        self.render_pass_cancellable(opts, film, first_spp, count, &|| false);
+    }
+
+    /// [`Renderer::render_pass`] that polls `cancelled` once per row and stops early when it
+    /// returns true (the interactive viewer calls it so an edit never waits for a whole pass).
+    /// Returns false if the pass was cancelled: `film` then holds a partial pass and must be
+    /// discarded (its `spp` and `dropped` counters are left unchanged).
+    pub fn render_pass_cancellable(
+        &self,
+        opts: &RenderOptions,
+        film: &mut Film,
+        first_spp: u32,
+        count: u32,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        if opts.estimator != Estimator::Path && !self.spectral {
+            // Bidirectional passes are not cancellable mid-pass (splats span all rows).
+            self.render_pass_bdpt(opts, film, first_spp, count);
+            return true;
         }
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
         let aspect = w as f32 / h as f32;
         let cam = &self.scene.camera;
         let seed = opts.seed;
-        let dropped: u64 = film
+        let result: Option<u64> = film
             .sums_mut()
             .par_chunks_mut(w as usize)
             .enumerate()
             .map(|(y, row)| {
+                if cancelled() {
+                    return None;
+                }
                 let mut dropped = 0u64;
                 for (x, px) in row.iter_mut().enumerate() {
                     let pixel = y as u32 * w + x as u32;
@@ -165,12 +185,17 @@ impl Renderer {
                         }
                     }
                 }
-                dropped
+                Some(dropped)
             })
             .sum();
-        let _ = h;
-        film.spp += count as u64;
-        film.dropped += dropped;
+        match result {
+            Some(dropped) => {
+                film.spp += count as u64;
+                film.dropped += dropped;
+                true
+            }
+            None => false,
+        }
     }
 
     /// Bidirectional / light-tracing pass: camera contributions per pixel, light-tracing

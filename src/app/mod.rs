@@ -1,0 +1,621 @@
+//! The interactive viewer (eframe/egui): a side panel of physics controls, the progressively
+//! refined image in the central viewport and a status bar. Rendering runs behind the
+//! [`backend::Backend`] trait and never blocks the UI thread.
+//!
+//! [`ViewerApp::show`] draws the whole UI into any `egui::Ui`, so the same code runs in the
+//! window ([`run`]) and in the `egui_kittest` tests without a window.
+
+pub mod backend;
+pub mod panels;
+pub mod screenshot;
+pub mod settings;
+pub mod viewport;
+
+use crate::bvh::Bvh;
+use crate::scene::{Material, Scene};
+use backend::{Backend, CpuBackend, DisplayParams};
+use eframe::egui;
+use settings::{DEFAULT_SCENE, Orbit, ViewerSettings};
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// eframe storage key of the persisted [`ViewerSettings`].
+pub const STORAGE_KEY: &str = "refract-settings";
+
+/// Command-line options of `refract view`.
+#[derive(Clone, Debug, Default)]
+pub struct ViewOptions {
+    /// `builtin:NAME` or a .glb/.gltf path; None = [`DEFAULT_SCENE`] (or nothing persisted).
+    pub scene: Option<String>,
+    /// Close after this many frames (CI, screenshots).
+    pub frames: Option<u64>,
+    /// Close after this much time.
+    pub exit_after: Option<Duration>,
+}
+
+/// A message shown at the top of the side panel until dismissed.
+#[derive(Clone, Debug, Default)]
+pub struct Messages {
+    pub error: Option<String>,
+    pub info: Option<String>,
+}
+
+/// Frame timing of the UI (what the README reports).
+#[derive(Clone, Copy, Debug)]
+struct FrameStats {
+    started: Instant,
+    last: Option<Instant>,
+    frames: u64,
+    interval_sum: Duration,
+    ui_sum: Duration,
+    /// Exponential moving averages for the status bar.
+    interval_ema: f64,
+    ui_ema: f64,
+}
+
+/// The viewer: scene model, edits, selection and the backend rendering them.
+pub struct ViewerApp {
+    /// Every setting (persisted; written as the screenshot sidecar).
+    pub settings: ViewerSettings,
+    /// The scene as loaded.
+    pub base: Scene,
+    /// `base` with the edits applied: what the backend renders.
+    pub scene: Scene,
+    /// BVH of `scene` for picking in the viewport.
+    pick_bvh: Bvh,
+    /// Camera orbit the mouse drives (copied into `settings.camera.orbit` once used).
+    pub orbit: Orbit,
+    /// Selected material index (click in the viewport or pick in the list).
+    pub selected: Option<usize>,
+    /// Path filter text as typed (may be invalid; `settings.render.paths` is the last valid).
+    pub filter_text: String,
+    pub filter_error: Option<String>,
+    pub messages: Messages,
+    /// Scene path typed into the Scene panel.
+    pub open_path: String,
+    /// Where screenshots go (`screenshots/` by default).
+    pub screenshot_dir: PathBuf,
+    pub paused: bool,
+    backend: Box<dyn Backend>,
+    /// The adapter that draws the UI (status bar).
+    display_device: String,
+    dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    exit_frames: Option<u64>,
+    exit_after: Option<Duration>,
+    stats: FrameStats,
+    dragging: bool,
+    closing: bool,
+}
+
+impl ViewerApp {
+    /// A viewer on `base` (loaded from `settings.scene`) with the CPU backend. `repaint` is
+    /// woken by the render thread after every pass (None in tests, which poll).
+    pub fn new(
+        base: Scene,
+        settings: ViewerSettings,
+        repaint: Option<egui::Context>,
+    ) -> anyhow::Result<ViewerApp> {
+        base.validate()?;
+        // GPU SEAM: choose `gpu::GpuBackend` here when `--device gpu|auto` finds an adapter
+        // (it needs the `egui_wgpu::RenderState` of the creation context).
+        let backend: Box<dyn Backend> = Box::new(CpuBackend::new(repaint));
+        let (scene, warnings) = settings.apply(&base);
+        let pick_bvh = Bvh::build(&scene.mesh);
+        let orbit = settings.orbit_for(&base);
+        let filter_text = settings.render.paths.clone();
+        let mut app = ViewerApp {
+            settings,
+            base,
+            scene,
+            pick_bvh,
+            orbit,
+            selected: None,
+            filter_text,
+            filter_error: None,
+            messages: Messages::default(),
+            open_path: String::new(),
+            screenshot_dir: PathBuf::from("screenshots"),
+            paused: false,
+            backend,
+            display_device: String::new(),
+            dialog: None,
+            exit_frames: None,
+            exit_after: None,
+            stats: FrameStats {
+                started: Instant::now(),
+                last: None,
+                frames: 0,
+                interval_sum: Duration::ZERO,
+                ui_sum: Duration::ZERO,
+                interval_ema: 0.0,
+                ui_ema: 0.0,
+            },
+            dragging: false,
+            closing: false,
+        };
+        app.report_warnings(&warnings);
+        app.backend.set_scene(&app.scene);
+        app.options_changed();
+        app.backend.set_spp_target(app.settings.render.spp_target);
+        Ok(app)
+    }
+
+    /// A viewer on a scene spec with default settings (tests, headless use).
+    pub fn open(spec: &str) -> anyhow::Result<ViewerApp> {
+        let base = Scene::load(spec)?;
+        ViewerApp::new(base, ViewerSettings::for_scene(spec), None)
+    }
+
+    pub fn backend(&self) -> &dyn Backend {
+        self.backend.as_ref()
+    }
+
+    pub fn backend_mut(&mut self) -> &mut dyn Backend {
+        self.backend.as_mut()
+    }
+
+    fn report_warnings(&mut self, warnings: &[String]) {
+        if !warnings.is_empty() {
+            self.messages.info = Some(warnings.join("\n"));
+        }
+    }
+
+    /// Load a scene; on failure the error is shown and the old scene keeps rendering.
+    pub fn load_scene(&mut self, spec: &str) -> bool {
+        let spec = spec.trim();
+        let loaded = Scene::load(spec).and_then(|s| s.validate().map(|_| s));
+        match loaded {
+            Ok(base) => {
+                let warnings = base.warnings.clone();
+                self.base = base;
+                self.settings.scene = spec.to_owned();
+                self.settings.clear_scene_edits();
+                self.settings.capture = None;
+                let (scene, w2) = self.settings.apply(&self.base);
+                self.scene = scene;
+                self.pick_bvh = Bvh::build(&self.scene.mesh);
+                self.orbit = self.settings.orbit_for(&self.base);
+                self.selected = None;
+                self.messages = Messages::default();
+                self.report_warnings(&[warnings, w2].concat());
+                self.backend.set_scene(&self.scene);
+                self.options_changed();
+                true
+            }
+            Err(e) => {
+                self.messages.error = Some(format!(
+                    "could not open '{spec}': {e:#}. Still showing '{}'.",
+                    self.settings.scene
+                ));
+                false
+            }
+        }
+    }
+
+    /// Material `index` was edited: validate, record, send to the backend. Invalid values
+    /// (IOR ≤ 0, NaN …) are refused and the previous material stays.
+    pub fn set_material(&mut self, index: usize, m: Material) {
+        let Some(old) = self.scene.materials.get(index) else {
+            return;
+        };
+        if *old == m {
+            return;
+        }
+        if let Err(e) = m.validate() {
+            self.messages.error = Some(format!("{e:#}"));
+            return;
+        }
+        self.settings.set_material(index, &m);
+        self.scene.materials[index] = m;
+        self.backend
+            .update_material(index, &self.scene.materials[index]);
+    }
+
+    /// `settings.light` changed: rebuild the lit scene (and the BVH if the light moved).
+    pub fn lights_changed(&mut self) {
+        let (scene, _) = self.settings.apply(&self.base);
+        let geometry_changed = scene.mesh.positions != self.scene.mesh.positions;
+        self.scene = scene;
+        if geometry_changed {
+            self.pick_bvh = Bvh::build(&self.scene.mesh);
+        }
+        self.backend.update_lights(&self.scene, geometry_changed);
+    }
+
+    /// `orbit` or `settings.camera` changed.
+    pub fn camera_changed(&mut self, from_orbit: bool) {
+        if from_orbit {
+            self.settings.camera.orbit = Some(self.orbit);
+        }
+        self.scene.camera = self.settings.camera_for(&self.base);
+        self.backend.update_camera(&self.scene.camera);
+    }
+
+    /// Back to the scene's own camera.
+    pub fn reset_camera(&mut self) {
+        self.settings.camera = Default::default();
+        self.orbit = self.settings.orbit_for(&self.base);
+        self.camera_changed(false);
+    }
+
+    /// `settings.render` changed.
+    pub fn options_changed(&mut self) {
+        match self.settings.render_options(&self.scene) {
+            Ok(o) => self.backend.set_options(&o),
+            Err(e) => self.messages.error = Some(format!("{e:#}")),
+        }
+        self.backend.set_spp_target(self.settings.render.spp_target);
+    }
+
+    /// Path filter text edited: compile it; an invalid expression shows its message and the
+    /// last valid filter keeps rendering.
+    pub fn set_filter_text(&mut self, text: &str) {
+        self.filter_text = text.to_owned();
+        match crate::paths::PathFilter::parse(text) {
+            Ok(_) => {
+                self.filter_error = None;
+                if self.settings.render.paths != text {
+                    self.settings.render.paths = text.to_owned();
+                    self.options_changed();
+                }
+            }
+            Err(e) => self.filter_error = Some(e.to_string()),
+        }
+    }
+
+    /// Everything back to the scene's defaults (render and display settings too).
+    pub fn reset_to_defaults(&mut self) {
+        let spec = self.settings.scene.clone();
+        self.settings = ViewerSettings::for_scene(&spec);
+        let (scene, _) = self.settings.apply(&self.base);
+        self.scene = scene;
+        self.pick_bvh = Bvh::build(&self.scene.mesh);
+        self.orbit = self.settings.orbit_for(&self.base);
+        self.filter_text.clear();
+        self.filter_error = None;
+        self.paused = false;
+        self.backend.set_paused(false);
+        self.backend.set_scene(&self.scene);
+        self.options_changed();
+    }
+
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+        self.backend.set_paused(paused);
+    }
+
+    /// Material index under film point (sx, sy), by a primary ray through the BVH.
+    pub fn pick(&self, sx: f32, sy: f32) -> Option<usize> {
+        let (w, h) = self.settings.resolution(&self.scene);
+        let cam = &self.scene.camera;
+        let dir = cam.ray_dir(sx, sy, w as f32 / h as f32);
+        let hit = self.pick_bvh.intersect(cam.position, dir, f32::INFINITY)?;
+        self.scene
+            .mesh
+            .tri_material
+            .get(hit.tri as usize)
+            .map(|&m| m as usize)
+    }
+
+    pub fn display_params(&self) -> DisplayParams {
+        DisplayParams {
+            exposure: self.settings.display.exposure,
+            tone_map: self.settings.display.tone_map,
+        }
+    }
+
+    /// Open the system file dialog on a helper thread (xdg-desktop-portal on Linux).
+    pub fn open_dialog(&mut self) {
+        let (tx, rx) = mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("refract-file-dialog".into())
+            .spawn(move || {
+                let picked = rfd::FileDialog::new()
+                    .add_filter("glTF scene", &["glb", "gltf"])
+                    .pick_file();
+                let _ = tx.send(picked);
+            });
+        match spawned {
+            Ok(_) => self.dialog = Some(rx),
+            Err(e) => self.messages.error = Some(format!("cannot open a file dialog: {e}")),
+        }
+    }
+
+    fn poll_dialog(&mut self) {
+        let Some(rx) = &self.dialog else { return };
+        match rx.try_recv() {
+            Ok(Some(path)) => {
+                self.dialog = None;
+                let spec = path.display().to_string();
+                self.open_path = spec.clone();
+                self.load_scene(&spec);
+            }
+            Ok(None) => {
+                self.dialog = None;
+                self.messages.info = Some(
+                    "No file chosen. If no dialog appeared, this desktop has no \
+                     xdg-desktop-portal: drop a .glb/.gltf on the window or type its path."
+                        .into(),
+                );
+            }
+            Err(mpsc::TryRecvError::Empty) => {}
+            Err(mpsc::TryRecvError::Disconnected) => self.dialog = None,
+        }
+    }
+
+    /// Save the screenshot triple (PNG as shown, linear EXR, JSON sidecar).
+    pub fn save_screenshot(&mut self) -> anyhow::Result<screenshot::Saved> {
+        let r = screenshot::save(self);
+        match &r {
+            Ok(s) => {
+                self.messages.info = Some(format!("saved {}", s.png.display()));
+            }
+            Err(e) => self.messages.error = Some(format!("screenshot failed: {e:#}")),
+        }
+        r
+    }
+
+    fn handle_input(&mut self, ctx: &egui::Context) {
+        use egui::{Key, Modifiers};
+        // Dropped files: open the first .glb/.gltf.
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        if let Some(p) = dropped.first() {
+            let spec = p.display().to_string();
+            self.open_path = spec.clone();
+            self.load_scene(&spec);
+        }
+        let (f12, ctrl_s) = ctx.input_mut(|i| {
+            (
+                i.consume_key(Modifiers::NONE, Key::F12),
+                i.consume_key(Modifiers::COMMAND, Key::S),
+            )
+        });
+        if f12 || ctrl_s {
+            let _ = self.save_screenshot();
+        }
+        if !ctx.egui_wants_keyboard_input() {
+            let (space, r, esc) = ctx.input_mut(|i| {
+                (
+                    i.consume_key(Modifiers::NONE, Key::Space),
+                    i.consume_key(Modifiers::NONE, Key::R),
+                    i.consume_key(Modifiers::NONE, Key::Escape),
+                )
+            });
+            if space {
+                self.set_paused(!self.paused);
+            }
+            if r {
+                self.reset_camera();
+            }
+            if esc {
+                self.selected = None;
+            }
+        }
+    }
+
+    /// Draw the whole viewer into `ui` (window or test harness).
+    pub fn show(&mut self, ui: &mut egui::Ui) {
+        let t0 = Instant::now();
+        let ctx = ui.ctx().clone();
+        self.poll_dialog();
+        self.handle_input(&ctx);
+        self.backend.step(Duration::from_millis(8));
+
+        egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        egui::Panel::left("controls")
+            .default_size(340.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| panels::side_panel(self, ui));
+            });
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            let tex = self.backend.display_texture(&ctx, &self.display_params());
+            let res = self.settings.resolution(&self.scene);
+            let yfov = self.scene.camera.yfov;
+            let r = viewport::show(ui, tex, res, &mut self.orbit, yfov);
+            if r.camera_changed {
+                self.camera_changed(true);
+            }
+            if r.dragging != self.dragging {
+                self.dragging = r.dragging;
+                self.backend.set_interactive(r.dragging);
+            }
+            if let Some((sx, sy)) = r.clicked {
+                self.selected = self.pick(sx, sy);
+            }
+        });
+
+        let ui_time = t0.elapsed();
+        self.record_frame(ui_time);
+        if self.backend.is_rendering() || self.dialog.is_some() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    fn record_frame(&mut self, ui_time: Duration) {
+        let now = Instant::now();
+        let s = &mut self.stats;
+        if let Some(last) = s.last {
+            let dt = now - last;
+            s.interval_sum += dt;
+            s.interval_ema = 0.9 * s.interval_ema + 0.1 * dt.as_secs_f64();
+        }
+        s.last = Some(now);
+        s.frames += 1;
+        s.ui_sum += ui_time;
+        s.ui_ema = 0.9 * s.ui_ema + 0.1 * ui_time.as_secs_f64();
+    }
+
+    fn status_bar(&mut self, ui: &mut egui::Ui) {
+        let b = self.backend.as_ref();
+        let (w, h) = self.settings.resolution(&self.scene);
+        ui.horizontal_wrapped(|ui| {
+            let spp = b.spp();
+            let target = self.settings.render.spp_target;
+            let state = if self.paused {
+                "paused"
+            } else if b.is_rendering() {
+                "rendering"
+            } else {
+                "done"
+            };
+            ui.label(if target > 0 {
+                format!("{spp} / {target} spp")
+            } else {
+                format!("{spp} spp")
+            })
+            .on_hover_text("Samples per pixel averaged so far; noise falls as 1/√spp.");
+            ui.separator();
+            ui.label(format!("{:.2} M samples/s", b.samples_per_sec() / 1e6))
+                .on_hover_text("Camera paths traced per second (pixels × spp / render time).");
+            ui.separator();
+            ui.label(format!("{:.1} s", b.elapsed().as_secs_f64()))
+                .on_hover_text("Render time spent on the current image.");
+            ui.separator();
+            let dropped = b.dropped();
+            let text = format!("{dropped} NaN/dropped");
+            if dropped > 0 {
+                ui.colored_label(egui::Color32::from_rgb(255, 160, 60), text)
+            } else {
+                ui.label(text)
+            }
+            .on_hover_text(
+                "Samples refused by the film's firewall (NaN, infinite or negative radiance).",
+            );
+            ui.separator();
+            ui.label(format!("{w}×{h} · {state}"));
+            ui.separator();
+            let mut dev = format!("render: {}", b.device_name());
+            if !self.display_device.is_empty() {
+                dev.push_str(&format!(" · display: {}", self.display_device));
+            }
+            ui.label(dev);
+            ui.separator();
+            ui.label(format!(
+                "frame {:.1} ms (UI {:.1} ms)",
+                self.stats.interval_ema * 1e3,
+                self.stats.ui_ema * 1e3
+            ))
+            .on_hover_text("Time between UI frames and the part of it spent building the UI.");
+        });
+    }
+
+    /// One line summarising the frame times (printed when `--frames`/`--exit-after` ends).
+    pub fn frame_summary(&self) -> String {
+        let s = &self.stats;
+        let n = s.frames.max(1);
+        format!(
+            "{} frames in {:.2} s: mean frame interval {:.2} ms, mean UI build {:.2} ms; {} spp at {}x{}",
+            s.frames,
+            s.started.elapsed().as_secs_f64(),
+            s.interval_sum.as_secs_f64() * 1e3 / (n.saturating_sub(1)).max(1) as f64,
+            s.ui_sum.as_secs_f64() * 1e3 / n as f64,
+            self.backend.spp(),
+            self.settings.resolution(&self.scene).0,
+            self.settings.resolution(&self.scene).1,
+        )
+    }
+
+    fn should_exit(&self) -> bool {
+        self.exit_frames.is_some_and(|n| self.stats.frames >= n)
+            || self
+                .exit_after
+                .is_some_and(|d| self.stats.started.elapsed() >= d)
+    }
+}
+
+impl eframe::App for ViewerApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.show(ui);
+        if self.exit_frames.is_some() || self.exit_after.is_some() {
+            if self.closing {
+                // Close already requested; frames may still arrive until the window goes.
+            } else if self.should_exit() {
+                self.closing = true;
+                eprintln!("refract view: {}", self.frame_summary());
+                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+            } else {
+                ui.ctx().request_repaint();
+            }
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        let mut s = self.settings.clone();
+        s.capture = None;
+        eframe::set_value(storage, STORAGE_KEY, &s);
+    }
+}
+
+/// The wgpu setup: our own device with the adapter's full limits (eframe's default asks for
+/// WebGL2-level limits, too small for compute).
+fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
+    use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
+    use eframe::wgpu;
+    let mut create = WgpuSetupCreateNew::without_display_handle();
+    create.device_descriptor =
+        std::sync::Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
+            label: Some("refract device"),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        });
+    WgpuConfiguration {
+        wgpu_setup: WgpuSetup::CreateNew(create),
+        ..Default::default()
+    }
+}
+
+/// Open the viewer window (blocks until it is closed).
+pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
+    let spec = opts
+        .scene
+        .clone()
+        .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
+    // Load before opening the window so a bad path is a plain CLI error.
+    let base = Scene::load(&spec)?;
+    base.validate()?;
+    for w in &base.warnings {
+        eprintln!("warning: {w}");
+    }
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title(format!("refract — {spec}"))
+            .with_inner_size([1280.0, 820.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        wgpu_options: wgpu_configuration(),
+        ..Default::default()
+    };
+    let result = eframe::run_native(
+        "refract",
+        native,
+        Box::new(move |cc| {
+            let persisted: Option<ViewerSettings> =
+                cc.storage.and_then(|s| eframe::get_value(s, STORAGE_KEY));
+            let mut settings = persisted.unwrap_or_else(|| ViewerSettings::for_scene(&spec));
+            settings.capture = None;
+            if settings.scene != spec {
+                // Keep render/display preferences; edits belong to the other scene.
+                settings.scene = spec.clone();
+                settings.clear_scene_edits();
+            }
+            let mut app = ViewerApp::new(base, settings, Some(cc.egui_ctx.clone()))?;
+            if let Some(rs) = &cc.wgpu_render_state {
+                let info = rs.adapter.get_info();
+                app.display_device = format!("{} ({:?})", info.name, info.backend);
+            }
+            app.exit_frames = opts.frames;
+            app.exit_after = opts.exit_after;
+            Ok(Box::new(app))
+        }),
+    );
+    result.map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))
+}

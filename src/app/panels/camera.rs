@@ -1,0 +1,70 @@
+//! Camera group: field of view, orbit parameters, reset.
+
+use crate::app::ViewerApp;
+use eframe::egui::{self, Slider, SliderClamping};
+
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    ui.label(
+        egui::RichText::new("Drag: orbit · right/middle drag: pan · scroll: zoom · R: reset")
+            .weak(),
+    );
+    let mut fov = app.scene.camera.yfov.to_degrees();
+    if ui
+        .add(
+            Slider::new(&mut fov, 10.0..=120.0)
+                .text("Field of view °")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Full vertical angle a pinhole camera sees: small values zoom in like a telephoto lens.")
+        .changed()
+        && fov.is_finite()
+    {
+        app.settings.camera.yfov_deg = Some(fov);
+        app.camera_changed(false);
+    }
+    let mut o = app.orbit;
+    let mut changed = false;
+    changed |= ui
+        .add(
+            egui::DragValue::new(&mut o.distance)
+                .speed(0.01)
+                .range(0.001..=1e5)
+                .prefix("distance "),
+        )
+        .on_hover_text(
+            "Distance from the camera to the orbit pivot (scroll in the image to change it).",
+        )
+        .changed();
+    ui.horizontal(|ui| {
+        changed |= ui
+            .add(
+                egui::DragValue::new(&mut o.yaw_deg)
+                    .speed(0.5)
+                    .suffix("° yaw"),
+            )
+            .on_hover_text("Rotation of the camera around the vertical axis through the pivot.")
+            .changed();
+        changed |= ui
+            .add(
+                egui::DragValue::new(&mut o.pitch_deg)
+                    .speed(0.5)
+                    .range(-89.0..=89.0)
+                    .suffix("° pitch"),
+            )
+            .on_hover_text("Height of the camera above the pivot, as an angle.")
+            .changed();
+    });
+    if changed {
+        let fallback = app.orbit;
+        o.sanitize(&fallback);
+        app.orbit = o;
+        app.camera_changed(true);
+    }
+    if ui
+        .button("Reset view")
+        .on_hover_text("Back to the scene's own camera and field of view.")
+        .clicked()
+    {
+        app.reset_camera();
+    }
+}

@@ -1,0 +1,163 @@
+//! Fresnel plot: reflectance against angle of incidence for the selected glass, entering
+//! (air → glass) and leaving (glass → air), with Brewster and critical angles marked.
+
+use crate::app::ViewerApp;
+use crate::bsdf::fresnel::fresnel_dielectric_terms;
+use eframe::egui::{self, Color32};
+use egui_plot::{Line, LineStyle, Plot, PlotPoints, VLine};
+
+/// Brewster angle (r_p = 0) for light going from index n₁ into n₂: tanθ_B = n₂/n₁ (Hecht §8.6).
+pub fn brewster_deg(n1: f32, n2: f32) -> f32 {
+    (n2 / n1).atan().to_degrees()
+}
+
+/// Critical angle for total internal reflection going from n₁ into n₂ < n₁: sinθ_c = n₂/n₁
+/// (Hecht §4.7); None when n₂ ≥ n₁.
+pub fn critical_deg(n1: f32, n2: f32) -> Option<f32> {
+    (n2 < n1).then(|| (n2 / n1).asin().to_degrees())
+}
+
+/// The glass the plot describes: the selected material if it transmits, else the first
+/// transmissive material of the scene. (index, IOR)
+fn plotted_glass(app: &ViewerApp) -> Option<(usize, f32)> {
+    let mats = &app.scene.materials;
+    app.selected
+        .filter(|&i| mats.get(i).is_some_and(|m| m.is_transmissive()))
+        .or_else(|| mats.iter().position(|m| m.is_transmissive()))
+        .map(|i| (i, mats[i].ior))
+}
+
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let Some((idx, n)) = plotted_glass(app) else {
+        ui.label(
+            egui::RichText::new(
+                "No glass in this scene: select a material and set its type to glass.",
+            )
+            .weak(),
+        );
+        return;
+    };
+    let name = &app.scene.materials[idx].name;
+    let eta = n.max(1e-3);
+    ui.label(format!("'{name}', n = {eta:.3} (outside n = 1)"))
+        .on_hover_text(
+            "Fresnel equations: the fraction of light reflected depends on angle and polarisation.",
+        );
+    const STEPS: usize = 180;
+    let curve =
+        |leaving: bool, f: fn(&crate::bsdf::fresnel::FresnelTerms) -> f32| -> Vec<[f64; 2]> {
+            (0..=STEPS)
+                .map(|i| {
+                    let deg = 90.0 * i as f32 / STEPS as f32;
+                    let c = deg.to_radians().cos();
+                    let t = fresnel_dielectric_terms(if leaving { -c } else { c }, eta);
+                    [deg as f64, f(&t) as f64]
+                })
+                .collect()
+        };
+    let par = |t: &crate::bsdf::fresnel::FresnelTerms| t.r_par * t.r_par;
+    let perp = |t: &crate::bsdf::fresnel::FresnelTerms| t.r_perp * t.r_perp;
+    let unpol = |t: &crate::bsdf::fresnel::FresnelTerms| t.f;
+    let blue = Color32::from_rgb(90, 160, 255);
+    let orange = Color32::from_rgb(255, 150, 60);
+    let brewster_in = brewster_deg(1.0, eta);
+    let brewster_out = brewster_deg(eta, 1.0);
+    let critical = critical_deg(eta, 1.0);
+    Plot::new("fresnel")
+        .height(190.0)
+        .include_x(0.0)
+        .include_x(90.0)
+        .include_y(0.0)
+        .include_y(1.0)
+        .x_axis_label("angle of incidence θ (°)")
+        .y_axis_label("reflectance")
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .show(ui, |p| {
+            p.line(
+                Line::new("F entering", PlotPoints::from(curve(false, unpol)))
+                    .color(blue)
+                    .width(2.0),
+            );
+            p.line(
+                Line::new("r_p² entering", PlotPoints::from(curve(false, par)))
+                    .color(blue)
+                    .style(LineStyle::dashed_dense()),
+            );
+            p.line(
+                Line::new("r_s² entering", PlotPoints::from(curve(false, perp)))
+                    .color(blue)
+                    .style(LineStyle::dotted_dense()),
+            );
+            p.line(
+                Line::new("F leaving", PlotPoints::from(curve(true, unpol)))
+                    .color(orange)
+                    .width(2.0),
+            );
+            p.line(
+                Line::new("r_p² leaving", PlotPoints::from(curve(true, par)))
+                    .color(orange)
+                    .style(LineStyle::dashed_dense()),
+            );
+            p.line(
+                Line::new("r_s² leaving", PlotPoints::from(curve(true, perp)))
+                    .color(orange)
+                    .style(LineStyle::dotted_dense()),
+            );
+            p.vline(VLine::new("Brewster (entering)", brewster_in).color(blue.gamma_multiply(0.6)));
+            p.vline(
+                VLine::new("Brewster (leaving)", brewster_out).color(orange.gamma_multiply(0.6)),
+            );
+            if let Some(c) = critical {
+                p.vline(
+                    VLine::new("critical angle", c)
+                        .color(Color32::from_rgb(230, 80, 80))
+                        .width(2.0),
+                );
+            }
+        });
+    ui.horizontal_wrapped(|ui| {
+        ui.colored_label(blue, "blue: entering (air to glass)");
+        ui.colored_label(orange, "orange: leaving (glass to air)");
+    });
+    ui.label(
+        "solid: F = (r_p² + r_s²)/2 · dashed: r_p² (parallel, p) · dotted: r_s² (perpendicular, s)",
+    )
+    .on_hover_text(
+        "p- and s-polarised light reflect differently; unpolarised light reflects their average.",
+    );
+    let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+    ui.label(format!(
+        "normal incidence R₀ = ((n−1)/(n+1))² = {:.2} %",
+        100.0 * r0
+    ))
+    .on_hover_text("At 0° both polarisations reflect the same fraction.");
+    ui.label(format!("Brewster angle: {brewster_in:.1}° entering, {brewster_out:.1}° leaving"))
+        .on_hover_text("At tanθ_B = n₂/n₁ the parallel polarisation is not reflected at all (r_p = 0): polarising filters use this.");
+    match critical {
+        Some(c) => ui.label(format!("critical angle (leaving): {c:.1}° — total internal reflection beyond"))
+            .on_hover_text("Leaving a denser medium, beyond sinθ_c = 1/n no refracted ray exists and all light is reflected."),
+        None => ui.label("no critical angle (n = 1: index-matched, no reflection)"),
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angles_match_the_textbook_for_crown_glass() {
+        assert!((brewster_deg(1.0, 1.5) - 56.31).abs() < 0.01);
+        assert!((critical_deg(1.5, 1.0).unwrap() - 41.81).abs() < 0.01);
+        assert!(critical_deg(1.0, 1.5).is_none());
+        // r∥ vanishes at Brewster's angle, entering and leaving.
+        for (cos_sign, b) in [
+            (1.0, brewster_deg(1.0, 1.5)),
+            (-1.0, brewster_deg(1.5, 1.0)),
+        ] {
+            let t = fresnel_dielectric_terms(cos_sign * b.to_radians().cos(), 1.5);
+            assert!(t.r_par.abs() < 1e-4, "{t:?}");
+        }
+    }
+}

@@ -1,0 +1,129 @@
+//! Light group: emission scale and colour, size and placement of the main area light,
+//! environment brightness.
+
+use crate::app::ViewerApp;
+use crate::app::settings::{MainLight, blackbody_rgb};
+use crate::scene::light::luminance;
+use eframe::egui::{self, Slider, SliderClamping};
+
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let before = app.settings.light.clone();
+    let main = MainLight::find(&app.base);
+    let l = &mut app.settings.light;
+
+    ui.add(
+        Slider::new(&mut l.intensity, 0.0..=20.0)
+            .text("Intensity ×")
+            .logarithmic(true)
+            .clamping(SliderClamping::Always),
+    )
+    .on_hover_text("Scales the radiance of every light; the image scales linearly with it (light transport is linear).");
+
+    let mut use_temp = l.temperature_k.is_some();
+    ui.horizontal(|ui| {
+        ui.label("Colour");
+        ui.radio_value(&mut use_temp, false, "RGB")
+            .on_hover_text("Tint the lights with a linear RGB colour.");
+        ui.radio_value(&mut use_temp, true, "temperature")
+            .on_hover_text("The colour of a black body at this temperature (Planck's law): candles ≈ 1900 K, daylight ≈ 6500 K.");
+    });
+    if use_temp {
+        let mut t = l.temperature_k.unwrap_or(6500.0);
+        ui.add(
+            Slider::new(&mut t, 1700.0..=12000.0)
+                .text("K")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Hotter black bodies shift their emission towards blue, cooler ones towards red (Wien's law).");
+        l.temperature_k = Some(if t.is_finite() { t } else { 6500.0 });
+        let c = blackbody_rgb(t);
+        ui.label(format!(
+            "RGB ≈ ({:.2}, {:.2}, {:.2}) at luminance 1",
+            c.x, c.y, c.z
+        ));
+    } else {
+        l.temperature_k = None;
+        ui.horizontal(|ui| {
+            ui.color_edit_button_rgb(&mut l.color)
+                .on_hover_text("Linear RGB factor on every light's emission.");
+            ui.label("Light colour");
+        });
+        for c in &mut l.color {
+            if !c.is_finite() {
+                *c = 1.0;
+            }
+        }
+    }
+
+    match &main {
+        Some(m) => {
+            ui.label(format!(
+                "Main area light: '{}'",
+                app.base.materials[m.material].name
+            ));
+            ui.add(
+                Slider::new(&mut l.size, 0.1..=4.0)
+                    .text("Size ×")
+                    .logarithmic(true)
+                    .clamping(SliderClamping::Always),
+            )
+            .on_hover_text("Scales the light about its centre at constant radiance: bigger lights give more light and softer shadows.");
+            let mut el = l.elevation_deg.unwrap_or(m.elevation_deg);
+            let mut az = l.azimuth_deg.unwrap_or(m.azimuth_deg);
+            let r1 = ui
+                .add(Slider::new(&mut el, -90.0..=90.0).text("Elevation °").clamping(SliderClamping::Always))
+                .on_hover_text("Height of the light seen from the scene centre; it keeps facing the centre, so shadows swing.");
+            let r2 = ui
+                .add(
+                    Slider::new(&mut az, -180.0..=180.0)
+                        .text("Azimuth °")
+                        .clamping(SliderClamping::Always),
+                )
+                .on_hover_text(
+                    "Direction of the light around the vertical axis through the scene centre.",
+                );
+            if r1.changed() && el.is_finite() {
+                l.elevation_deg = Some(el);
+                l.azimuth_deg.get_or_insert(m.azimuth_deg);
+            }
+            if r2.changed() && az.is_finite() {
+                l.azimuth_deg = Some(az);
+                l.elevation_deg.get_or_insert(m.elevation_deg);
+            }
+            if ui
+                .button("Reset size and position")
+                .on_hover_text("Put the main light back where the scene had it.")
+                .clicked()
+            {
+                l.size = 1.0;
+                l.elevation_deg = None;
+                l.azimuth_deg = None;
+            }
+        }
+        None => {
+            ui.label(egui::RichText::new("No area light in this scene.").weak());
+        }
+    }
+
+    let mut env = l
+        .environment
+        .unwrap_or_else(|| luminance(app.base.environment));
+    if ui
+        .add(
+            Slider::new(&mut env, 0.0..=10.0)
+                .text("Environment")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Radiance of the uniform sky that escaping rays see; in a closed furnace every object should vanish into it.")
+        .changed()
+        && env.is_finite()
+    {
+        l.environment = Some(env.max(0.0));
+    }
+    if l.intensity.is_nan() {
+        l.intensity = 1.0;
+    }
+    if app.settings.light != before {
+        app.lights_changed();
+    }
+}

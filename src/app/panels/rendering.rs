@@ -1,0 +1,184 @@
+//! Rendering group: depth, Heckbert path filter, exposure, tone map, pause, spp target,
+//! render scale, screenshot and reset.
+
+use crate::app::ViewerApp;
+use crate::film::ToneMap;
+use eframe::egui::{self, Color32, Slider, SliderClamping};
+
+/// Path filter presets (read light → eye) with what they show.
+pub const PATH_PRESETS: &[(&str, &str, &str)] = &[
+    ("all", "", "Every path: the full image."),
+    (
+        "LDE",
+        "LDE",
+        "Direct diffuse lighting only: light hits a diffuse surface, then the eye.",
+    ),
+    (
+        "L(D|S)*E",
+        "L(D|S)*E",
+        "Any mix of diffuse and specular bounces (no glossy ones).",
+    ),
+    (
+        "LS+DE",
+        "LS+DE",
+        "Caustics: light focused by mirrors or glass onto a diffuse surface.",
+    ),
+    (
+        "LDS+E",
+        "LDS+E",
+        "Diffusely lit surfaces seen through or in specular objects (reflections, refractions).",
+    ),
+    (
+        "L(S|G)+E",
+        "L(S|G)+E",
+        "The light seen only through specular or glossy surfaces.",
+    ),
+];
+
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let before = app.settings.render.clone();
+    let scene_depth = app.scene.settings.max_depth;
+    {
+        let r = &mut app.settings.render;
+        let mut depth = r.max_depth.unwrap_or(scene_depth).clamp(1, 64);
+        if ui
+            .add(Slider::new(&mut depth, 1..=64).text("Max depth").clamping(SliderClamping::Always))
+            .on_hover_text("Longest path in segments (Mitsuba's convention): 1 = only emitters, 2 = direct light, more = interreflections.")
+            .changed()
+        {
+            r.max_depth = Some(depth);
+        }
+    }
+
+    // Path filter: an invalid expression is highlighted and the last valid one keeps rendering.
+    let label = ui.label("Path filter (Heckbert, light to eye)");
+    let mut text = app.filter_text.clone();
+    let bad = app.filter_error.is_some();
+    let edit = egui::TextEdit::singleline(&mut text)
+        .hint_text("all paths")
+        .desired_width(200.0)
+        .text_color_opt(bad.then_some(Color32::from_rgb(255, 110, 110)));
+    let resp = ui
+        .add(edit)
+        .labelled_by(label.id)
+        .on_hover_text("A regular expression over events L (light), D (diffuse), G (glossy), S (specular), E (eye); only matching paths are drawn.");
+    if resp.changed() {
+        app.set_filter_text(&text);
+    }
+    if let Some(e) = &app.filter_error {
+        ui.colored_label(Color32::from_rgb(255, 110, 110), format!("invalid: {e}"));
+        let shown = if app.settings.render.paths.is_empty() {
+            "all paths"
+        } else {
+            app.settings.render.paths.as_str()
+        };
+        ui.label(egui::RichText::new(format!("still rendering '{shown}'")).weak());
+    }
+    ui.horizontal_wrapped(|ui| {
+        for (label, expr, tip) in PATH_PRESETS {
+            if ui.small_button(*label).on_hover_text(*tip).clicked() {
+                app.set_filter_text(expr);
+            }
+        }
+    });
+
+    ui.separator();
+    let d = &mut app.settings.display;
+    ui.add(
+        Slider::new(&mut d.exposure, -10.0..=10.0)
+            .text("Exposure (stops)")
+            .clamping(SliderClamping::Always),
+    )
+    .on_hover_text("Multiplies the radiance by 2^stops before display, like a camera's shutter time; does not restart rendering.");
+    if !d.exposure.is_finite() {
+        d.exposure = 0.0;
+    }
+    egui::ComboBox::from_label("Tone map")
+        .selected_text(match d.tone_map {
+            ToneMap::Clamp => "clamp",
+            ToneMap::Reinhard => "Reinhard",
+            ToneMap::Aces => "ACES",
+        })
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut d.tone_map, ToneMap::Clamp, "clamp")
+                .on_hover_text("Radiance above 1 is clipped: faithful in range, burns out highlights.");
+            ui.selectable_value(&mut d.tone_map, ToneMap::Reinhard, "Reinhard")
+                .on_hover_text("x/(1+x): compresses highlights smoothly, never clips.");
+            ui.selectable_value(&mut d.tone_map, ToneMap::Aces, "ACES")
+                .on_hover_text("Filmic curve (Narkowicz's ACES fit): film-like contrast and highlight roll-off.");
+        })
+        .response
+        .on_hover_text("How radiance, which has no upper bound, is squeezed into the displayable range.");
+
+    ui.separator();
+    ui.horizontal(|ui| {
+        let label = if app.paused { "Resume" } else { "Pause" };
+        if ui
+            .button(label)
+            .on_hover_text("Stop or continue adding samples (Space); the image keeps its samples.")
+            .clicked()
+        {
+            let p = !app.paused;
+            app.set_paused(p);
+        }
+        if ui
+            .button("Restart")
+            .on_hover_text("Drop all samples and start accumulating again.")
+            .clicked()
+        {
+            app.backend_mut().reset();
+        }
+    });
+    {
+        let r = &mut app.settings.render;
+        ui.add(
+            egui::DragValue::new(&mut r.spp_target)
+                .range(0..=1_000_000)
+                .speed(4.0)
+                .prefix("spp target ")
+                .custom_formatter(|v, _| {
+                    if v == 0.0 {
+                        "∞".into()
+                    } else {
+                        format!("{v:.0}")
+                    }
+                }),
+        )
+        .on_hover_text(
+            "Stop at this many samples per pixel (0 = never); Monte Carlo noise falls as 1/√spp.",
+        );
+        ui.add(
+            Slider::new(&mut r.render_scale, 0.1..=1.0)
+                .text("Render scale")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Fraction of the scene's resolution rendered: fewer pixels give more samples per second each.");
+        if !r.render_scale.is_finite() {
+            r.render_scale = 0.5;
+        }
+        ui.add(egui::DragValue::new(&mut r.seed).prefix("seed "))
+            .on_hover_text("Seed of the random numbers: another seed gives independent noise with the same mean.");
+    }
+
+    if app.settings.render != before {
+        app.options_changed();
+    }
+
+    ui.separator();
+    ui.horizontal(|ui| {
+        if ui
+            .button("Screenshot")
+            .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
+            .clicked()
+        {
+            let _ = app.save_screenshot();
+        }
+        if ui
+            .button("Reset to defaults")
+            .on_hover_text("Forget every edit and setting: the scene as loaded, default render options.")
+            .clicked()
+        {
+            app.reset_to_defaults();
+        }
+    });
+}

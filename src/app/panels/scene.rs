@@ -1,0 +1,65 @@
+//! Scene group: built-in picker, open a .glb/.gltf (path, dialog, drag-and-drop).
+
+use crate::app::ViewerApp;
+use crate::scene::builtin;
+use eframe::egui;
+
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let current = app.settings.scene.clone();
+    let mut chosen = None;
+    egui::ComboBox::from_label("Built-in scene")
+        .selected_text(current.strip_prefix("builtin:").unwrap_or("(file)"))
+        .show_ui(ui, |ui| {
+            for name in builtin::NAMES {
+                let spec = format!("builtin:{name}");
+                if ui.selectable_label(current == spec, *name).clicked() {
+                    chosen = Some(spec);
+                }
+            }
+        })
+        .response
+        .on_hover_text(
+            "Scenes built into refract; the Cornell box shows colour bleeding, caustics and refraction at once.",
+        );
+    if let Some(spec) = chosen {
+        app.load_scene(&spec);
+    }
+    ui.horizontal(|ui| {
+        let edit = ui
+            .add(
+                egui::TextEdit::singleline(&mut app.open_path)
+                    .hint_text("path/to/scene.glb")
+                    .desired_width(170.0),
+            )
+            .on_hover_text(
+                "A glTF 2.0 scene file; its materials follow the scene contract (meters, +Y up).",
+            );
+        let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if ui
+            .button("Open")
+            .on_hover_text("Load the scene at this path; if it fails the current scene stays.")
+            .clicked()
+            || enter
+        {
+            let p = app.open_path.clone();
+            app.load_scene(&p);
+        }
+        if ui
+            .button("Browse…")
+            .on_hover_text("Pick a .glb/.gltf with the system file dialog (xdg-desktop-portal).")
+            .clicked()
+        {
+            app.open_dialog();
+        }
+    });
+    ui.label(egui::RichText::new("Tip: drop a .glb/.gltf file on the window to open it.").weak());
+    let s = &app.scene;
+    ui.label(format!(
+        "{}: {} triangles, {} materials, {} area-light triangles, {} punctual lights",
+        s.name,
+        s.mesh.triangle_count(),
+        s.materials.len(),
+        app.scene.emissive_triangles().len(),
+        s.punctual_lights.len()
+    ));
+}

@@ -1,0 +1,382 @@
+//! Viewer tests: the UI driven through egui_kittest (AccessKit) without a window, the
+//! screenshot triple and its headless re-render, and the real window under Xvfb.
+
+use eframe::egui;
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use refract::app::ViewerApp;
+use refract::app::settings::DEFAULT_SCENE;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The glass sphere of the default scene.
+const GLASS: usize = 4;
+
+/// A viewer on the default scene at a small resolution (fast on 2 cores).
+fn small_app() -> ViewerApp {
+    let mut app = ViewerApp::open(DEFAULT_SCENE).expect("default scene opens");
+    app.settings.render.render_scale = 0.125; // 64×64
+    app.options_changed();
+    app
+}
+
+fn harness(app: ViewerApp) -> Harness<'static, ViewerApp> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 2400.0)) // tall: the whole side panel fits, no scrolling
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    h.step();
+    h
+}
+
+/// Step the UI until `cond` holds (the render thread works in the background).
+fn step_until(h: &mut Harness<'static, ViewerApp>, what: &str, cond: impl Fn(&ViewerApp) -> bool) {
+    let start = Instant::now();
+    while !cond(h.state()) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("refract-viewer-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn starts_on_the_default_scene_and_renders() {
+    let mut h = harness(small_app());
+    assert_eq!(h.state().settings.scene, "builtin:cornell-glass");
+    assert_eq!(h.state().scene.name, "cornell-glass");
+    // The scene panel shows its name, the status bar the device.
+    h.get_by_label_contains("cornell-glass: ");
+    h.get_by_label_contains("render: CPU");
+    step_until(&mut h, "first samples", |a| a.backend().spp() >= 2);
+}
+
+#[test]
+fn ior_slider_updates_the_backend_and_restarts_accumulation() {
+    let mut h = harness(small_app());
+    h.state_mut().selected = Some(GLASS);
+    h.step();
+    step_until(&mut h, "a few samples", |a| a.backend().spp() >= 2);
+    let gen0 = h.state().backend().generation();
+    h.get_by_role_and_label(Role::Slider, "IOR")
+        .set_value_accesskit(2.0);
+    h.step();
+    h.step();
+    assert_eq!(h.state().scene.materials[GLASS].ior, 2.0);
+    assert!(
+        h.state().backend().generation() > gen0,
+        "edit bumps the generation"
+    );
+    // No sample from before the edit survives: the counter restarted.
+    assert!(
+        h.state().backend().spp() <= 1,
+        "spp {} after an edit",
+        h.state().backend().spp()
+    );
+    step_until(&mut h, "the backend to apply the IOR", |a| {
+        a.backend().material(GLASS).is_some_and(|m| m.ior == 2.0)
+    });
+    // Out-of-range values are clamped by the slider, never sent as is.
+    h.get_by_role_and_label(Role::Slider, "IOR")
+        .set_value_accesskit(-5.0);
+    h.step();
+    h.step();
+    assert_eq!(h.state().scene.materials[GLASS].ior, 1.0);
+    h.get_by_role_and_label(Role::Slider, "IOR")
+        .set_value_accesskit(f64::NAN);
+    h.step();
+    h.step();
+    let ior = h.state().scene.materials[GLASS].ior;
+    assert!(ior.is_finite() && ior >= 1.0, "IOR {ior}");
+}
+
+#[test]
+fn ior_preset_sets_the_ior() {
+    let mut h = harness(small_app());
+    h.state_mut().selected = Some(GLASS);
+    h.step();
+    h.get_by_label("diamond").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().scene.materials[GLASS].ior, 2.42);
+    h.get_by_label("water").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().scene.materials[GLASS].ior, 1.333);
+    // The Fresnel panel follows: critical angle of water asin(1/1.333) = 48.6°.
+    h.get_by_label_contains("critical angle (leaving): 48.6°");
+}
+
+#[test]
+fn clicking_the_sphere_selects_the_glass() {
+    let app = small_app();
+    // Film point of the sphere's centre (0.35, 0.35, 0.3) seen from the default camera.
+    let cam = app.scene.camera;
+    let p = glam::Vec3::new(0.35, 0.35, 0.3);
+    let local = cam.rotation.transpose() * (p - cam.position);
+    let t = (0.5 * cam.yfov).tan();
+    let sx = 0.5 + 0.5 * local.x / (-local.z * t);
+    let sy = 0.5 - 0.5 * local.y / (-local.z * t);
+    assert_eq!(app.pick(sx, sy), Some(GLASS));
+    assert_eq!(app.pick(0.5, 0.1), Some(0), "the white ceiling");
+    assert_eq!(app.pick(0.5, 0.005), None, "above the open front: nothing");
+}
+
+#[test]
+fn invalid_path_filter_shows_an_error_and_keeps_the_last_valid_one() {
+    let mut h = harness(small_app());
+    h.get_by_label("LS+DE").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().settings.render.paths, "LS+DE");
+    let generation = h.state().backend().generation();
+    let field = h.get_by_label("Path filter (Heckbert, light to eye)");
+    field.click();
+    h.step();
+    h.get_by_label("Path filter (Heckbert, light to eye)")
+        .type_text("(D");
+    h.step();
+    h.step();
+    assert_eq!(h.state().filter_text, "LS+DE(D");
+    assert!(h.state().filter_error.is_some());
+    h.get_by_label_contains("invalid: ");
+    h.get_by_label_contains("still rendering 'LS+DE'");
+    assert_eq!(h.state().settings.render.paths, "LS+DE");
+    assert_eq!(
+        h.state().backend().generation(),
+        generation,
+        "an invalid filter must not restart rendering"
+    );
+    let spp = h.state().backend().spp();
+    step_until(&mut h, "rendering to go on", |a| a.backend().spp() > spp);
+}
+
+#[test]
+fn malformed_glb_shows_an_error_and_keeps_the_old_scene() {
+    let dir = scratch_dir("badglb");
+    let bad = dir.join("broken.glb");
+    std::fs::write(&bad, b"glTF\x02\x00\x00\x00garbage that is not a glb").unwrap();
+    let mut h = harness(small_app());
+    step_until(&mut h, "first samples", |a| a.backend().spp() >= 1);
+    h.state_mut().open_path = bad.display().to_string();
+    h.step();
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    let err = h.state().messages.error.clone().expect("an error is shown");
+    assert!(err.contains("broken.glb"), "{err}");
+    h.get_by_label_contains("Error: could not open");
+    assert_eq!(h.state().settings.scene, DEFAULT_SCENE);
+    assert_eq!(h.state().scene.name, "cornell-glass");
+    let spp = h.state().backend().spp();
+    step_until(&mut h, "the old scene to keep rendering", |a| {
+        a.backend().spp() > spp
+    });
+}
+
+fn mean_and_pixels(path: &Path) -> (f64, Vec<f64>) {
+    let (_, _, px) = refract::film::load_exr(path).unwrap();
+    let v: Vec<f64> = px.iter().map(|p| (p.x + p.y + p.z) as f64 / 3.0).collect();
+    (v.iter().sum::<f64>() / v.len() as f64, v)
+}
+
+#[test]
+fn screenshot_writes_three_files_and_rerenders_headless() {
+    let dir = scratch_dir("shot");
+    let mut app = small_app();
+    app.screenshot_dir = dir.clone();
+    app.settings.render.spp_target = 16;
+    app.settings.display.exposure = 0.5;
+    let mut m = app.scene.materials[GLASS].clone();
+    m.ior = 1.8;
+    app.set_material(GLASS, m);
+    app.options_changed();
+    let mut h = harness(app);
+    step_until(&mut h, "16 spp", |a| a.backend().spp() >= 16);
+    h.get_by_label("Screenshot").click();
+    h.step();
+    h.step();
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for ext in ["png", "exr", "json"] {
+        assert!(
+            names
+                .iter()
+                .any(|n| n.starts_with("cornell-glass-") && n.ends_with(ext)),
+            "no .{ext} in {names:?}"
+        );
+    }
+    let json = dir.join(names.iter().find(|n| n.ends_with(".json")).unwrap());
+    let exr = json.with_extension("exr");
+    let sidecar = refract::app::settings::ViewerSettings::load(&json).unwrap();
+    assert_eq!(sidecar.capture.as_ref().unwrap().spp, 16);
+    assert_eq!(sidecar.materials[0].ior, 1.8);
+
+    // Headless: the sidecar as is, and once more with another seed to measure the noise.
+    let bin = env!("CARGO_BIN_EXE_refract");
+    let again = dir.join("again.exr");
+    let other = dir.join("other-seed.exr");
+    for (out, extra) in [(&again, vec![]), (&other, vec!["--seed", "7"])] {
+        let st = Command::new(bin)
+            .args(["render", "--quiet", "--settings"])
+            .arg(&json)
+            .arg("--out")
+            .arg(out)
+            .args(extra)
+            .status()
+            .unwrap();
+        assert!(st.success());
+    }
+    let (m_view, a) = mean_and_pixels(&exr);
+    let (m_again, _) = mean_and_pixels(&again);
+    let (m_other, b) = mean_and_pixels(&other);
+    assert_eq!(a.len(), 64 * 64);
+    // σ of one image's mean, from two independent renders (pixels are independent):
+    // Var(mean_a − mean_b) = 2σ² = Var_pixels(a − b) / N.
+    let n = a.len() as f64;
+    let d: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
+    let dm = d.iter().sum::<f64>() / n;
+    let var = d.iter().map(|x| (x - dm).powi(2)).sum::<f64>() / (n - 1.0);
+    let sigma = (var / n / 2.0).sqrt();
+    assert!(sigma > 0.0);
+    // Same seed: the same image (the RNG is counter-based), so well within 4σ.
+    assert!(
+        (m_view - m_again).abs() < 4.0 * sigma,
+        "viewer {m_view} vs headless {m_again}, σ {sigma}"
+    );
+    // Another seed: the same mean within noise (4σ·√2 for a difference of two).
+    assert!(
+        (m_view - m_other).abs() < 4.0 * sigma * 2f64.sqrt(),
+        "viewer {m_view} vs other seed {m_other}, σ {sigma}"
+    );
+}
+
+#[test]
+fn reset_to_defaults_forgets_edits() {
+    let mut h = harness(small_app());
+    h.state_mut().selected = Some(GLASS);
+    h.step();
+    h.get_by_label("diamond").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().settings.materials.len(), 1);
+    h.get_by_label("Reset to defaults").click();
+    h.step();
+    h.step();
+    assert!(h.state().settings.materials.is_empty());
+    assert_eq!(h.state().scene.materials[GLASS].ior, 1.5);
+}
+
+/// Find an executable on PATH.
+fn which(name: &str) -> Option<PathBuf> {
+    std::env::var_os("PATH").and_then(|p| {
+        std::env::split_paths(&p)
+            .map(|d| d.join(name))
+            .find(|f| f.is_file())
+    })
+}
+
+/// Mean brightness (0–255) of a PNG.
+fn png_mean(path: &Path) -> Option<f64> {
+    let img = image::open(path).ok()?.into_rgb8();
+    let n = (img.width() * img.height()) as f64;
+    Some(
+        img.pixels()
+            .map(|p| (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0)
+            .sum::<f64>()
+            / n,
+    )
+}
+
+/// The real window under Xvfb: `refract view --frames 120` must show a non-black image and exit
+/// cleanly. Skipped (with a message) where Xvfb or ImageMagick's `import` is missing; CI
+/// installs both.
+#[test]
+fn real_window_under_xvfb_is_not_black() {
+    let (Some(xvfb), Some(import)) = (which("Xvfb"), which("import")) else {
+        eprintln!(
+            "SKIPPED real_window_under_xvfb_is_not_black: Xvfb or ImageMagick `import` is not installed"
+        );
+        return;
+    };
+    let dir = scratch_dir("xvfb");
+    let display = format!(":{}", 90 + std::process::id() % 50);
+    let mut server = Command::new(xvfb)
+        .args([
+            display.as_str(),
+            "-screen",
+            "0",
+            "1280x860x24",
+            "-br",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start Xvfb");
+    std::thread::sleep(Duration::from_millis(1500));
+    let runtime = dir.join("runtime");
+    std::fs::create_dir_all(&runtime).unwrap();
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_refract"))
+        .args(["view", "--frames", "120", "--exit-after", "90s"])
+        .env("DISPLAY", &display)
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .env("HOME", &dir) // keep the persisted settings out of the user's home
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start refract view");
+    let start = Instant::now();
+    let mut best = 0.0f64;
+    let mut shots = 0;
+    let status = loop {
+        if let Some(st) = viewer.try_wait().unwrap() {
+            break st;
+        }
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = viewer.kill();
+            let _ = server.kill();
+            panic!("refract view --frames 120 did not exit within 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(700));
+        let shot = dir.join(format!("shot-{shots}.png"));
+        let ok = Command::new(&import)
+            .args(["-display", display.as_str(), "-window", "root"])
+            .arg(&shot)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok {
+            shots += 1;
+            best = best.max(png_mean(&shot).unwrap_or(0.0));
+        }
+    };
+    let mut log = String::new();
+    if let Some(mut e) = viewer.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut log);
+    }
+    let _ = server.kill();
+    let _ = server.wait();
+    assert!(status.success(), "refract view failed: {status}\n{log}");
+    assert!(log.contains("120 frames"), "no frame summary:\n{log}");
+    assert!(shots > 0, "no screenshot could be taken");
+    assert!(
+        best > 20.0,
+        "the window looked black (best mean brightness {best:.1}/255 over {shots} screenshots)\n{log}"
+    );
+}
