@@ -4,7 +4,7 @@
 //! Error metrics: relative MSE mean((x − ref)² / (ref² + 1e-2)) over pixels and channels,
 //! RMSE, and the luminance ratio; the halves' disagreement gives the reference's noise floor.
 
-use crate::cpu::{RenderOptions, Renderer};
+use crate::cpu::{Estimator, RenderOptions, Renderer};
 use crate::film::{self, Film};
 use crate::scene::Scene;
 use anyhow::{Context, Result};
@@ -31,6 +31,11 @@ pub struct BenchOptions {
     /// Samples per pixel of the reference (split over two halves).
     pub ref_spp: u32,
     pub cache_dir: PathBuf,
+    /// Estimators to measure (each against the same reference).
+    pub estimators: Vec<Estimator>,
+    /// Estimator of the reference (bdpt converges far faster on caustics; scenes with
+    /// dispersion always use the path tracer).
+    pub ref_estimator: Estimator,
 }
 
 /// One point of an error-vs-time curve.
@@ -105,8 +110,8 @@ fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
         h = fnv1a(&bytes, h);
     }
     let meta = format!(
-        "{}x{} d{} rr{} spp{} v{}",
-        opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION
+        "{}x{} d{} rr{} spp{} v{} {:?}",
+        opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION, opts.estimator
     );
     fnv1a(meta.as_bytes(), h)
 }
@@ -118,7 +123,9 @@ fn reference(
     opts: &RenderOptions,
     o: &BenchOptions,
 ) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
-    let h = scene_hash(spec, opts, o.ref_spp);
+    let mut keyed = *opts;
+    keyed.estimator = o.ref_estimator;
+    let h = scene_hash(spec, &keyed, o.ref_spp);
     std::fs::create_dir_all(&o.cache_dir)
         .with_context(|| format!("cannot create cache folder '{}'", o.cache_dir.display()))?;
     let paths: Vec<PathBuf> = (0..2)
@@ -135,6 +142,7 @@ fn reference(
         }
         let mut ro = *opts;
         ro.seed = REF_SEEDS[i];
+        ro.estimator = o.ref_estimator;
         eprintln!(
             "  reference half {} of {spec}: {} spp at {}x{} …",
             i + 1,
@@ -152,17 +160,52 @@ fn reference(
     Ok((a, b))
 }
 
-/// Run the benchmark for one scene on the CPU renderer.
-pub fn bench_scene_cpu(spec: &str, o: &BenchOptions) -> Result<(Vec<BenchPoint>, BenchSummary)> {
+/// Run the benchmark for one scene on the CPU renderer, every requested estimator.
+pub fn bench_scene_cpu(
+    spec: &str,
+    o: &BenchOptions,
+) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
     let mut scene = Scene::load(spec)?;
     scene.settings.width = o.width;
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;
-    let mut opts = RenderOptions::from_scene(&r.scene);
-    let (a, b) = reference(&r, spec, &opts, o)?;
+    let opts = RenderOptions::from_scene(&r.scene);
+    let mut ro = o.clone();
+    if r.spectral {
+        ro.ref_estimator = Estimator::Path;
+    }
+    let (a, b) = reference(&r, spec, &opts, &ro)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
     // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
     let ref_noise = rel_mse(&a, &b) / 4.0;
+    let mut points = Vec::new();
+    let mut sums = Vec::new();
+    for &est in &o.estimators {
+        if r.spectral && est != Estimator::Path {
+            eprintln!("  skipping {est:?} on {spec}: dispersion needs the path tracer");
+            continue;
+        }
+        eprintln!("  measuring {est:?} …");
+        let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, ro.ref_spp);
+        points.extend(p);
+        sums.push(s);
+    }
+    Ok((points, sums))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn measure(
+    r: &Renderer,
+    spec: &str,
+    o: &BenchOptions,
+    mut opts: RenderOptions,
+    est: Estimator,
+    reference: &[Vec3],
+    ref_noise: f64,
+    ref_spp: u32,
+) -> (Vec<BenchPoint>, BenchSummary) {
+    let estimator = format!("{est:?}").to_lowercase();
+    opts.estimator = est;
     opts.seed = RUN_SEED;
     let pixels = (opts.width * opts.height) as f64;
     let mut film = Film::new(opts.width, opts.height);
@@ -179,13 +222,13 @@ pub fn bench_scene_cpu(spec: &str, o: &BenchOptions) -> Result<(Vec<BenchPoint>,
         points.push(BenchPoint {
             scene: spec.to_string(),
             device: "cpu".into(),
-            estimator: "path".into(),
+            estimator: estimator.clone(),
             spp: done,
             seconds: secs,
             samples_per_sec: done as f64 * pixels / secs.max(1e-9),
-            rel_mse: rel_mse(&img, &reference),
-            rmse: rmse(&img, &reference),
-            lum_ratio: mean_luminance(&img) / mean_luminance(&reference).max(1e-12),
+            rel_mse: rel_mse(&img, reference),
+            rmse: rmse(&img, reference),
+            lum_ratio: mean_luminance(&img) / mean_luminance(reference).max(1e-12),
         });
         next_record *= 2;
         if done >= 1 << 20 {
@@ -196,14 +239,14 @@ pub fn bench_scene_cpu(spec: &str, o: &BenchOptions) -> Result<(Vec<BenchPoint>,
     let summary = BenchSummary {
         scene: spec.to_string(),
         device: "cpu".into(),
-        estimator: "path".into(),
+        estimator,
         samples_per_sec: sps,
         t_rel_01: time_to(&points, 0.01),
         t_rel_001: time_to(&points, 0.001),
         ref_noise,
-        ref_spp: o.ref_spp,
+        ref_spp,
     };
-    Ok((points, summary))
+    (points, summary)
 }
 
 /// Time at which the curve first reaches `target` (log-log interpolation between points).
@@ -250,7 +293,7 @@ pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
 pub fn markdown_table(summaries: &[BenchSummary]) -> String {
     let fmt_t = |t: Option<f64>| t.map_or("not reached".to_string(), |t| format!("{t:.2} s"));
     let mut s = String::from(
-        "| scene | device | estimator | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE) |\n|---|---|---|---|---|---|---|\n",
+        "| scene | device | estimator | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE, spp) |\n|---|---|---|---|---|---|---|\n",
     );
     for m in summaries {
         let _ = writeln!(
@@ -361,10 +404,10 @@ pub fn run(o: &BenchOptions) -> Result<String> {
     let mut all = Vec::new();
     let mut sums = Vec::new();
     for spec in &o.scenes {
-        eprintln!("bench {spec} (cpu, path) …");
+        eprintln!("bench {spec} (cpu) …");
         let (pts, sum) = bench_scene_cpu(spec, o)?;
         all.extend(pts);
-        sums.push(sum);
+        sums.extend(sum);
     }
     write_csv(&o.out.join("bench.csv"), &all)?;
     plot(&o.out.join("bench.png"), &all)?;

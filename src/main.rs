@@ -49,11 +49,20 @@ struct BenchArgs {
     #[arg(long, default_value_t = 128)]
     height: u32,
     /// Samples per pixel of the cached reference.
-    #[arg(long, default_value_t = 4096)]
+    #[arg(long, default_value_t = 1024)]
     ref_spp: u32,
     /// Reference cache folder.
     #[arg(long, default_value = "target/bench-cache")]
     cache: PathBuf,
+    /// Estimators to measure: path, bdpt, lt.
+    #[arg(long, num_args = 1.., default_values_t = [Estimator::Path, Estimator::Bdpt])]
+    estimators: Vec<Estimator>,
+    /// Estimator of the cached reference (bdpt converges much faster on caustics).
+    #[arg(long, default_value = "bdpt")]
+    ref_estimator: Estimator,
+    /// Renderer to measure: cpu (the GPU renderer is measured with `render --device gpu`).
+    #[arg(long, default_value = "cpu")]
+    device: String,
     /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
     #[arg(long)]
     quick: bool,
@@ -334,6 +343,11 @@ fn bench(args: &BenchArgs) -> Result<()> {
             bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
         }
     }
+    if args.device != "cpu" {
+        bail!(
+            "bench measures the CPU renderer only so far (use `render --device gpu` for GPU timings)"
+        );
+    }
     if args.ref_spp < 2 {
         bail!("--ref-spp must be at least 2 (two independent halves)");
     }
@@ -353,6 +367,8 @@ fn bench(args: &BenchArgs) -> Result<()> {
         height: args.height,
         ref_spp: args.ref_spp,
         cache_dir: args.cache.clone(),
+        estimators: args.estimators.clone(),
+        ref_estimator: args.ref_estimator,
     };
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads.filter(|&t| t > 0) {

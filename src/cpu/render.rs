@@ -22,6 +22,16 @@ pub enum Estimator {
     Lt,
 }
 
+impl std::fmt::Display for Estimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Estimator::Path => "path",
+            Estimator::Bdpt => "bdpt",
+            Estimator::Lt => "lt",
+        })
+    }
+}
+
 impl std::str::FromStr for Estimator {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
