@@ -111,7 +111,13 @@ fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
     }
     let meta = format!(
         "{}x{} d{} rr{} spp{} v{} {:?}",
-        opts.width, opts.height, opts.max_depth, opts.rr_depth, ref_spp, RENDERER_VERSION, opts.estimator
+        opts.width,
+        opts.height,
+        opts.max_depth,
+        opts.rr_depth,
+        ref_spp,
+        RENDERER_VERSION,
+        opts.estimator
     );
     fnv1a(meta.as_bytes(), h)
 }
