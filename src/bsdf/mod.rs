@@ -14,11 +14,11 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
-pub mod thin;
 pub mod glossy;
 pub mod metal_rough;
 pub mod microfacet;
 pub mod rough_dielectric;
+pub mod thin;
 
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -26,11 +26,11 @@ use glam::{Vec2, Vec3};
 pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
-pub use thin::ThinDielectric;
 pub use glossy::RoughConductor;
 pub use metal_rough::MetalRough;
 pub use microfacet::Microfacet;
 pub use rough_dielectric::RoughDielectric;
+pub use thin::ThinDielectric;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
