@@ -136,6 +136,9 @@ pub struct GpuRenderer {
     filter_table: Option<crate::paths::DfaTable>,
 }
 
+/// Buffers, light count and the texture reference slots of each material.
+type BuiltBuffers = (Buffers, u32, Vec<(u32, u32)>);
+
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
 
 fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
@@ -206,7 +209,7 @@ impl GpuRenderer {
         bvh: &GpuBvh,
         light_set: &LightSet,
         opts: &GpuOptions,
-    ) -> Result<(Buffers, u32, Vec<(u32, u32)>)> {
+    ) -> Result<BuiltBuffers> {
         let tris = upload::pack_triangles(scene, bvh, light_set);
         let verts = upload::pack_vertices(scene);
         let (texels, tex_slots) = upload::pack_textures(scene);
