@@ -179,14 +179,15 @@ fn render(args: &RenderArgs) -> Result<()> {
     if spp == 0 {
         bail!("--spp must be at least 1");
     }
+    // Validate CPU-only options before the device choice (whose notes go to stderr too).
+    if args.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
     if gpu_render::render(args, &scene, spp, tone)? {
         return Ok(());
     }
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads {
-        if t == 0 {
-            bail!("--threads must be at least 1");
-        }
         pool = pool.num_threads(t);
     }
     let pool = pool.build().context("cannot start worker threads")?;
