@@ -26,10 +26,11 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         "auto" => false,
         d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
     };
-    if args.estimator != refract::cpu::Estimator::Path || !job.filter.is_accept_all() {
+    let filter = job.filter;
+    if args.estimator != refract::cpu::Estimator::Path {
         if forced {
             bail!(
-                "the GPU renderer supports only --estimator path without --paths yet (use --device cpu)"
+                "the GPU renderer implements the path tracer only (use --estimator path or --device cpu)"
             );
         }
         return Ok(false);
@@ -66,16 +67,27 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         }
         Err(e) => return Err(e),
     };
+    r.set_filter(Some(&filter));
     let (bvh_time, depth, nodes) = r.bvh_info();
     eprintln!(
-        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}",
+        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}{}{}",
         scene.name,
         scene.mesh.triangle_count(),
         bvh_time.as_secs_f64() * 1e3,
         opts.width,
         opts.height,
         spp,
-        opts.max_depth
+        opts.max_depth,
+        if filter.is_accept_all() {
+            String::new()
+        } else {
+            format!(", paths '{}'", filter.source())
+        },
+        if r.specialization().spectral {
+            ", spectral (hero wavelengths)"
+        } else {
+            ""
+        }
     );
     let bar = if args.quiet {
         ProgressBar::hidden()

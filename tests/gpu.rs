@@ -8,13 +8,22 @@ mod common_scenes;
 use common_scenes::*;
 use glam::{Vec2, Vec3};
 use refract::bsdf::fresnel::{fresnel_dielectric_terms, refract};
-use refract::bsdf::{Bsdf, BxDF, Event, Lambert, Lobe, Mirror, SmoothDielectric, TransportMode};
+use refract::bsdf::microfacet::{erf, erfc, erfinv};
+use refract::bsdf::{
+    Bsdf, BxDF, Event, Lambert, Lobe, MetalRough, Microfacet, MicrofacetDistribution, Mirror,
+    RoughConductor, RoughDielectric, SmoothDielectric, ThinDielectric, TransportMode,
+};
 use refract::cpu::{RenderOptions, Renderer};
 use refract::film::Film;
 use refract::gpu::layout::{self, *};
 use refract::gpu::pipeline::{integrator_source, probe_source, run_probe};
 use refract::gpu::{GpuContext, GpuOptions, GpuRenderer, upload};
 use refract::math::rng::{Sampler, pcg_hash};
+use refract::math::spectrum::{
+    cauchy_from_abbe, rgb_to_spectrum4, sample_hero_wavelengths, spectrum_sample_to_rgb,
+};
+use refract::paths::PathFilter;
+use refract::scene::material::{Texture, TextureRef, Wrap};
 use refract::scene::{Camera, Material, Mesh, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
@@ -72,75 +81,201 @@ fn bvh_repack_leaf_order() {
 
 const PROBE_COLOR: Vec3 = Vec3::new(0.25, 0.5, 0.875);
 
-fn probe_bsdf(kind: u32, eta: f32) -> Bsdf {
-    let c = PROBE_COLOR.extend(0.0);
-    match kind {
-        BSDF_LAMBERT => Bsdf::Lambert(Lambert { albedo: c }),
-        BSDF_MIRROR => Bsdf::Mirror(Mirror { reflectance: c }),
-        _ => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
+fn dist_of(code: u32) -> MicrofacetDistribution {
+    if code == DIST_BECKMANN {
+        MicrofacetDistribution::Beckmann
+    } else {
+        MicrofacetDistribution::Ggx
     }
 }
 
-fn close(a: f32, b: f32, rel: f32) -> bool {
-    a == b || (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-3)
+/// The Rust twin of the probe kernel's `Bsdf(kind, PROBE_COLOR, eta, alpha, dist, metallic, …)`.
+fn probe_bsdf(c: &ProbeCase) -> Bsdf {
+    let col = PROBE_COLOR.extend(0.0);
+    let (eta, alpha, dist) = (c.eta, c.alpha, dist_of(c.dist));
+    match c.kind {
+        BSDF_LAMBERT => Bsdf::Lambert(Lambert { albedo: col }),
+        BSDF_MIRROR => Bsdf::Mirror(Mirror { reflectance: col }),
+        BSDF_SMOOTH_DIELECTRIC => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
+        BSDF_THIN_DIELECTRIC => Bsdf::ThinDielectric(ThinDielectric { eta }),
+        BSDF_ROUGH_DIELECTRIC => Bsdf::RoughDielectric(RoughDielectric { eta, alpha, dist }),
+        BSDF_ROUGH_CONDUCTOR => Bsdf::RoughConductor(RoughConductor {
+            reflectance: col,
+            alpha,
+            dist,
+        }),
+        BSDF_METAL_ROUGH => Bsdf::MetalRough(MetalRough {
+            ior: eta,
+            ..MetalRough::new(col, c.metallic, alpha)
+        }),
+        k => panic!("unknown kind {k}"),
+    }
 }
 
-/// fresnel, refract and every BSDF's eval/pdf/sample through WGSL and Rust on a grid of
-/// (wo, wi, u, η), plus the RNG bit for bit.
-#[test]
-fn kernel_and_rng_parity() {
-    let Some(ctx) = context("kernel_and_rng_parity") else {
-        return;
-    };
+const ALL_KINDS: [u32; 7] = [
+    BSDF_LAMBERT,
+    BSDF_MIRROR,
+    BSDF_SMOOTH_DIELECTRIC,
+    BSDF_THIN_DIELECTRIC,
+    BSDF_ROUGH_DIELECTRIC,
+    BSDF_ROUGH_CONDUCTOR,
+    BSDF_METAL_ROUGH,
+];
+
+/// The probe grid: every BSDF × (wo, wi, u) × η × (α ∈ {0.05, 0.3, 1}, GGX/Beckmann) for
+/// the rough kinds × both transport modes for the dielectrics.
+fn probe_cases() -> Vec<ProbeCase> {
     let etas = [1.0f32, 1.0001, 1.33, 1.5, 2.4, 4.0, 0.67];
     let mut cases = Vec::new();
     let mut i = 0u32;
-    for kind in [BSDF_LAMBERT, BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC] {
-        for &eta in &etas {
-            for it in 0..24 {
-                // cosθ from −1 to 1 (grazing, TIR side and normal incidence included)
-                let cos_t = -0.999 + 1.998 * (it as f32 + 0.5) / 24.0;
-                for ip in 0..4 {
-                    let phi = 0.3 + 1.7 * ip as f32;
-                    let sin_t = (1.0 - cos_t * cos_t).sqrt();
-                    let wo = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
-                    let wi = Vec3::new(-0.3, 0.4, 0.866).normalize();
-                    for iu in 0..4 {
-                        let uc = (iu as f32 + 0.37) / 4.0;
-                        let u2 = [
-                            (iu as f32 * 0.29 + 0.11) % 1.0,
-                            (iu as f32 * 0.61 + 0.05) % 1.0,
-                        ];
-                        cases.push(ProbeCase {
-                            wo: wo.to_array(),
-                            uc,
-                            wi: wi.to_array(),
-                            eta,
-                            u2,
-                            kind,
-                            pixel: i.wrapping_mul(2_654_435_761),
-                            sample: i % 97,
-                            seed: i / 7,
-                            _pad0: 0,
-                            _pad1: 0,
-                        });
-                        i += 1;
+    for kind in ALL_KINDS {
+        let rough = matches!(
+            kind,
+            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+        );
+        let alphas: &[f32] = if rough { &[0.05, 0.3, 1.0] } else { &[0.3] };
+        let dists: &[u32] = if rough && kind != BSDF_METAL_ROUGH {
+            &[DIST_GGX, DIST_BECKMANN]
+        } else {
+            &[DIST_GGX]
+        };
+        let modes: &[u32] = if matches!(kind, BSDF_SMOOTH_DIELECTRIC | BSDF_ROUGH_DIELECTRIC) {
+            &[MODE_RADIANCE, MODE_IMPORTANCE]
+        } else {
+            &[MODE_RADIANCE]
+        };
+        for &alpha in alphas {
+            for &dist in dists {
+                for &mode in modes {
+                    for &eta in &etas {
+                        for it in 0..24 {
+                            // cosθ from −1 to 1 (grazing, TIR side and normal incidence included)
+                            let cos_t = -0.999 + 1.998 * (it as f32 + 0.5) / 24.0;
+                            for ip in 0..4 {
+                                let phi = 0.3 + 1.7 * ip as f32;
+                                let sin_t = (1.0 - cos_t * cos_t).sqrt();
+                                let wo = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+                                for iu in 0..4 {
+                                    // wi: fixed upper, fixed lower, near-mirror, near-refraction.
+                                    let wi = match (iu + ip) % 4 {
+                                        0 => Vec3::new(-0.3, 0.4, 0.866),
+                                        1 => Vec3::new(0.2, -0.1, -0.97),
+                                        2 => Vec3::new(-wo.x + 0.05, -wo.y, wo.z),
+                                        _ => {
+                                            let n = if wo.z < 0.0 { -Vec3::Z } else { Vec3::Z };
+                                            let e = if wo.z < 0.0 { 1.0 / eta } else { eta };
+                                            refract(wo, n, e).unwrap_or(-wo) + Vec3::X * 0.03
+                                        }
+                                    }
+                                    .normalize();
+                                    let uc = (iu as f32 + 0.37) / 4.0;
+                                    let u2 = [
+                                        (iu as f32 * 0.29 + 0.11 + it as f32 * 0.013) % 1.0,
+                                        (iu as f32 * 0.61 + 0.05 + ip as f32 * 0.17) % 1.0,
+                                    ];
+                                    cases.push(ProbeCase {
+                                        wo: wo.to_array(),
+                                        uc,
+                                        wi: wi.to_array(),
+                                        eta,
+                                        u2,
+                                        kind,
+                                        pixel: i.wrapping_mul(2_654_435_761),
+                                        sample: i % 97,
+                                        seed: i / 7,
+                                        alpha,
+                                        dist,
+                                        metallic: [0.0, 0.3, 1.0][(it % 3) as usize],
+                                        mode,
+                                        _pad0: 0,
+                                        _pad1: 0,
+                                    });
+                                    i += 1;
+                                }
+                            }
+                        }
                     }
                 }
             }
         }
     }
-    let outs = run_probe(&ctx, &cases).unwrap();
-    let rel = 1e-5;
-    let (mut worst, mut rng_bad, mut flag_flips) = (0.0f32, 0usize, 0usize);
-    let mut track = |a: f32, b: f32, what: &str, c: &ProbeCase| {
+    cases
+}
+
+/// Largest relative error on the erf/erfinv-based (Beckmann) paths, per quantity: the Rust and
+/// WGSL `erfc`/`erfinv` are the same formulas, but `exp`/`log` of the adapter are not
+/// correctly rounded (WGSL allows 3 + 2|x| ULP for exp, 3 ULP for log), and the Newton–
+/// bisection solve of the Beckmann sampler stops at |ΔC| ≤ 1e-6·Z, so the sampled slope can
+/// differ by up to that tolerance divided by the slope density.
+const BECKMANN_REL: f32 = 2e-4;
+
+/// |a − b| ≤ tol (false for NaN).
+fn within(a: f32, b: f32, tol: f32) -> bool {
+    (a - b).abs() <= tol
+}
+
+/// Worst errors and the first mismatches of the probe comparison.
+#[derive(Default)]
+struct Track {
+    worst: f32,
+    worst_b: f32,
+    failures: Vec<String>,
+    n_fail: usize,
+}
+
+impl Track {
+    fn val(&mut self, a: f32, b: f32, what: &str, c: &ProbeCase, tol: f32) {
         let e = (a - b).abs() / a.abs().max(b.abs()).max(1e-3);
-        worst = worst.max(if a == b { 0.0 } else { e });
-        assert!(close(a, b, rel), "{what}: GPU {a} vs CPU {b} for {c:?}");
+        let e = if a == b || (a.is_nan() && b.is_nan()) {
+            0.0
+        } else {
+            e
+        };
+        if c.dist == DIST_BECKMANN {
+            self.worst_b = self.worst_b.max(e);
+        } else {
+            self.worst = self.worst.max(e);
+        }
+        if !within(e, 0.0, tol) {
+            self.fail(format!(
+                "{what}: GPU {a} vs CPU {b} (rel {e:.2e}) for {c:?}"
+            ));
+        }
+    }
+    fn fail(&mut self, msg: String) {
+        self.n_fail += 1;
+        if self.failures.len() < 20 || std::env::var_os("PROBE_ALL").is_some() {
+            self.failures.push(msg);
+        }
+    }
+}
+
+/// fresnel, refract, the microfacet pieces, erf/erfinv, the spectral helpers and every BSDF's
+/// eval/pdf/eval_lobes/sample through WGSL and Rust on the [`probe_cases`] grid, plus the RNG
+/// bit for bit.
+#[test]
+fn kernel_and_rng_parity() {
+    let Some(ctx) = context("kernel_and_rng_parity") else {
+        return;
     };
+    let cases = probe_cases();
+    let t0 = std::time::Instant::now();
+    let outs = run_probe(&ctx, &cases).unwrap();
+    let gpu_time = t0.elapsed();
+    let rel = 1e-5;
+    let (mut rng_bad, mut flag_flips, mut sampled) = (0usize, 0usize, 0usize);
+    let mut t = Track::default();
     for (c, o) in cases.iter().zip(&outs) {
         let wo = Vec3::from_array(c.wo);
         let wi = Vec3::from_array(c.wi);
+        let u2 = Vec2::from_array(c.u2);
+        let beck = c.dist == DIST_BECKMANN;
+        let tol = if beck { BECKMANN_REL } else { rel };
+        let mode = if c.mode == MODE_IMPORTANCE {
+            TransportMode::Importance
+        } else {
+            TransportMode::Radiance
+        };
         // RNG: bit for bit.
         let mut s = Sampler::new(c.pixel, c.sample, c.seed);
         let want = [
@@ -159,9 +294,9 @@ fn kernel_and_rng_parity() {
             .into_iter()
             .enumerate()
         {
-            track(o.fresnel[k], v, "fresnel", c);
+            t.val(o.fresnel[k], v, "fresnel", c, rel);
         }
-        track(o.eta_rel, fr.eta_rel, "eta_rel", c);
+        t.val(o.eta_rel, fr.eta_rel, "eta_rel", c, rel);
         let n = if wo.z < 0.0 { -Vec3::Z } else { Vec3::Z };
         let r = refract(wo, n, fr.eta_rel);
         assert_eq!(
@@ -169,24 +304,96 @@ fn kernel_and_rng_parity() {
             r.is_some(),
             "refract TIR decision {c:?}"
         );
-        if let Some(t) = r {
+        if let Some(wt) = r {
             for k in 0..3 {
-                track(o.refracted[k], t[k], "refract", c);
+                t.val(o.refracted[k], wt[k], "refract", c, rel);
             }
         }
-        // BSDF eval / pdf / sample.
-        let b = probe_bsdf(c.kind, c.eta);
-        let f = b.eval(wo, wi, TransportMode::Radiance);
-        for k in 0..3 {
-            track(o.eval_pdf[k], f[k], "eval", c);
+        // Microfacet pieces, erf/erfinv, spectral helpers.
+        let mf = Microfacet::new(dist_of(c.dist), c.alpha);
+        let wo_up = Vec3::new(wo.x, wo.y, wo.z.abs());
+        let wi_up = Vec3::new(wi.x, wi.y, wi.z.abs());
+        let m = (wo_up + wi_up).normalize_or_zero();
+        let mfv = [
+            mf.d(m),
+            mf.lambda(wo),
+            mf.g2(wo, wi),
+            mf.pdf_visible(wo_up, m),
+        ];
+        for (&a, &v) in o.mf.iter().zip(&mfv) {
+            // Λ = +∞ is LAMBDA_INF (f32::MAX) in WGSL.
+            let v = if v.is_infinite() { f32::MAX } else { v };
+            t.val(a, v, "microfacet D/Λ/G2/pdf_visible", c, tol);
         }
-        track(o.eval_pdf[3], b.pdf(wo, wi), "pdf", c);
-        let s = b.sample(wo, c.uc, Vec2::from_array(c.u2), TransportMode::Radiance);
+        t.val(o.mf_g1, mf.g1(wo_up), "G1", c, tol);
+        if wo_up.z > 0.0 {
+            let mm = mf.sample_visible(wo_up, u2);
+            for k in 0..3 {
+                let (a, b) = (o.mf_m[k], mm[k]);
+                let tv = if beck { BECKMANN_REL } else { 2e-5 };
+                if !within(a, b, tv) {
+                    t.fail(format!("sample_visible: GPU {a} vs CPU {b} {c:?}"));
+                }
+            }
+        }
+        let sp = [
+            erfc(3.0 * wo.x),
+            erf(3.0 * wo.y),
+            erfinv(2.0 * c.uc - 1.0),
+            erfinv(0.9999 * (2.0 * u2.x - 1.0)),
+        ];
+        for (k, (&a, &b)) in o.special.iter().zip(&sp).enumerate() {
+            // erf/erfinv: absolute 2e-6 (a few ULP of exp/log on values of order 1).
+            t.worst_b = t.worst_b.max((a - b).abs());
+            if !within(a, b, 2e-6 * b.abs().max(1.0)) {
+                t.fail(format!("erf/erfinv[{k}]: GPU {a} vs CPU {b} {c:?}"));
+            }
+        }
+        let lambdas = sample_hero_wavelengths(c.uc);
+        for (&a, &b) in o.lambdas.iter().zip(&lambdas) {
+            t.val(a, b, "hero wavelengths", c, rel);
+        }
+        let up = rgb_to_spectrum4(PROBE_COLOR, lambdas);
+        for k in 0..4 {
+            t.val(o.uplift[k], up[k], "rgb_to_spectrum4", c, rel);
+        }
+        let rgb = spectrum_sample_to_rgb(lambdas, glam::Vec4::new(1.0, u2.x, u2.y, c.uc));
+        for k in 0..3 {
+            // A sum of terms of order 1 with cancellation: compared in absolute terms.
+            let (a, b) = (o.to_rgb[k], rgb[k]);
+            if !within(a, b, 1e-5) {
+                t.fail(format!("spectrum_sample_to_rgb: GPU {a} vs CPU {b} {c:?}"));
+            }
+        }
+        t.val(
+            o.to_rgb[3],
+            cauchy_from_abbe(c.eta, 40.0, lambdas[0]),
+            "cauchy_from_abbe",
+            c,
+            rel,
+        );
+        // BSDF eval / pdf / eval_lobes / sample.
+        let b = probe_bsdf(c);
+        let f = b.eval(wo, wi, mode);
+        for k in 0..4 {
+            t.val(o.eval[k], f[k], "eval", c, tol);
+        }
+        t.val(o.pdf, b.pdf(wo, wi), "pdf", c, tol);
+        let lv = b.eval_lobes(wo, wi, mode);
+        for k in 0..4 {
+            t.val(o.lobes_d[k], lv.d[k], "eval_lobes d", c, tol);
+            t.val(o.lobes_g[k], lv.g[k], "eval_lobes g", c, tol);
+        }
+        let s = b.sample(wo, c.uc, u2, mode);
         let valid = o.sample_flags & 1 == 1;
         let Some(s) = s else {
-            assert!(!valid, "GPU sampled where CPU did not: {c:?}");
+            if valid {
+                // A rejection exactly at a boundary (e.g. wi.z ≈ 0) may differ by rounding.
+                flag_flips += 1;
+            }
             continue;
         };
+        sampled += 1;
         let flags = 1
             | (s.is_delta as u32) << 1
             | ((s.event == Event::Transmit) as u32) << 2
@@ -196,34 +403,65 @@ fn kernel_and_rng_parity() {
                 Lobe::S => 2,
             }) << 3;
         if flags != o.sample_flags {
-            // A reflect/refract choice exactly at uc ≈ F may flip by one rounding step.
+            // A reflect/refract (or class-label) choice exactly at uc ≈ F may flip by one
+            // rounding step, a grazing sample may be rejected on one side only.
             flag_flips += 1;
-            assert!(
-                (s.pdf - c.uc).abs() < 1e-5 || (1.0 - s.pdf - c.uc).abs() < 1e-5,
-                "{c:?}"
-            );
             continue;
         }
-        track(o.sample_pdf, s.pdf, "sample pdf", c);
-        track(o.sample_eta_rel, s.eta_rel, "sample eta_rel", c);
+        // Directions through cos/sin (Lambert, GGX sampler): 2e-5 absolute; values derived
+        // from them inherit the error amplified by the BSDF's slope: 2e-4 relative for the
+        // sample values of the rough kinds (measured worst on lavapipe: 8.8e-5).
+        let rough = matches!(
+            c.kind,
+            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+        );
+        let dir_tol = if beck { BECKMANN_REL } else { 2e-5 };
+        let val_tol = if beck || rough { 2e-4 } else { rel };
+        t.val(o.sample_eta_rel, s.eta_rel, "sample eta_rel", c, rel);
         for k in 0..3 {
-            // Lambert directions go through cos/sin: allow 2e-5 there (documented bound of the
-            // adapters we test; lavapipe measured below).
-            let tol = if c.kind == BSDF_LAMBERT { 2e-5 } else { rel };
             let (a, bb) = (o.sample_wi[k], s.wi[k]);
-            assert!(
-                (a - bb).abs() <= tol,
-                "sample wi: GPU {a} vs CPU {bb} {c:?}"
-            );
-            track(o.sample_weight[k], s.weight[k], "sample weight", c);
+            if !within(a, bb, dir_tol) {
+                t.fail(format!("sample wi: GPU {a} vs CPU {bb} {c:?}"));
+            }
+        }
+        // Rough refraction at η ≈ 1 is ill-conditioned (the half vector wo + η wi nearly
+        // cancels: condition number ~1/|η − 1| = 10⁴ at η = 1.0001), so a last-bit difference
+        // in the sampled direction changes f and pdf at the 1e-3..1e-2 level. There the GPU's
+        // sample value is checked against the CPU's eval/pdf at the GPU's own direction.
+        let (want_f, want_pdf, want_w) = if c.kind == BSDF_ROUGH_DIELECTRIC
+            && s.event == Event::Transmit
+            && !s.is_delta
+            && (c.eta - 1.0).abs() < 1e-2
+        {
+            let gwi = Vec3::from_array(o.sample_wi);
+            let f = b.eval(wo, gwi, mode);
+            let pdf = b.pdf(wo, gwi);
+            (f, pdf, f * (gwi.z.abs() / pdf))
+        } else {
+            (s.f, s.pdf, s.weight)
+        };
+        t.val(o.sample_pdf, want_pdf, "sample pdf", c, val_tol);
+        for k in 0..4 {
+            t.val(o.sample_weight[k], want_w[k], "sample weight", c, val_tol);
+            t.val(o.sample_f[k], want_f[k], "sample f", c, val_tol);
         }
     }
     eprintln!(
-        "kernel parity: {} cases, worst relative error {worst:.2e}, {flag_flips} lobe-choice flips, {rng_bad} RNG mismatches",
-        cases.len()
+        "kernel parity: {} cases ({sampled} sampled) in {:.2}s on the GPU, worst relative error {:.2e} (GGX/smooth), {:.2e} (Beckmann, erf/erfinv abs), {flag_flips} lobe-choice flips, {rng_bad} RNG mismatches, {} mismatches",
+        cases.len(),
+        gpu_time.as_secs_f64(),
+        t.worst,
+        t.worst_b,
+        t.n_fail
+    );
+    assert!(
+        t.failures.is_empty(),
+        "{} mismatches, the first:\n{}",
+        t.n_fail,
+        t.failures.join("\n")
     );
     assert_eq!(rng_bad, 0, "RNG streams differ");
-    assert!(flag_flips <= cases.len() / 1000);
+    assert!(flag_flips <= cases.len() / 1000, "{flag_flips} flips");
 }
 
 fn small(scene: &mut Scene, w: u32, h: u32) {
@@ -232,9 +470,20 @@ fn small(scene: &mut Scene, w: u32, h: u32) {
 }
 
 fn cpu_image(scene: &Scene, seed: u32, first: u32, spp: u32) -> (Vec<Vec3>, u64) {
+    cpu_image_filtered(scene, seed, first, spp, None)
+}
+
+fn cpu_image_filtered(
+    scene: &Scene,
+    seed: u32,
+    first: u32,
+    spp: u32,
+    filter: Option<&PathFilter>,
+) -> (Vec<Vec3>, u64) {
     let r = Renderer::new(scene.clone()).unwrap();
     let mut opts = RenderOptions::from_scene(&r.scene);
     opts.seed = seed;
+    Renderer::set_filter(&mut opts, filter);
     let mut film = Film::new(opts.width, opts.height);
     r.render_pass(&opts, &mut film, first, spp);
     (film.image(), film.dropped)
@@ -343,12 +592,18 @@ fn path_parity_same_seed() {
 /// Per 8×8 block Z-test of GPU vs CPU means with different seeds; each side renders `k`
 /// independent batches so the block variance is estimated from the batches.
 fn image_parity(name: &str, scene: Scene, k: u32, spp: u32) {
+    image_parity_filtered(name, scene, k, spp, None)
+}
+
+fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Option<&str>) {
     let Some(ctx) = context(name) else {
         return;
     };
+    let filter = filter.map(|f| PathFilter::parse(f).unwrap());
     let (w, h) = (scene.settings.width, scene.settings.height);
     let mut opts = GpuOptions::from_scene(&scene);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
+    g.set_filter(filter.as_ref());
     let bw = w / 8;
     let nb = ((w / 8) * (h / 8)) as usize;
     let block_means = |img: &[Vec3]| -> Vec<f64> {
@@ -362,22 +617,43 @@ fn image_parity(name: &str, scene: Scene, k: u32, spp: u32) {
         b
     };
     let (mut gs, mut cs) = (Vec::new(), Vec::new());
+    // Spectral scenes: a single hero-wavelength estimate can have a negative RGB component
+    // (out of the sRGB gamut); both films keep those and drop only non-finite samples, so the
+    // drop counts are compared (both 0 in practice).
+    let spectral = scene.features().dispersion;
+    let (mut gd, mut cd) = (0u64, 0u64);
     let t0 = std::time::Instant::now();
     for i in 0..k {
         opts.seed = 1000 + i;
         g.set_options(opts).unwrap();
         let img = g.render(spp).unwrap();
-        assert_eq!(img.dropped, 0);
+        if !spectral {
+            assert_eq!(img.dropped, 0);
+        }
+        gd += img.dropped;
         gs.push(block_means(&img.mean));
     }
     let tg = t0.elapsed();
     let t0 = std::time::Instant::now();
     for i in 0..k {
-        let (img, dropped) = cpu_image(&scene, i, 0, spp);
-        assert_eq!(dropped, 0);
+        let (img, dropped) = cpu_image_filtered(&scene, i, 0, spp, filter.as_ref());
+        if !spectral {
+            assert_eq!(dropped, 0);
+        }
+        cd += dropped;
         cs.push(block_means(&img));
     }
     let tc = t0.elapsed();
+    if spectral {
+        let n = (k * spp) as f64 * (w * h) as f64;
+        let (pg, pc) = (gd as f64 / n, cd as f64 / n);
+        let sd = ((pg * (1.0 - pg) + pc * (1.0 - pc)) / n).sqrt().max(1e-12);
+        eprintln!(
+            "{name}: dropped (negative RGB) GPU {gd} CPU {cd} of {n} samples, z = {:.2}",
+            (pg - pc) / sd
+        );
+        assert!(((pg - pc) / sd).abs() <= 4.0, "drop rates differ");
+    }
     let stats = |v: &[Vec<f64>], b: usize| {
         let n = v.len() as f64;
         let m = v.iter().map(|x| x[b]).sum::<f64>() / n;
@@ -425,6 +701,199 @@ fn image_parity_cornell_glass() {
     let mut s = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut s, 64, 64);
     image_parity("image_parity_cornell_glass", s, 8, 8);
+}
+
+#[test]
+fn image_parity_rough_glass() {
+    let mut s = Scene::load("builtin:rough-glass").unwrap();
+    small(&mut s, 64, 48);
+    image_parity("image_parity_rough_glass", s, 8, 8);
+}
+
+#[test]
+fn image_parity_materials() {
+    let mut s = Scene::load("builtin:materials").unwrap();
+    small(&mut s, 64, 40);
+    image_parity("image_parity_materials", s, 8, 8);
+}
+
+/// A checker (nearest, repeat) and a smooth ramp (bilinear, mirrored repeat, transformed)
+/// base-colour texture, and a metallic-roughness texture on a metal-rough quad.
+fn textured_scene() -> Scene {
+    let mut m = Mesh::default();
+    quad(
+        &mut m,
+        Vec3::new(-2.0, 0.0, -2.0),
+        Vec3::Z * 4.0,
+        Vec3::X * 2.0,
+        0,
+    );
+    quad(
+        &mut m,
+        Vec3::new(0.0, 0.0, -2.0),
+        Vec3::Z * 4.0,
+        Vec3::X * 2.0,
+        1,
+    );
+    quad(
+        &mut m,
+        Vec3::new(-2.0, 0.0, -2.0),
+        Vec3::X * 4.0,
+        Vec3::Y * 2.0,
+        2,
+    );
+    quad(&mut m, Vec3::new(-0.5, 3.0, -0.5), Vec3::X, Vec3::Z, 3);
+    for q in 0..3 {
+        let b = 4 * q;
+        for (k, uv) in [[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]
+            .into_iter()
+            .enumerate()
+        {
+            m.uvs[b + k] = Vec2::from_array(uv) - Vec2::splat(0.3);
+        }
+    }
+    let checker = Texture {
+        width: 4,
+        height: 4,
+        texels: (0..16)
+            .map(|i| {
+                if (i % 4 + i / 4) % 2 == 0 {
+                    glam::Vec4::new(0.9, 0.2, 0.1, 1.0)
+                } else {
+                    glam::Vec4::new(0.1, 0.7, 0.9, 1.0)
+                }
+            })
+            .collect(),
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        linear: false,
+    };
+    let ramp = Texture {
+        width: 3,
+        height: 2,
+        texels: (0..6)
+            .map(|i| glam::Vec4::new(i as f32 / 5.0, 1.0 - i as f32 / 5.0, 0.5, 1.0))
+            .collect(),
+        wrap_s: Wrap::MirroredRepeat,
+        wrap_t: Wrap::ClampToEdge,
+        linear: true,
+    };
+    let mr = Texture {
+        width: 2,
+        height: 2,
+        texels: vec![
+            glam::Vec4::new(0.0, 0.1, 1.0, 1.0),
+            glam::Vec4::new(0.0, 0.9, 0.0, 1.0),
+            glam::Vec4::new(0.0, 0.5, 0.5, 1.0),
+            glam::Vec4::new(0.0, 0.3, 1.0, 1.0),
+        ],
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        linear: true,
+    };
+    let tref = |texture: u32, transform: glam::Affine2| TextureRef {
+        texture,
+        tex_coord: 0,
+        transform,
+    };
+    let mut diffuse = Material::diffuse("checker", Vec3::ONE);
+    diffuse.base_color_texture = Some(tref(0, glam::Affine2::IDENTITY));
+    let mut plastic = Material::diffuse("metal-rough", Vec3::new(0.9, 0.8, 0.7));
+    plastic.kind = refract::scene::MaterialKind::MetalRough;
+    plastic.metallic = 1.0;
+    plastic.roughness = 0.8;
+    plastic.base_color_texture = Some(tref(0, glam::Affine2::from_scale(Vec2::splat(2.0))));
+    plastic.metallic_roughness_texture = Some(tref(2, glam::Affine2::IDENTITY));
+    let mut wall = Material::diffuse("ramp", Vec3::ONE);
+    wall.base_color_texture = Some(tref(
+        1,
+        glam::Affine2::from_scale_angle_translation(Vec2::new(1.5, 0.7), 0.3, Vec2::new(0.1, -0.2)),
+    ));
+    let mats = vec![
+        diffuse,
+        plastic,
+        wall,
+        Material::emitter("light", Vec3::splat(8.0)),
+    ];
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 2.0, 4.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::Y,
+        0.9,
+    );
+    let mut s = scene("textured", m, mats, cam, 0.2);
+    s.textures = vec![checker, ramp, mr];
+    s
+}
+
+#[test]
+fn image_parity_textures() {
+    let mut s = textured_scene();
+    small(&mut s, 48, 32);
+    assert!(s.features().textures);
+    image_parity("image_parity_textures", s, 8, 8);
+}
+
+/// Heckbert filters on the GPU against the CPU (within noise), on the caustic-rich Cornell box.
+#[test]
+fn image_parity_filter_caustics() {
+    let mut s = Scene::load("builtin:cornell-glass").unwrap();
+    small(&mut s, 48, 48);
+    image_parity_filtered("image_parity_filter LS+DE", s.clone(), 8, 8, Some("LS+DE"));
+    image_parity_filtered("image_parity_filter LDE", s, 8, 8, Some("LDE"));
+}
+
+/// The Heckbert classes LE, L(D|G|S)*DE and L(D|G|S)*(G|S)E partition every path: with the
+/// same seed their GPU images sum to the unfiltered image, pixel by pixel (up to rounding),
+/// on a scene with every class (diffuse, glossy metal, metal-rough, smooth glass).
+#[test]
+fn filter_class_sum_identity() {
+    let Some(ctx) = context("filter_class_sum_identity") else {
+        return;
+    };
+    let mut s = Scene::load("builtin:materials").unwrap();
+    small(&mut s, 48, 32);
+    let mut opts = GpuOptions::from_scene(&s);
+    opts.seed = 3;
+    let mut g = GpuRenderer::with_context(ctx, s, opts).unwrap();
+    let full = g.render(4).unwrap().mean;
+    let compiled = g.pipelines_compiled();
+    let mut sum = vec![Vec3::ZERO; full.len()];
+    for f in ["LE", "L(D|G|S)*DE", "L(D|G|S)*(G|S)E"] {
+        g.set_filter(Some(&PathFilter::parse(f).unwrap()));
+        let img = g.render(4).unwrap();
+        assert_eq!(img.dropped, 0);
+        for (a, b) in sum.iter_mut().zip(&img.mean) {
+            *a += *b;
+        }
+    }
+    // One more pipeline for the filtered specialisation; changing the table does not recompile.
+    assert_eq!(g.pipelines_compiled(), compiled + 1);
+    let (mut worst, mut bad) = (0.0f32, 0);
+    for (a, b) in sum.iter().zip(&full) {
+        let e = (*a - *b).abs().max_element() / b.max_element().max(1e-2);
+        worst = worst.max(e);
+        if e > 1e-4 {
+            bad += 1;
+        }
+    }
+    let total: f64 = full.iter().map(|p| p.element_sum() as f64).sum();
+    let total_sum: f64 = sum.iter().map(|p| p.element_sum() as f64).sum();
+    eprintln!(
+        "class sum: {bad}/{} pixels off by > 1e-4, worst {worst:.2e}; image sums {total_sum:.6} vs {total:.6}",
+        full.len()
+    );
+    assert!(bad <= full.len() / 200, "{bad} pixels differ");
+    assert!((total_sum - total).abs() <= 1e-4 * total);
+}
+
+/// Hero-wavelength dispersion on the GPU against the CPU (within noise).
+#[test]
+fn image_parity_prism() {
+    let mut s = Scene::load("builtin:prism").unwrap();
+    small(&mut s, 48, 32);
+    assert!(s.features().dispersion);
+    image_parity("image_parity_prism", s, 8, 8);
 }
 
 #[test]

@@ -79,11 +79,27 @@ gpu_struct! {
         pub flags: u32,
         /// Beer–Lambert σ_a (`scene::Material::sigma_a`).
         pub sigma_a: [f32; 3],
+        /// `scene::Material::ior`.
         pub eta: f32,
+        /// KHR_materials_specular colour (max 0) and factor (clamped to [0, 1]).
+        pub specular_color: [f32; 3],
+        pub specular_factor: f32,
+        /// KHR_materials_volume attenuation (spectral absorption); distance 0 = none.
+        pub attenuation_color: [f32; 3],
+        pub attenuation_distance: f32,
+        /// α of rough glass / glossy metal (`roughness_to_alpha(roughness)`).
         pub alpha: f32,
+        /// Raw metallic and roughness factors (metal-rough multiplies the texture in).
         pub metallic: f32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        pub roughness: f32,
+        /// `DIST_*` of microfacet.wgsl.
+        pub dist: u32,
+        /// Abbe number V_d, 0 = not dispersive.
+        pub abbe: f32,
+        /// Texture reference slots ([`NO_TEXTURE`] = none).
+        pub base_tex: u32,
+        pub mr_tex: u32,
+        pub _pad: u32,
     }
 }
 
@@ -150,6 +166,13 @@ gpu_struct! {
         pub pixel: u32,
         pub sample: u32,
         pub seed: u32,
+        /// Microfacet α and `DIST_*` (rough kinds; metal-rough uses GGX with this α).
+        pub alpha: f32,
+        pub dist: u32,
+        /// Metal-rough metallic; `eta` doubles as its IOR.
+        pub metallic: f32,
+        /// `MODE_*` transport mode.
+        pub mode: u32,
         pub _pad0: u32,
         pub _pad1: u32,
     }
@@ -161,15 +184,35 @@ gpu_struct! {
         pub fresnel: [f32; 4],
         pub eta_rel: f32,
         pub refract_ok: f32,
-        pub eval_pdf: [f32; 4],
-        pub refracted: [f32; 3],
         pub sample_pdf: f32,
-        pub sample_wi: [f32; 3],
         pub sample_eta_rel: f32,
-        pub sample_weight: [f32; 3],
+        pub refracted: [f32; 3],
+        /// valid | is_delta << 1 | event << 2 | lobe << 3
         pub sample_flags: u32,
+        pub sample_wi: [f32; 3],
+        pub pdf: f32,
+        pub eval: [f32; 4],
+        pub lobes_d: [f32; 4],
+        pub lobes_g: [f32; 4],
+        pub sample_f: [f32; 4],
+        pub sample_weight: [f32; 4],
+        /// Microfacet of (dist, alpha): D(m), Λ(wo), G2(wo, wi), pdf_visible(|wo|, m) with
+        /// m = normalize(wo_up + wi_up).
+        pub mf: [f32; 4],
+        /// sample_visible(wo_up, u2), and G1(wo_up).
+        pub mf_m: [f32; 3],
+        pub mf_g1: f32,
+        /// erfc(3 wo.x), erf(3 wo.y), erfinv(2 uc − 1), erfinv(0.9999 (2 u2.x − 1)).
+        pub special: [f32; 4],
+        /// sample_hero_wavelengths(uc).
+        pub lambdas: [f32; 4],
+        /// rgb_to_spectrum4(PROBE_COLOR, lambdas).
+        pub uplift: [f32; 4],
+        /// spectrum_sample_to_rgb(lambdas, (1, u2.x, u2.y, uc)), cauchy_from_abbe(eta, 40, lambdas.x).
+        pub to_rgb: [f32; 4],
+        /// pcg_hash(pixel), then the first 4 draws of sampler_new(pixel, sample, seed) as raw bits
         pub rng: [u32; 5],
-        pub _pad: u32,
+        pub _pad: [u32; 3],
     }
 }
 
@@ -177,6 +220,27 @@ gpu_struct! {
 pub const BSDF_LAMBERT: u32 = 0;
 pub const BSDF_MIRROR: u32 = 1;
 pub const BSDF_SMOOTH_DIELECTRIC: u32 = 2;
+pub const BSDF_ROUGH_DIELECTRIC: u32 = 3;
+pub const BSDF_ROUGH_CONDUCTOR: u32 = 4;
+pub const BSDF_METAL_ROUGH: u32 = 5;
+pub const BSDF_THIN_DIELECTRIC: u32 = 6;
+
+/// Microfacet distributions (the `DIST_*` constants of microfacet.wgsl).
+pub const DIST_GGX: u32 = 0;
+pub const DIST_BECKMANN: u32 = 1;
+
+/// Transport modes (`MODE_*` of common.wgsl).
+pub const MODE_RADIANCE: u32 = 0;
+pub const MODE_IMPORTANCE: u32 = 1;
+
+/// No texture reference (scene.wgsl `NO_TEXTURE`).
+pub const NO_TEXTURE: u32 = u32::MAX;
+/// Texture-reference header flags (scene.wgsl `TEX_*`): wrap_s | wrap_t << 2 | linear | valid.
+pub const TEX_LINEAR: u32 = 16;
+pub const TEX_VALID: u32 = 32;
+
+/// Words of the path-filter uniform (`PathFilterTable`, `DfaTable::WORDS` padded to 16 bytes).
+pub const FILTER_WORDS: usize = 168;
 
 /// Material flags (the `MAT_*` constants of scene.wgsl).
 pub const MAT_EMISSIVE: u32 = 1;

@@ -15,6 +15,8 @@ use std::collections::HashMap;
 
 const COMMON: &str = include_str!("../shaders/common.wgsl");
 const RNG: &str = include_str!("../shaders/rng.wgsl");
+const SPECTRUM: &str = include_str!("../shaders/spectrum.wgsl");
+const MICROFACET: &str = include_str!("../shaders/microfacet.wgsl");
 const BSDF: &str = include_str!("../shaders/bsdf.wgsl");
 const SCENE: &str = include_str!("../shaders/scene.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
@@ -22,12 +24,12 @@ const PROBE: &str = include_str!("../shaders/probe.wgsl");
 
 /// The integrator kernel's full WGSL source.
 pub fn integrator_source() -> String {
-    [COMMON, RNG, BSDF, SCENE, INTEGRATOR].join("\n")
+    [COMMON, RNG, SPECTRUM, MICROFACET, BSDF, SCENE, INTEGRATOR].join("\n")
 }
 
 /// The probe kernel's full WGSL source (maths only, no scene).
 pub fn probe_source() -> String {
-    [COMMON, RNG, BSDF, PROBE].join("\n")
+    [COMMON, RNG, SPECTRUM, MICROFACET, BSDF, PROBE].join("\n")
 }
 
 /// Which parts of the kernel a scene needs (the pipeline cache key).
@@ -36,6 +38,13 @@ pub struct Specialization {
     pub lambert: bool,
     pub mirror: bool,
     pub smooth_dielectric: bool,
+    pub thin_dielectric: bool,
+    pub rough_dielectric: bool,
+    pub rough_conductor: bool,
+    pub metal_rough: bool,
+    /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
+    pub ggx: bool,
+    pub beckmann: bool,
     /// Emissive triangles (area lights).
     pub area_lights: bool,
     pub punctual_lights: bool,
@@ -44,10 +53,16 @@ pub struct Specialization {
     pub environment: bool,
     /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
     pub absorption: bool,
+    /// Some material references a texture.
+    pub textures: bool,
+    /// A Heckbert path filter is set (the table itself is a uniform: edits do not recompile).
+    pub filter: bool,
+    /// Hero-wavelength spectral transport (a dispersive material exists).
+    pub spectral: bool,
 }
 
 impl Specialization {
-    /// From `scene.features()` plus the BSDF kinds the materials map to.
+    /// From `scene.features()` plus the BSDF kinds the materials map to (no filter).
     pub fn for_scene(scene: &Scene) -> Specialization {
         let f = scene.features();
         let mut s = Specialization {
@@ -55,6 +70,7 @@ impl Specialization {
             punctual_lights: f.punctual_lights,
             environment: true,
             absorption: f.smooth_glass || f.rough_glass,
+            spectral: f.dispersion,
             ..Default::default()
         };
         let mut used = vec![false; scene.materials.len()];
@@ -64,10 +80,33 @@ impl Specialization {
             }
         }
         for (m, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
+            let rough = |s: &mut Specialization| match m.distribution {
+                crate::bsdf::MicrofacetDistribution::Ggx => s.ggx = true,
+                crate::bsdf::MicrofacetDistribution::Beckmann => s.beckmann = true,
+            };
+            if m.base_color_texture.is_some() {
+                s.textures = true;
+            }
             match upload::bsdf_kind(scene, m).0 {
                 layout::BSDF_LAMBERT => s.lambert = true,
                 layout::BSDF_MIRROR => s.mirror = true,
                 layout::BSDF_SMOOTH_DIELECTRIC => s.smooth_dielectric = true,
+                layout::BSDF_THIN_DIELECTRIC => s.thin_dielectric = true,
+                layout::BSDF_ROUGH_DIELECTRIC => {
+                    s.rough_dielectric = true;
+                    rough(&mut s);
+                }
+                layout::BSDF_ROUGH_CONDUCTOR => {
+                    s.rough_conductor = true;
+                    rough(&mut s);
+                }
+                layout::BSDF_METAL_ROUGH => {
+                    s.metal_rough = true;
+                    s.ggx = true;
+                    if m.metallic_roughness_texture.is_some() {
+                        s.textures = true;
+                    }
+                }
                 _ => {}
             }
         }
@@ -80,10 +119,19 @@ impl Specialization {
             lambert: self.lambert | o.lambert,
             mirror: self.mirror | o.mirror,
             smooth_dielectric: self.smooth_dielectric | o.smooth_dielectric,
+            thin_dielectric: self.thin_dielectric | o.thin_dielectric,
+            rough_dielectric: self.rough_dielectric | o.rough_dielectric,
+            rough_conductor: self.rough_conductor | o.rough_conductor,
+            metal_rough: self.metal_rough | o.metal_rough,
+            ggx: self.ggx | o.ggx,
+            beckmann: self.beckmann | o.beckmann,
             area_lights: self.area_lights | o.area_lights,
             punctual_lights: self.punctual_lights | o.punctual_lights,
             environment: self.environment | o.environment,
             absorption: self.absorption | o.absorption,
+            textures: self.textures | o.textures,
+            filter: self.filter | o.filter,
+            spectral: self.spectral | o.spectral,
         }
     }
 
@@ -93,10 +141,19 @@ impl Specialization {
             ("HAS_LAMBERT", b(self.lambert)),
             ("HAS_MIRROR", b(self.mirror)),
             ("HAS_SMOOTH_DIELECTRIC", b(self.smooth_dielectric)),
+            ("HAS_THIN_DIELECTRIC", b(self.thin_dielectric)),
+            ("HAS_ROUGH_DIELECTRIC", b(self.rough_dielectric)),
+            ("HAS_ROUGH_CONDUCTOR", b(self.rough_conductor)),
+            ("HAS_METAL_ROUGH", b(self.metal_rough)),
+            ("HAS_GGX", b(self.ggx)),
+            ("HAS_BECKMANN", b(self.beckmann)),
             ("HAS_LIGHTS", b(self.area_lights)),
             ("HAS_PUNCTUAL", b(self.punctual_lights)),
             ("HAS_ENVIRONMENT", b(self.environment)),
             ("HAS_ABSORPTION", b(self.absorption)),
+            ("HAS_TEXTURES", b(self.textures)),
+            ("HAS_FILTER", b(self.filter)),
+            ("HAS_SPECTRAL", b(self.spectral)),
         ]
     }
 }
@@ -161,6 +218,18 @@ impl Pipelines {
         }
         entries.push(storage_entry(6, false));
         entries.push(storage_entry(7, false));
+        // Texture references + texels (8 storage buffers in all), the path filter (uniform).
+        entries.push(storage_entry(8, true));
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 9,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

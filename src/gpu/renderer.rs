@@ -110,6 +110,8 @@ struct Buffers {
     lights: wgpu::Buffer,
     accum: wgpu::Buffer,
     stats: wgpu::Buffer,
+    texels: wgpu::Buffer,
+    filter: wgpu::Buffer,
 }
 
 /// The GPU progressive renderer for one scene.
@@ -127,7 +129,15 @@ pub struct GpuRenderer {
     spp: u64,
     elapsed: Duration,
     debug_pixel: u32,
+    /// Texture reference slots of each material (`upload::pack_textures`).
+    tex_slots: Vec<(u32, u32)>,
+    /// Whether a path filter is set (part of the specialisation).
+    filtered: bool,
+    filter_table: Option<crate::paths::DfaTable>,
 }
+
+/// Buffers, light count and the texture reference slots of each material.
+type BuiltBuffers = (Buffers, u32, Vec<(u32, u32)>);
 
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
 
@@ -170,7 +180,8 @@ impl GpuRenderer {
         pipelines.get(&ctx, spec);
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
-        let (buffers, light_count) = Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
+        let (buffers, light_count, tex_slots) =
+            Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
         let bind_group = Self::bind(&ctx, &pipelines, &buffers);
         Ok(GpuRenderer {
             ctx,
@@ -186,6 +197,9 @@ impl GpuRenderer {
             spp: 0,
             elapsed: Duration::ZERO,
             debug_pixel: u32::MAX,
+            tex_slots,
+            filtered: false,
+            filter_table: None,
         })
     }
 
@@ -195,10 +209,11 @@ impl GpuRenderer {
         bvh: &GpuBvh,
         light_set: &LightSet,
         opts: &GpuOptions,
-    ) -> Result<(Buffers, u32)> {
+    ) -> Result<BuiltBuffers> {
         let tris = upload::pack_triangles(scene, bvh, light_set);
         let verts = upload::pack_vertices(scene);
-        let mats = upload::pack_materials(scene);
+        let (texels, tex_slots) = upload::pack_textures(scene);
+        let mats = upload::pack_materials(scene, &tex_slots);
         let (lights, light_count) = upload::pack_lights(scene, bvh, light_set);
         let pixels = opts.width as u64 * opts.height as u64;
         let accum_bytes = pixels * 16;
@@ -237,8 +252,16 @@ impl GpuRenderer {
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            texels: storage(ctx, "texels", upload::checked_bytes("textures", &texels)?),
+            filter: ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("path filter"),
+                    contents: bytemuck::cast_slice(&[0u32; layout::FILTER_WORDS]),
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                }),
         };
-        Ok((buffers, light_count))
+        Ok((buffers, light_count, tex_slots))
     }
 
     fn bind(ctx: &GpuContext, p: &Pipelines, b: &Buffers) -> wgpu::BindGroup {
@@ -251,6 +274,8 @@ impl GpuRenderer {
             &b.lights,
             &b.accum,
             &b.stats,
+            &b.texels,
+            &b.filter,
         ];
         let entries: Vec<wgpu::BindGroupEntry> = bufs
             .iter()
@@ -498,7 +523,33 @@ impl GpuRenderer {
             self.scene.materials[index] = old;
             return Err(e);
         }
-        let packed = upload::pack_material(&self.scene, &self.scene.materials[index]);
+        let textures_changed = {
+            let (a, b) = (&old, &self.scene.materials[index]);
+            a.base_color_texture != b.base_color_texture
+                || a.metallic_roughness_texture != b.metallic_roughness_texture
+                || a.kind != b.kind
+        };
+        if textures_changed {
+            let (texels, slots) = upload::pack_textures(&self.scene);
+            self.buffers.texels = storage(
+                &self.ctx,
+                "texels",
+                upload::checked_bytes("textures", &texels)?,
+            );
+            let mats = upload::pack_materials(&self.scene, &slots);
+            self.ctx.queue.write_buffer(
+                &self.buffers.materials,
+                0,
+                upload::checked_bytes("materials", &mats)?,
+            );
+            self.tex_slots = slots;
+            self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        }
+        let packed = upload::pack_material(
+            &self.scene,
+            &self.scene.materials[index],
+            self.tex_slots[index],
+        );
         self.ctx.queue.write_buffer(
             &self.buffers.materials,
             (index * std::mem::size_of::<layout::Material>()) as u64,
@@ -513,7 +564,8 @@ impl GpuRenderer {
     }
 
     fn respecialize(&mut self) {
-        let spec = Specialization::for_scene(&self.scene);
+        let mut spec = Specialization::for_scene(&self.scene);
+        spec.filter = self.filtered;
         if spec != self.spec {
             self.spec = spec;
             self.pipelines.get(&self.ctx, spec);
@@ -567,10 +619,12 @@ impl GpuRenderer {
         let resized = (opts.width, opts.height) != (self.opts.width, self.opts.height);
         self.opts = opts;
         if resized {
-            let (buffers, count) =
+            let (buffers, count, slots) =
                 Self::create_buffers(&self.ctx, &self.scene, &self.bvh, &self.light_set, &opts)?;
             self.buffers = buffers;
             self.light_count = count;
+            self.tex_slots = slots;
+            self.write_filter_table(None);
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         }
         self.reset();
@@ -585,7 +639,9 @@ impl GpuRenderer {
         check_options(&opts)?;
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
-        let (buffers, count) = Self::create_buffers(&self.ctx, &scene, &bvh, &light_set, &opts)?;
+        let (buffers, count, slots) =
+            Self::create_buffers(&self.ctx, &scene, &bvh, &light_set, &opts)?;
+        self.tex_slots = slots;
         self.scene = scene;
         self.opts = opts;
         self.bvh = bvh;
@@ -593,8 +649,39 @@ impl GpuRenderer {
         self.buffers = buffers;
         self.light_count = count;
         self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        self.write_filter_table(None);
         self.respecialize();
         self.reset();
         Ok(())
+    }
+
+    /// Set the Heckbert path filter (None or an accept-all filter = every path). Only the
+    /// uniform table is rewritten when a filter replaces another; switching between filtered
+    /// and unfiltered selects the other specialisation (compiled once, then cached).
+    /// Accumulation restarts.
+    pub fn set_filter(&mut self, filter: Option<&crate::paths::PathFilter>) {
+        let table = filter.filter(|f| !f.is_accept_all()).map(|f| *f.reversed());
+        self.filtered = table.is_some();
+        self.filter_table = table;
+        self.write_filter_table(table);
+        self.respecialize();
+        self.reset();
+    }
+
+    /// The eye→light table in use (None = unfiltered).
+    pub fn filter(&self) -> Option<&crate::paths::DfaTable> {
+        self.filter_table.as_ref()
+    }
+
+    fn write_filter_table(&mut self, table: Option<crate::paths::DfaTable>) {
+        let table = table.or(self.filter_table);
+        let mut words = [0u32; layout::FILTER_WORDS];
+        if let Some(t) = table {
+            let w = t.words();
+            words[..w.len()].copy_from_slice(&w);
+        }
+        self.ctx
+            .queue
+            .write_buffer(&self.buffers.filter, 0, bytemuck::cast_slice(&words));
     }
 }

@@ -3,8 +3,9 @@
 //! Pure CPU code (no wgpu), so it is testable without an adapter.
 
 use super::layout::{self, BvhNode, Light, Material, Triangle, Vertex};
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, MicrofacetDistribution};
 use crate::scene::light::{LightRef, LightSet};
+use crate::scene::material::Wrap;
 use crate::scene::{MaterialKind, PunctualLight, Scene};
 use anyhow::{Result, bail, ensure};
 use glam::{Vec2, Vec3};
@@ -169,45 +170,123 @@ pub fn pack_vertices(scene: &Scene) -> Vec<Vertex> {
 /// compile here until its WGSL twin exists.
 pub fn bsdf_kind(scene: &Scene, m: &crate::scene::Material) -> (u32, Vec3) {
     match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
-        Bsdf::Lambert(b) => (layout::BSDF_LAMBERT, b.albedo.truncate()),
-        Bsdf::Mirror(b) => (layout::BSDF_MIRROR, b.reflectance.truncate()),
+        Bsdf::Lambert(_) => (layout::BSDF_LAMBERT, m.base_color),
+        Bsdf::Mirror(_) => (layout::BSDF_MIRROR, m.base_color),
         Bsdf::SmoothDielectric(_) => (layout::BSDF_SMOOTH_DIELECTRIC, m.base_color),
-        // Not yet twinned in WGSL: `check_supported` rejects scenes that use these.
-        _ => (u32::MAX, m.base_color),
+        Bsdf::ThinDielectric(_) => (layout::BSDF_THIN_DIELECTRIC, m.base_color),
+        Bsdf::RoughDielectric(_) => (layout::BSDF_ROUGH_DIELECTRIC, m.base_color),
+        Bsdf::RoughConductor(_) => (layout::BSDF_ROUGH_CONDUCTOR, m.base_color),
+        Bsdf::MetalRough(_) => (layout::BSDF_METAL_ROUGH, m.base_color),
     }
 }
 
-/// Reject what the GPU kernel cannot render yet (the CLI's `auto` falls back to the CPU).
+/// `DIST_*` of a microfacet distribution.
+pub fn dist_code(d: MicrofacetDistribution) -> u32 {
+    match d {
+        MicrofacetDistribution::Ggx => layout::DIST_GGX,
+        MicrofacetDistribution::Beckmann => layout::DIST_BECKMANN,
+    }
+}
+
+/// Reject what the GPU kernel cannot render. Every material kind, textures, dispersion and
+/// the path filter are supported; what is left are limits (checked when buffers are built).
 pub fn check_supported(scene: &Scene) -> Result<()> {
-    let f = scene.features();
-    let mut missing = Vec::new();
-    if f.textures {
-        missing.push("textures");
-    }
-    if f.dispersion {
-        missing.push("dispersion");
-    }
-    for (has, name) in [
-        (f.thin_glass, "thin-walled glass"),
-        (f.rough_glass, "rough glass"),
-        (f.glossy_metal, "glossy metal"),
-        (f.metal_rough, "the metallic-roughness material"),
-    ] {
-        if has {
-            missing.push(name);
-        }
-    }
-    if !missing.is_empty() {
-        bail!(
-            "the GPU renderer does not support {} yet (use --device cpu)",
-            missing.join(", ")
+    for (i, t) in scene.textures.iter().enumerate() {
+        ensure!(
+            (t.width as u64) < (1 << 30) && (t.height as u64) < (1 << 30),
+            "texture {i} is too large for the GPU renderer ({}x{})",
+            t.width,
+            t.height
         );
     }
     Ok(())
 }
 
-/// One GPU material.
-pub fn pack_material(scene: &Scene, m: &crate::scene::Material) -> Material {
+/// Texture references and texels in one `vec4<f32>` array (scene.wgsl `texels`): reference
+/// slot r is 3 vec4s at 3r (header `[offset, width, height, flags]` as u32 bits, the
+/// `KHR_texture_transform` matrix columns, the translation), then the texels of every
+/// texture (row-major, linear RGBA). Returns (array, slot of each material's base-colour and
+/// metallic-roughness reference).
+pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<(u32, u32)>) {
+    let mut refs: Vec<crate::scene::material::TextureRef> = Vec::new();
+    let mut slots = Vec::with_capacity(scene.materials.len());
+    let mut slot_of = |r: &Option<crate::scene::material::TextureRef>| -> u32 {
+        match r {
+            Some(r) => {
+                refs.push(*r);
+                (refs.len() - 1) as u32
+            }
+            None => layout::NO_TEXTURE,
+        }
+    };
+    for m in &scene.materials {
+        let b = slot_of(&m.base_color_texture);
+        // Only metal-rough reads the metallic-roughness texture (`Material::metal_rough_at`).
+        let mr = if m.kind == MaterialKind::MetalRough {
+            slot_of(&m.metallic_roughness_texture)
+        } else {
+            layout::NO_TEXTURE
+        };
+        slots.push((b, mr));
+    }
+    let header = 3 * refs.len();
+    let mut offsets = Vec::with_capacity(scene.textures.len());
+    let mut total = header;
+    for t in &scene.textures {
+        offsets.push(total as u32);
+        if t.width > 0 && t.height > 0 && t.texels.len() >= (t.width * t.height) as usize {
+            total += (t.width * t.height) as usize;
+        }
+    }
+    let mut out = vec![[0.0f32; 4]; total.max(1)];
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => 0u32,
+        Wrap::MirroredRepeat => 1,
+        Wrap::ClampToEdge => 2,
+    };
+    for (i, r) in refs.iter().enumerate() {
+        let mut head = [0u32; 4];
+        if let Some(t) = scene.textures.get(r.texture as usize)
+            && t.width > 0
+            && t.height > 0
+            && t.texels.len() >= (t.width * t.height) as usize
+        {
+            head = [
+                offsets[r.texture as usize],
+                t.width,
+                t.height,
+                wrap(t.wrap_s)
+                    | wrap(t.wrap_t) << 2
+                    | if t.linear { layout::TEX_LINEAR } else { 0 }
+                    | layout::TEX_VALID,
+            ];
+        }
+        out[3 * i] = head.map(f32::from_bits);
+        let m = r.transform.matrix2;
+        out[3 * i + 1] = [m.x_axis.x, m.x_axis.y, m.y_axis.x, m.y_axis.y];
+        out[3 * i + 2] = [
+            r.transform.translation.x,
+            r.transform.translation.y,
+            0.0,
+            0.0,
+        ];
+    }
+    for (t, &off) in scene.textures.iter().zip(&offsets) {
+        if t.width > 0 && t.height > 0 && t.texels.len() >= (t.width * t.height) as usize {
+            let n = (t.width * t.height) as usize;
+            for (o, v) in out[off as usize..off as usize + n]
+                .iter_mut()
+                .zip(&t.texels)
+            {
+                *o = v.to_array();
+            }
+        }
+    }
+    (out, slots)
+}
+
+/// One GPU material (`tex` = its texture reference slots from [`pack_textures`]).
+pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32)) -> Material {
     let (bsdf, color) = bsdf_kind(scene, m);
     let sigma_a = m.sigma_a();
     let mut flags = 0;
@@ -226,9 +305,10 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material) -> Material {
     if m.kind == MaterialKind::Glass {
         flags |= layout::MAT_SOLID;
     }
-    if sigma_a != Vec3::ZERO {
+    if m.has_absorption() {
         flags |= layout::MAT_ABSORBS;
     }
+    let absorbs = m.has_absorption();
     Material {
         base_color: color.to_array(),
         bsdf,
@@ -236,18 +316,27 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material) -> Material {
         flags,
         sigma_a: sigma_a.to_array(),
         eta: m.ior,
+        specular_color: m.specular_color.max(Vec3::ZERO).to_array(),
+        specular_factor: m.specular_factor.clamp(0.0, 1.0),
+        attenuation_color: m.attenuation_color.to_array(),
+        attenuation_distance: if absorbs { m.attenuation_distance } else { 0.0 },
         alpha: crate::bsdf::roughness_to_alpha(m.roughness),
         metallic: m.metallic,
-        _pad0: 0,
-        _pad1: 0,
+        roughness: m.roughness,
+        dist: dist_code(m.distribution),
+        abbe: m.abbe.filter(|v| *v > 0.0).unwrap_or(0.0),
+        base_tex: tex.0,
+        mr_tex: tex.1,
+        _pad: 0,
     }
 }
 
-pub fn pack_materials(scene: &Scene) -> Vec<Material> {
+pub fn pack_materials(scene: &Scene, tex: &[(u32, u32)]) -> Vec<Material> {
     let mut out: Vec<Material> = scene
         .materials
         .iter()
-        .map(|m| pack_material(scene, m))
+        .zip(tex)
+        .map(|(m, &t)| pack_material(scene, m, t))
         .collect();
     if out.is_empty() {
         out.push(Material::default());

@@ -181,3 +181,7 @@ fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
         offset_ray_origin_1(p.z, n.z),
     );
 }
+
+fn is_finite_v4(v: vec4<f32>) -> bool {
+    return is_finite_f32(v.x) && is_finite_f32(v.y) && is_finite_f32(v.z) && is_finite_f32(v.w);
+}

@@ -11,6 +11,10 @@ override HAS_LIGHTS: bool = true;
 override HAS_PUNCTUAL: bool = true;
 override HAS_ENVIRONMENT: bool = true;
 override HAS_ABSORPTION: bool = true;
+// Heckbert path filter (the table is a uniform; only its presence is specialised).
+override HAS_FILTER: bool = true;
+// Hero-wavelength spectral transport (scenes with a dispersive material).
+override HAS_SPECTRAL: bool = true;
 
 struct Params {
     // xyz camera position, w = tan(yfov / 2)
@@ -49,6 +53,74 @@ struct Stats {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 @group(0) @binding(7) var<storage, read_write> stats: Stats;
+
+// The reversed DFA of the Heckbert filter (`PathFilter::reversed().words()`, 168 words; see
+// src/paths.rs "Table layout": a uniform needs a 16-byte stride, so words are read as
+// t[i / 4][i % 4]).
+struct PathFilterTable {
+    t: array<vec4<u32>, 42>,
+}
+@group(0) @binding(9) var<uniform> path_filter: PathFilterTable;
+
+// Symbols (paths::Symbol): L=0 D=1 G=2 S=3 E=4; a lobe's symbol is LOBE_* + 1.
+const SYM_L: u32 = 0u;
+const SYM_D: u32 = 1u;
+const SYM_G: u32 = 2u;
+const SYM_E: u32 = 4u;
+const DFA_TRANSITIONS: u32 = 160u;
+
+fn dfa_word(i: u32) -> u32 {
+    return path_filter.t[i / 4u][i % 4u];
+}
+
+// The state after reading `symbol` in `state`; out-of-range states go to the dead state.
+// Twin of `DfaTable::step`.
+fn dfa_table_step(state: u32, symbol: u32) -> u32 {
+    if state >= dfa_word(DFA_TRANSITIONS + 4u) {
+        return dfa_word(DFA_TRANSITIONS + 3u);
+    }
+    return dfa_word(state * 5u + symbol);
+}
+
+// Twin of `DfaTable::is_accepting`.
+fn dfa_table_is_accepting(state: u32) -> bool {
+    return state < dfa_word(DFA_TRANSITIONS + 4u) && ((dfa_word(DFA_TRANSITIONS) >> state) & 1u) == 1u;
+}
+
+// Twin of `DfaTable::can_reach_accept`.
+fn dfa_table_can_reach_accept(state: u32) -> bool {
+    return state < dfa_word(DFA_TRANSITIONS + 4u) && ((dfa_word(DFA_TRANSITIONS + 1u) >> state) & 1u) == 1u;
+}
+
+// DFA state after `sym` (0 when unfiltered). Twin of `Integrator::step`.
+fn integrator_step(q: u32, sym: u32) -> u32 {
+    if HAS_FILTER {
+        return dfa_table_step(q, sym);
+    }
+    return 0u;
+}
+
+// Does a path in state `q` that now reaches a light count? Twin of `Integrator::accepts_light`.
+fn integrator_accepts_light(q: u32) -> bool {
+    if HAS_FILTER {
+        return dfa_table_is_accepting(dfa_table_step(q, SYM_L));
+    }
+    return true;
+}
+
+// Colour representation of one path (cpu::Spectral): RGB (w = 0) or four hero wavelengths.
+struct Spectral {
+    on: bool,
+    lambdas: vec4<f32>,
+}
+
+// RGB parameter → the path's colour lanes (smooth uplift in spectral mode). Twin of `Spectral::c`.
+fn spectral_c(sp: Spectral, rgb: vec3<f32>) -> vec4<f32> {
+    if HAS_SPECTRAL && sp.on {
+        return rgb_to_spectrum4(rgb, sp.lambdas);
+    }
+    return vec4<f32>(rgb, 0.0);
+}
 
 // Debug records per path vertex (gpu::renderer::DebugPath reads them).
 const DEBUG_MAX_VERTICES: u32 = 16u;
@@ -136,9 +208,39 @@ fn integrator_light_pdf(hit: SurfaceHit, dir: vec3<f32>) -> f32 {
     return p_pick / area * hit.t * hit.t / cos_l;
 }
 
-// The BSDF at a hit (scene::Material::bsdf; textures are not on the GPU yet).
-fn material_bsdf(m: Material) -> Bsdf {
-    return Bsdf(m.bsdf, v3(m.base_color), m.eta, m.alpha, m.metallic);
+// Index of refraction at wavelength `lambda_nm` (Abbe-number dispersion). Twin of `Material::ior_at`.
+fn material_ior_at(m: Material, lambda_nm: f32) -> f32 {
+    if m.abbe > 0.0 {
+        return cauchy_from_abbe(m.eta, m.abbe, lambda_nm);
+    }
+    return m.eta;
+}
+
+// The BSDF at a hit: base colour × texture, metal-rough metallic/roughness × texture,
+// `eta` already chosen for the path's wavelength, colours mapped to the path's lanes.
+// Twin of `scene::Material::bsdf` (+ `metal_rough_at`, `base_color_at`) and `Bsdf::map_colors`.
+fn material_bsdf(m: Material, uv: vec2<f32>, eta: f32, sp: Spectral) -> Bsdf {
+    var base = v3(m.base_color);
+    if HAS_TEXTURES && m.base_tex != NO_TEXTURE {
+        base = base * sample_texture(m.base_tex, uv).xyz;
+    }
+    var b = Bsdf(m.bsdf, spectral_c(sp, base), eta, m.alpha, m.dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0));
+    if HAS_METAL_ROUGH && m.bsdf == BSDF_METAL_ROUGH {
+        var metallic = m.metallic;
+        var roughness = m.roughness;
+        if HAS_TEXTURES && m.mr_tex != NO_TEXTURE {
+            let t = sample_texture(m.mr_tex, uv);
+            metallic *= t.z;
+            roughness *= t.y;
+        }
+        b.alpha = max(roughness_to_alpha(roughness), SMOOTH_ALPHA);
+        b.metallic = clamp(metallic, 0.0, 1.0);
+        // Metal-rough uses the material's own IOR (not the wavelength's).
+        b.ior = m.eta;
+        b.specular_factor = m.specular_factor;
+        b.specular_color = spectral_c(sp, v3(m.specular_color));
+    }
+    return b;
 }
 
 struct LightPick {
@@ -171,10 +273,16 @@ fn light_set_pick(u: f32) -> LightPick {
     return LightPick(i, lights[i].cdf - prev);
 }
 
+// Which Heckbert classes a next-event connection may use at a vertex (cpu ClassMask).
+struct ClassMask {
+    d: bool,
+    g: bool,
+}
+
 // One next-event estimate at `hit` (without the path throughput), MIS-weighted.
 // Twin of `Integrator::sample_light`.
-fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>) -> vec3<f32> {
-    let zero = vec3<f32>(0.0);
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral) -> vec4<f32> {
+    let zero = vec4<f32>(0.0);
     let pick = light_set_pick(ul);
     if pick.prob <= 0.0 {
         return zero;
@@ -183,7 +291,7 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     let p_pick = pick.prob;
     let side_o = dot3(wo_w, ng);
     var wi_w: vec3<f32>;
-    var li: vec3<f32>;
+    var li: vec4<f32>;
     var pdf: f32;
     var delta: bool;
     var shadow_dir: vec3<f32>;
@@ -222,7 +330,7 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
             return zero;
         }
         wi_w = wi;
-        li = v3(m.emission);
+        li = spectral_c(sp, v3(m.emission));
         pdf = p_pick / area * dist2 / cos_l;
         delta = false;
         shadow_dir = to;
@@ -238,7 +346,7 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
         pdf = p_pick;
         if light.kind == LIGHT_DIRECTIONAL {
             wi_w = -v3(light.direction);
-            li = intensity;
+            li = spectral_c(sp, intensity);
             shadow_dir = wi_w;
             tmax = F32_MAX;
         } else {
@@ -254,17 +362,23 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
                 if fall <= 0.0 {
                     return zero;
                 }
-                li = intensity * fall / d2;
+                li = spectral_c(sp, intensity * fall / d2);
             } else {
-                li = intensity / d2;
+                li = spectral_c(sp, intensity / d2);
             }
         }
     }
     let side_i = dot3(wi_w, ng);
     let wi = frame_to_local(frame, wi_w);
-    let f = bsdf_eval(bsdf, wo, wi, MODE_RADIANCE);
+    var f: vec4<f32>;
+    if mask.d && mask.g {
+        f = bsdf_eval(bsdf, wo, wi, MODE_RADIANCE);
+    } else {
+        let lv = bsdf_eval_lobes(bsdf, wo, wi, MODE_RADIANCE);
+        f = select(vec4<f32>(0.0), lv.d, mask.d) + select(vec4<f32>(0.0), lv.g, mask.g);
+    }
     // Reflection must stay on the geometric side of wo; transmission must cross it.
-    if side_i == 0.0 || max(max_element3(f), 0.0) <= 0.0 {
+    if side_i == 0.0 || max_element4(f) <= 0.0 {
         return zero;
     }
     if !(side_i * side_o > 0.0) && !bsdf_can_transmit(bsdf) {
@@ -299,10 +413,21 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     return f * abs(wi.z) * li * (w / pdf);
 }
 
+// A quiet NaN (the film firewall drops and counts it), built at run time.
+fn poison() -> vec3<f32> {
+    return vec3<f32>(bitcast<f32>(0x7fc00000u + u32(params.width == 0xffffffffu)));
+}
+
 // Radiance along the camera ray (origin, dir) — one path sample, RGB. Twin of `Integrator::li`.
 fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampler>) -> vec3<f32> {
-    var l = vec3<f32>(0.0);
-    var beta = vec3<f32>(1.0);
+    // Hero wavelength sampling, Wilkie et al. 2014, "Hero Wavelength Spectral Sampling".
+    var sp = Spectral(false, vec4<f32>(0.0));
+    if HAS_SPECTRAL {
+        sp = Spectral(true, sample_hero_wavelengths(sampler_next_1d(sampler)));
+    }
+    var collapsed = false;
+    var l = vec4<f32>(0.0);
+    var beta = vec4<f32>(1.0);
     var o = origin;
     var d = dir;
     var prev_pdf = 0.0;
@@ -312,34 +437,47 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
     let NO_MEDIUM = 0xffffffffu;
     var medium = NO_MEDIUM;
     var depth = 0u;
+    // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
+    var q = 0u;
+    if HAS_FILTER {
+        q = dfa_table_step(dfa_word(DFA_TRANSITIONS + 2u), SYM_E);
+    }
     loop {
         let h = bvh_intersect(o, d, F32_MAX);
         segments++;
         if !h.found {
             // Escaped: uniform environment (not light-sampled, so MIS weight 1).
-            if HAS_ENVIRONMENT {
-                l += beta * params.environment.xyz;
+            if HAS_ENVIRONMENT && integrator_accepts_light(q) {
+                l += beta * spectral_c(sp, params.environment.xyz);
             }
             break;
         }
         let hit = integrator_surface(h);
         if HAS_ABSORPTION && medium != NO_MEDIUM {
-            let sa = v3(materials[medium].sigma_a);
-            if any(sa != vec3<f32>(0.0)) {
-                // Beer–Lambert: T = exp(−σ_a t). Glassner 1995, §12; glTF KHR_materials_volume.
-                beta *= exp(-sa * hit.t);
+            let mm = materials[medium];
+            if (mm.flags & MAT_ABSORBS) != 0u {
+                // Beer–Lambert: T = exp(−σ_a t), σ_a = −ln(c)/d (glTF KHR_materials_volume).
+                var sa: vec4<f32>;
+                if HAS_SPECTRAL && sp.on {
+                    let c = max(spectral_c(sp, v3(mm.attenuation_color)), vec4<f32>(1e-6));
+                    sa = -log(c) / mm.attenuation_distance;
+                } else {
+                    sa = vec4<f32>(v3(mm.sigma_a), 0.0);
+                }
+                let tr = -sa * hit.t;
+                beta *= exp(tr);
             }
         }
         let mat = materials[hit.material];
         let front = dot3(d, hit.ng) < 0.0;
 
         // Emission (one-sided unless doubleSided).
-        if HAS_LIGHTS && (mat.flags & MAT_EMISSIVE) != 0u && (front || (mat.flags & MAT_DOUBLE_SIDED) != 0u) {
+        if HAS_LIGHTS && (mat.flags & MAT_EMISSIVE) != 0u && (front || (mat.flags & MAT_DOUBLE_SIDED) != 0u) && integrator_accepts_light(q) {
             var w = 1.0;
             if !prev_delta {
                 w = power_heuristic(prev_pdf, integrator_light_pdf(hit, d));
             }
-            l += beta * v3(mat.emission) * w;
+            l += beta * spectral_c(sp, v3(mat.emission)) * w;
         }
         debug_write(1u + DEBUG_STRIDE * min(depth, DEBUG_MAX_VERTICES - 1u), vec4<f32>(hit.p, hit.t));
         if depth + 1u >= params.max_depth {
@@ -362,7 +500,17 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
             break; // emitters are black surfaces otherwise
         }
-        let bsdf = material_bsdf(mat);
+        var eta = mat.eta;
+        if HAS_SPECTRAL && sp.on && mat.abbe > 0.0 && transmissive {
+            eta = material_ior_at(mat, sp.lambdas.x);
+            if !collapsed {
+                // Wavelength-dependent refraction: only the hero wavelength can follow this
+                // direction. Keep lane 0 (×4: it now carries the whole estimate), drop the rest.
+                beta = vec4<f32>(4.0 * beta.x, 0.0, 0.0, 0.0);
+                collapsed = true;
+            }
+        }
+        let bsdf = material_bsdf(mat, hit.uv, eta, sp);
         let frame = frame_from_normal(ns);
         let wo_w = -d;
         let wo = frame_to_local(frame, wo_w);
@@ -373,7 +521,10 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
 
         // Next-event estimation.
         if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
-            l += beta * integrator_sample_light(hit, ng, frame, wo, wo_w, bsdf, ul, ul2);
+            let mask = ClassMask(integrator_accepts_light(integrator_step(q, SYM_D)), integrator_accepts_light(integrator_step(q, SYM_G)));
+            if mask.d || mask.g {
+                l += beta * integrator_sample_light(hit, ng, frame, wo, wo_w, bsdf, ul, ul2, mask, sp);
+            }
         }
 
         // BSDF sampling.
@@ -390,8 +541,18 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         } else {
             consistent = side_o * side_i < 0.0;
         }
-        if !consistent || !is_finite_v3(s.weight) {
+        if !is_finite_v4(s.weight) {
+            // A broken BSDF value: poison the sample so the firewall drops and counts it.
+            return poison();
+        }
+        if !consistent {
             break;
+        }
+        if HAS_FILTER {
+            q = dfa_table_step(q, s.lobe + 1u);
+            if !dfa_table_can_reach_accept(q) {
+                break; // nothing this path can still reach counts
+            }
         }
         beta *= s.weight;
         if s.event == EVENT_TRANSMIT {
@@ -414,25 +575,32 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         o = offset_ray_origin(hit.p, off_n);
         d = wi_w;
         depth++;
-        debug_write(2u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(beta, f32(depth)));
+        debug_write(2u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(beta.xyz, f32(depth)));
         debug_write(3u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(d, f32(hit.scene_tri)));
 
         // Russian roulette (Mitsuba 3 `path`: q = min(max(β)·η², 0.95) from rr_depth).
         if depth >= params.rr_depth {
-            let q = min(max(max_element3(beta), 0.0) * eta_scale, 0.95);
-            if q <= 0.0 || sampler_next_1d(sampler) >= q {
+            let q_rr = min(max_element4(beta) * eta_scale, 0.95);
+            if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
                 break;
             }
-            beta /= q;
-        } else if max(max_element3(beta), 0.0) <= 0.0 {
+            beta /= q_rr;
+        } else if max_element4(beta) <= 0.0 {
             break;
         }
     }
-    return l;
+    if HAS_SPECTRAL && sp.on {
+        return spectrum_sample_to_rgb(sp.lambdas, l);
+    }
+    return l.xyz;
 }
 
 // A sample is accepted only if every component is finite and non-negative (film::sample_is_valid).
+// Spectral scenes keep out-of-gamut (negative) single-wavelength estimates (Film::add_signed_to).
 fn sample_is_valid(v: vec3<f32>) -> bool {
+    if HAS_SPECTRAL {
+        return is_finite_v3(v);
+    }
     return is_finite_v3(v) && min(min(v.x, v.y), v.z) >= 0.0;
 }
 

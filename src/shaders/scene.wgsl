@@ -51,10 +51,26 @@ struct Material {
     flags: u32,
     sigma_a: array<f32, 3>,
     eta: f32,
+    // KHR_materials_specular colour and factor (metal-rough), clamped as `metal_rough_at` does.
+    specular_color: array<f32, 3>,
+    specular_factor: f32,
+    // KHR_materials_volume (spectral absorption: σ_a(λ) = −ln(uplift(colour)(λ)) / distance).
+    attenuation_color: array<f32, 3>,
+    attenuation_distance: f32,
+    // Microfacet α of rough glass / glossy metal (metal-rough derives its own from roughness).
     alpha: f32,
+    // Raw metallic and perceptual roughness factors (multiplied by the metallic-roughness
+    // texture in `material_bsdf`).
     metallic: f32,
-    _pad0: u32,
-    _pad1: u32,
+    roughness: f32,
+    // MicrofacetDistribution (DIST_*).
+    dist: u32,
+    // Abbe number V_d (0 = not dispersive).
+    abbe: f32,
+    // Texture reference slots (NO_TEXTURE = none): base colour, metallic-roughness.
+    base_tex: u32,
+    mr_tex: u32,
+    _pad: u32,
 }
 
 const LIGHT_TRIANGLE: u32 = 0u;
@@ -82,6 +98,9 @@ struct Light {
 @group(0) @binding(3) var<storage, read> vertices: array<Vertex>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
+// Texture references and texels in one buffer (gpu::upload::pack_textures): reference slot r
+// occupies vec4s 3r .. 3r + 3 (header, matrix, translation), texels follow (linear RGBA).
+@group(0) @binding(8) var<storage, read> texels: array<vec4<f32>>;
 
 struct Hit {
     found: bool,
@@ -271,4 +290,86 @@ fn bvh_intersect(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> Hit {
 // True if anything is hit along origin + t·dir for t in (0, tmax). Twin of `Bvh::occluded`.
 fn bvh_occluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
     return traverse(origin, dir, tmax, true).found;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Textures (scene::material::sample_texture)
+
+override HAS_TEXTURES: bool = true;
+
+const NO_TEXTURE: u32 = 0xffffffffu;
+// Wrap modes (scene::material::Wrap) and header flags of a texture reference.
+const WRAP_REPEAT: u32 = 0u;
+const WRAP_MIRRORED_REPEAT: u32 = 1u;
+const WRAP_CLAMP_TO_EDGE: u32 = 2u;
+const TEX_LINEAR: u32 = 16u;
+const TEX_VALID: u32 = 32u;
+
+// `wrap_index` of scene::material (i64 there; i32 here: |uv · size| < 2³¹).
+fn wrap_index(i: i32, n: u32, w: u32) -> u32 {
+    let nn = i32(n);
+    var r: i32;
+    if w == WRAP_CLAMP_TO_EDGE {
+        r = clamp(i, 0, nn - 1);
+    } else if w == WRAP_MIRRORED_REPEAT {
+        let p = 2 * nn;
+        var m = i % p;
+        if m < 0 {
+            m += p;
+        }
+        if m < nn {
+            r = m;
+        } else {
+            r = p - 1 - m;
+        }
+    } else {
+        r = i % nn;
+        if r < 0 {
+            r += nn;
+        }
+    }
+    return u32(r);
+}
+
+fn texture_texel(offset: u32, width: u32, height: u32, flags: u32, x: i32, y: i32) -> vec4<f32> {
+    let xi = wrap_index(x, width, flags & 3u);
+    let yi = wrap_index(y, height, (flags >> 2u) & 3u);
+    return texels[offset + yi * width + xi];
+}
+
+// Look a texture up at `uv` (wrap mode, nearest or bilinear). Missing texture → white.
+fn sample_texture(slot: u32, uv_in: vec2<f32>) -> vec4<f32> {
+    let one = vec4<f32>(1.0);
+    if !HAS_TEXTURES || slot == NO_TEXTURE {
+        return one;
+    }
+    let head = bitcast<vec4<u32>>(texels[3u * slot]);
+    let offset = head.x;
+    let width = head.y;
+    let height = head.z;
+    let flags = head.w;
+    if (flags & TEX_VALID) == 0u {
+        return one;
+    }
+    // Affine2::transform_point2: matrix2 · uv + translation (glam column order).
+    let mtx = texels[3u * slot + 1u];
+    let tr = texels[3u * slot + 2u];
+    let uv = vec2<f32>(mtx.x, mtx.y) * uv_in.x + vec2<f32>(mtx.z, mtx.w) * uv_in.y + tr.xy;
+    let fx = uv.x * f32(width) - 0.5;
+    let fy = uv.y * f32(height) - 0.5;
+    if !is_finite_f32(fx) || !is_finite_f32(fy) {
+        return one;
+    }
+    if (flags & TEX_LINEAR) != 0u {
+        let x0 = floor(fx);
+        let y0 = floor(fy);
+        let ax = fx - x0;
+        let ay = fy - y0;
+        let xi = i32(x0);
+        let yi = i32(y0);
+        let top = texture_texel(offset, width, height, flags, xi, yi) * (1.0 - ax) + texture_texel(offset, width, height, flags, xi + 1, yi) * ax;
+        let bot = texture_texel(offset, width, height, flags, xi, yi + 1) * (1.0 - ax) + texture_texel(offset, width, height, flags, xi + 1, yi + 1) * ax;
+        return top * (1.0 - ay) + bot * ay;
+    }
+    return texture_texel(offset, width, height, flags, i32(floor(fx + 0.5)), i32(floor(fy + 0.5)));
 }
