@@ -67,7 +67,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         }
         Err(e) => return Err(e),
     };
-    r.set_filter(Some(&filter));
+    r.set_filter(Some(filter));
     let (bvh_time, depth, nodes) = r.bvh_info();
     eprintln!(
         "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}{}{}",

@@ -244,6 +244,52 @@ pub struct RenderEdit {
     pub spp_target: u64,
     /// Rendered resolution relative to the scene's width × height (interactivity on a CPU).
     pub render_scale: f32,
+    /// Light-transport estimator ("auto" picks by scene features).
+    pub estimator: EstimatorChoice,
+}
+
+/// The estimator selector of the viewer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EstimatorChoice {
+    /// Bidirectional when the scene has glass and a small or delta light (caustics), else path.
+    #[default]
+    Auto,
+    Path,
+    Bdpt,
+    Lt,
+}
+
+impl EstimatorChoice {
+    /// The estimator this choice means for `scene`.
+    pub fn resolve(self, scene: &Scene) -> crate::cpu::Estimator {
+        use crate::cpu::Estimator;
+        match self {
+            EstimatorChoice::Path => Estimator::Path,
+            EstimatorChoice::Bdpt => Estimator::Bdpt,
+            EstimatorChoice::Lt => Estimator::Lt,
+            EstimatorChoice::Auto => {
+                let f = scene.features();
+                let glass = f.smooth_glass || f.rough_glass || f.thin_glass;
+                // "Small" light: the emitters cover < 1% of the scene's bounding-box area, so
+                // BSDF-sampled caustic paths rarely hit them.
+                let (lo, hi) = scene.bounds();
+                let d = hi - lo;
+                let box_area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+                let light_area: f32 = scene
+                    .emissive_triangles()
+                    .iter()
+                    .map(|&t| scene.mesh.area(t as usize))
+                    .sum();
+                let small = f.punctual_lights || light_area < 0.01 * box_area;
+                if glass && small && !f.dispersion {
+                    Estimator::Bdpt
+                } else {
+                    Estimator::Path
+                }
+            }
+        }
+    }
 }
 
 impl Default for RenderEdit {
@@ -255,6 +301,7 @@ impl Default for RenderEdit {
             paths: String::new(),
             spp_target: 0,
             render_scale: 0.5,
+            estimator: EstimatorChoice::Auto,
         }
     }
 }
@@ -594,7 +641,8 @@ impl ViewerSettings {
         opts.seed = self.render.seed;
         let filter = PathFilter::parse(&self.render.paths)
             .map_err(|e| anyhow::anyhow!("invalid path filter '{}': {e}", self.render.paths))?;
-        opts.filter = (!filter.is_accept_all()).then(|| *filter.reversed());
+        crate::cpu::Renderer::set_filter(&mut opts, Some(&filter));
+        opts.estimator = self.render.estimator.resolve(scene);
         Ok(opts)
     }
 }
