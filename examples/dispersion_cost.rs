@@ -6,8 +6,13 @@ use refract::cpu::{RenderOptions, Renderer};
 use refract::scene::Scene;
 
 fn main() -> anyhow::Result<()> {
-    let spec = std::env::args().nth(1).unwrap_or_else(|| "builtin:cornell-glass".into());
-    let spp: u32 = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(64);
+    let spec = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "builtin:cornell-glass".into());
+    let spp: u32 = std::env::args()
+        .nth(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(64);
     for dispersive in [false, true, false, true] {
         let mut scene = Scene::load(&spec)?;
         scene.settings.width = 256;

@@ -33,8 +33,7 @@ pub struct BenchOptions {
     pub cache_dir: PathBuf,
     /// Estimators to measure (each against the same reference).
     pub estimators: Vec<Estimator>,
-    /// Estimator of the reference (bdpt converges far faster on caustics; scenes with
-    /// dispersion always use the path tracer).
+    /// Estimator of the reference (bdpt converges far faster on caustics).
     pub ref_estimator: Estimator,
 }
 
@@ -176,10 +175,7 @@ pub fn bench_scene_cpu(
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;
     let opts = RenderOptions::from_scene(&r.scene);
-    let mut ro = o.clone();
-    if r.spectral {
-        ro.ref_estimator = Estimator::Path;
-    }
+    let ro = o.clone();
     let (a, b) = reference(&r, spec, &opts, &ro)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
     // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
@@ -187,10 +183,6 @@ pub fn bench_scene_cpu(
     let mut points = Vec::new();
     let mut sums = Vec::new();
     for &est in &o.estimators {
-        if r.spectral && est != Estimator::Path {
-            eprintln!("  skipping {est:?} on {spec}: dispersion needs the path tracer");
-            continue;
-        }
         eprintln!("  measuring {est:?} …");
         let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, ro.ref_spp);
         points.extend(p);

@@ -280,12 +280,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     opts.seed = seed;
     Renderer::set_filter(&mut opts, Some(&filter));
     opts.estimator = args.estimator;
-    if opts.estimator != Estimator::Path && renderer.spectral {
-        eprintln!(
-            "warning: {:?} does not support dispersion yet; using the path tracer",
-            opts.estimator
-        );
-    }
+
     eprintln!(
         "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
         renderer.scene.name,

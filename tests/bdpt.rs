@@ -207,3 +207,24 @@ fn bdpt_filter_classes_partition_the_image() {
     let caustic: f32 = run("LS+DE").iter().map(|p| p.y).sum();
     assert!(caustic > 0.0, "BDPT found no LS+DE paths");
 }
+
+/// Spectral (dispersive) scenes: BDPT with hero wavelengths (collapse once per full path)
+/// converges to the spectral path tracer on the Cornell box with a dispersive sphere.
+#[test]
+fn bdpt_matches_path_tracing_with_dispersion() {
+    let mut s = Scene::load("builtin:cornell-glass").expect("builtin");
+    for m in s.materials.iter_mut().filter(|m| m.is_transmissive()) {
+        m.abbe = Some(20.0);
+    }
+    let r = Renderer::new(s).expect("valid");
+    assert!(r.spectral);
+    let (w, h) = (32, 24);
+    let pt = render(&r, Estimator::Path, 512, 11, w, h);
+    let bd = render(&r, Estimator::Bdpt, 64, 12, w, h);
+    let pass = block_pass(&pt, &bd, w as usize, h as usize, 8, 4.0);
+    let (ma, sa) = mean_sem(&pt);
+    let (mb, sb) = mean_sem(&bd);
+    let z = (ma - mb).abs() / (sa * sa + sb * sb).sqrt();
+    assert!(pass >= 0.9, "only {:.0}% of blocks agree", pass * 100.0);
+    assert!(z < 4.0, "means {ma:.5} (PT) vs {mb:.5} (BDPT), z = {z:.2}");
+}

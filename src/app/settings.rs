@@ -282,7 +282,7 @@ impl EstimatorChoice {
                     .map(|&t| scene.mesh.area(t as usize))
                     .sum();
                 let small = f.punctual_lights || light_area < 0.01 * box_area;
-                if glass && small && !f.dispersion {
+                if glass && small {
                     Estimator::Bdpt
                 } else {
                     Estimator::Path

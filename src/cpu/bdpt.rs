@@ -13,10 +13,10 @@
 //! lights are connected only by the s = 1 strategy (they cannot start a light subpath here),
 //! so their weight is 1; a uniform environment is reached only by camera subpaths (weight 1).
 
-use super::integrator::{Integrator, SurfaceHit};
+use super::integrator::{Integrator, Spectral, SurfaceHit};
 use crate::bsdf::{Bsdf, BxDF, Event, TransportMode};
 use crate::bvh::offset_ray_origin;
-use crate::math::{Color, Frame, rgb3, rng::Sampler, sampling};
+use crate::math::{Color, Frame, rng::Sampler, sampling};
 use crate::paths::{DfaTable, Symbol};
 use crate::scene::light::{LightRef, sample_triangle, spot_falloff};
 use crate::scene::{Material, PunctualLight};
@@ -68,6 +68,9 @@ struct Vertex {
     w_prev: Vec3,
     /// Scene triangle of a surface or area-light vertex.
     tri: u32,
+    /// Spectral mode: a dispersive event on this subpath (up to here) left only the hero
+    /// wavelength alive (lanes 1–3 are zero; the ×4 is applied once per full path).
+    collapsed: bool,
 }
 
 impl Vertex {
@@ -194,14 +197,32 @@ impl<'a> Bdpt<'a> {
         &self.pt.scene.materials[v.material as usize]
     }
 
+    /// A surface vertex whose BSDF depends on the wavelength (dispersive glass).
+    fn dispersive(&self, v: &Vertex) -> bool {
+        v.kind == Kind::Surface && {
+            let m = self.material(v);
+            m.abbe.is_some() && m.is_transmissive()
+        }
+    }
+
+    /// Spectral contribution of a full path: after any collapse only the hero lane carries the
+    /// estimate, and it now stands for all four wavelengths (×4, once per path).
+    fn finish(c: Color, collapse: bool) -> Color {
+        if collapse {
+            Color::new(4.0 * c.x, 0.0, 0.0, 0.0)
+        } else {
+            c
+        }
+    }
+
     /// Emitted radiance of a surface vertex towards `w` (one-sided unless doubleSided).
-    fn le(&self, v: &Vertex, w: Vec3, raw_ng: Vec3) -> Color {
+    fn le(&self, v: &Vertex, w: Vec3, raw_ng: Vec3, sp: &Spectral) -> Color {
         let m = self.material(v);
         if !m.is_emissive() {
             return Color::ZERO;
         }
         if raw_ng.dot(w) > 0.0 || m.double_sided {
-            rgb3(m.emission)
+            sp.c(m.emission)
         } else {
             Color::ZERO
         }
@@ -215,6 +236,7 @@ impl<'a> Bdpt<'a> {
         d: Vec3,
         beta: Color,
         pdf_fwd: f32,
+        sp: &Spectral,
     ) -> (Vertex, bool) {
         let m = &self.pt.scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
@@ -229,7 +251,16 @@ impl<'a> Bdpt<'a> {
         };
         let black_emitter = m.is_emissive() && m.base_color == Vec3::ZERO;
         let bsdf = if alive && !black_emitter {
-            Some(m.bsdf(&self.pt.scene.textures, hit.uv, m.ior))
+            let eta = match sp.lambdas {
+                Some(l) if m.abbe.is_some() => m.ior_at(l[0]),
+                _ => m.ior,
+            };
+            let b = m.bsdf(&self.pt.scene.textures, hit.uv, eta);
+            Some(if sp.lambdas.is_some() {
+                b.map_colors(|c| sp.c(c.truncate()))
+            } else {
+                b
+            })
         } else {
             None
         };
@@ -247,6 +278,7 @@ impl<'a> Bdpt<'a> {
             class: Symbol::D,
             w_prev: -d,
             tri: hit.tri,
+            collapsed: false,
         };
         (v, bsdf.is_some())
     }
@@ -264,17 +296,20 @@ impl<'a> Bdpt<'a> {
         max_verts: usize,
         mode: TransportMode,
         sampler: &mut Sampler,
-    ) -> Option<Color> {
+        sp: &Spectral,
+    ) -> Option<(Color, bool)> {
         let mut eta_scale = 1.0f32;
         let mut bounces = 0u32;
+        let mut collapsed = path.last().is_some_and(|v| v.collapsed);
         while path.len() < max_verts {
             let Some(h) = self.pt.bvh.intersect(o, d, f32::INFINITY) else {
-                return Some(beta);
+                return Some((beta, collapsed));
             };
             let hit = self.pt.surface(&h);
             let prev_idx = path.len() - 1;
-            let (mut v, alive) = self.surface_vertex(&hit, d, beta, 0.0);
+            let (mut v, alive) = self.surface_vertex(&hit, d, beta, 0.0, sp);
             v.pdf_fwd = to_area(pdf_w, &path[prev_idx], &v);
+            v.collapsed = collapsed;
             if !alive {
                 // Emitters and black back faces end the walk but still count as vertices
                 // (s = 0 strategies hit them).
@@ -314,6 +349,11 @@ impl<'a> Bdpt<'a> {
                 w *= shading_correction(wo_w, wi_w, path[cur].ns, ng);
             }
             beta *= w;
+            if sp.lambdas.is_some() && self.dispersive(&path[cur]) {
+                // Hero wavelength only from here on (Wilkie et al. 2014, §4.2).
+                beta = Color::new(beta.x, 0.0, 0.0, 0.0);
+                collapsed = true;
+            }
             path[cur].class = Symbol::from(s.lobe);
             if s.is_delta {
                 path[cur].delta = true;
@@ -343,7 +383,13 @@ impl<'a> Bdpt<'a> {
     }
 
     /// Start a light subpath: pick a light, a point on it and an emission direction.
-    fn light_path(&self, path: &mut Vec<Vertex>, max_verts: usize, sampler: &mut Sampler) {
+    fn light_path(
+        &self,
+        path: &mut Vec<Vertex>,
+        max_verts: usize,
+        sampler: &mut Sampler,
+        sp: &Spectral,
+    ) {
         let ul = sampler.next_1d();
         let u_pos = sampler.next_2d();
         let u_dir = sampler.next_2d();
@@ -373,6 +419,7 @@ impl<'a> Bdpt<'a> {
                     class: Symbol::L,
                     w_prev: Vec3::ZERO,
                     tri: t,
+                    collapsed: false,
                 };
                 path.push(v0);
                 // Cosine-weighted emission about the emitting side (Lambertian emitter).
@@ -389,7 +436,7 @@ impl<'a> Bdpt<'a> {
                 let d = Frame::from_normal(side).to_world(local);
                 let pdf_w = two * local.z * FRAC_1_PI;
                 // beta1 = Le cosθ / (pdf_pos pdf_dir)
-                let beta = path[0].beta * rgb3(m.emission) * (local.z / pdf_w);
+                let beta = path[0].beta * sp.c(m.emission) * (local.z / pdf_w);
                 let o = offset_ray_origin(p, side);
                 self.walk(
                     path,
@@ -400,6 +447,7 @@ impl<'a> Bdpt<'a> {
                     max_verts,
                     TransportMode::Importance,
                     sampler,
+                    sp,
                 );
             }
             LightRef::Punctual(i) => {
@@ -444,6 +492,7 @@ impl<'a> Bdpt<'a> {
                             class: Symbol::L,
                             w_prev: Vec3::ZERO,
                             tri: 0,
+                            collapsed: false,
                         });
                         return;
                     }
@@ -465,11 +514,12 @@ impl<'a> Bdpt<'a> {
                     class: Symbol::L,
                     w_prev: Vec3::ZERO,
                     tri: 0,
+                    collapsed: false,
                 });
                 if intensity.max_element() <= 0.0 {
                     return;
                 }
-                let beta = path[0].beta * rgb3(intensity) / pdf_w;
+                let beta = path[0].beta * sp.c(intensity) / pdf_w;
                 self.walk(
                     path,
                     p,
@@ -479,13 +529,14 @@ impl<'a> Bdpt<'a> {
                     max_verts,
                     TransportMode::Importance,
                     sampler,
+                    sp,
                 );
             }
         }
     }
 
     /// Radiance/intensity leaving light vertex `y` towards `w` (unit), before G.
-    fn light_emit(&self, y: &Vertex, w: Vec3) -> Color {
+    fn light_emit(&self, y: &Vertex, w: Vec3, sp: &Spectral) -> Color {
         let Kind::Light { light, .. } = y.kind else {
             return Color::ZERO;
         };
@@ -493,21 +544,21 @@ impl<'a> Bdpt<'a> {
             LightRef::Triangle(_) => {
                 let m = self.material(y);
                 if y.ng.dot(w) > 0.0 || m.double_sided {
-                    rgb3(m.emission)
+                    sp.c(m.emission)
                 } else {
                     Color::ZERO
                 }
             }
             LightRef::Punctual(i) => match self.pt.scene.punctual_lights[i as usize] {
-                PunctualLight::Point { intensity, .. } => rgb3(intensity),
+                PunctualLight::Point { intensity, .. } => sp.c(intensity),
                 PunctualLight::Spot {
                     direction,
                     intensity,
                     cos_inner,
                     cos_outer,
                     ..
-                } => rgb3(intensity * spot_falloff(w.dot(direction), cos_inner, cos_outer)),
-                PunctualLight::Directional { irradiance, .. } => rgb3(irradiance),
+                } => sp.c(intensity * spot_falloff(w.dot(direction), cos_inner, cos_outer)),
+                PunctualLight::Directional { irradiance, .. } => sp.c(irradiance),
             },
         }
     }
@@ -631,6 +682,22 @@ impl<'a> Bdpt<'a> {
         let mut light: Vec<Vertex> = Vec::with_capacity(MAX_VERTS);
         let mut l = Color::ZERO;
         let j = sampler.next_2d();
+        // Hero wavelengths shared by both subpaths (scenes with dispersion only).
+        let sp = &Spectral {
+            lambdas: if self.pt.spectral {
+                Some(crate::math::spectrum::sample_hero_wavelengths(
+                    sampler.next_1d(),
+                ))
+            } else {
+                None
+            },
+        };
+        let to_rgb = |c: Color| -> Vec3 {
+            match sp.lambdas {
+                Some(lambdas) => crate::math::spectrum::spectrum_sample_to_rgb(lambdas, c),
+                None => c.truncate(),
+            }
+        };
         let dir = self.pt.scene.camera.ray_dir(
             (x as f32 + j.x) / self.cam.width as f32,
             (y as f32 + j.y) / self.cam.height as f32,
@@ -650,6 +717,7 @@ impl<'a> Bdpt<'a> {
             class: Symbol::E,
             w_prev: Vec3::ZERO,
             tri: 0,
+            collapsed: false,
         });
         let pdf_cam = self.cam.pdf_dir(dir);
         // Camera subpath: at most max_depth + 1 vertices (max_depth segments).
@@ -663,21 +731,22 @@ impl<'a> Bdpt<'a> {
             cam_max,
             TransportMode::Radiance,
             sampler,
+            sp,
         );
         // Environment: reached only by camera subpaths (no strategy samples it), weight 1.
-        if let Some(b) = escaped {
+        if let Some((b, collapsed)) = escaped {
             let env = self.pt.scene.environment;
             if self.mode == BdptMode::Full
                 && env.max_element() > 0.0
                 && cam.len() <= max_depth
                 && self.accepted(&[], None, None, &cam)
             {
-                l += b * rgb3(env);
+                l += Self::finish(b * sp.c(env), collapsed);
             }
         }
         let light_max = max_depth.min(MAX_VERTS);
         let mut ls = sampler.with_dim(1 << 16);
-        self.light_path(&mut light, light_max, &mut ls);
+        self.light_path(&mut light, light_max, &mut ls, sp);
 
         for t in 1..=cam.len() {
             for s in 0..=light.len() {
@@ -693,20 +762,24 @@ impl<'a> Bdpt<'a> {
                     if s == 0 || (s == 1 && self.mode == BdptMode::Full) {
                         continue;
                     }
-                    if let Some((px, py, v)) = self.connect_camera(&light[..s], &cam) {
-                        splat(px, py, v.truncate());
+                    if let Some((px, py, v)) = self.connect_camera(&light[..s], &cam, sp) {
+                        splat(px, py, to_rgb(v));
                     }
                     continue;
                 }
-                let c = self.connect(&light[..s], &cam[..t]);
-                l += c;
+                l += self.connect(&light[..s], &cam[..t], sp);
             }
         }
-        l.truncate()
+        to_rgb(l)
     }
 
     /// t = 1: connect light vertex y = light[s-1] to the camera.
-    fn connect_camera(&self, light: &[Vertex], cam: &[Vertex]) -> Option<(u32, u32, Color)> {
+    fn connect_camera(
+        &self,
+        light: &[Vertex],
+        cam: &[Vertex],
+        sp: &Spectral,
+    ) -> Option<(u32, u32, Color)> {
         let s = light.len();
         let yv = light[s - 1];
         if !yv.connectible() || self.is_directional(&yv) {
@@ -723,7 +796,7 @@ impl<'a> Bdpt<'a> {
         // f at y (or emission for s = 1), per class
         let mut contrib = Color::ZERO;
         let classes: [(Option<Symbol>, Color); 2] = if s == 1 {
-            [(None, self.light_emit(&yv, w)), (None, Color::ZERO)]
+            [(None, self.light_emit(&yv, w, sp)), (None, Color::ZERO)]
         } else {
             let f = self.f(&yv, yv.w_prev, w, TransportMode::Importance);
             [(Some(f[0].0), f[0].1), (Some(f[1].0), f[1].1)]
@@ -753,7 +826,8 @@ impl<'a> Bdpt<'a> {
             let pdf_cam_y = to_area(self.cam.pdf_dir(-w), &c0, &yv);
             v *= self.mis_weight(light, cam, 1, Some(pdf_cam_y));
         }
-        Some((px, py, v))
+        let collapse = yv.collapsed || (s >= 2 && self.dispersive(&yv));
+        Some((px, py, Self::finish(v, collapse)))
     }
 
     fn is_directional(&self, v: &Vertex) -> bool {
@@ -762,7 +836,7 @@ impl<'a> Bdpt<'a> {
     }
 
     /// Strategy (s, t ≥ 2).
-    fn connect(&self, light: &[Vertex], cam: &[Vertex]) -> Color {
+    fn connect(&self, light: &[Vertex], cam: &[Vertex], sp: &Spectral) -> Color {
         let s = light.len();
         let t = cam.len();
         let z = cam[t - 1];
@@ -775,7 +849,7 @@ impl<'a> Bdpt<'a> {
             if !m.is_emissive() {
                 return Color::ZERO;
             }
-            let le = self.le(&z, z.w_prev, z.ng);
+            let le = self.le(&z, z.w_prev, z.ng, sp);
             // The emitter vertex itself is the L: feed the camera classes before it.
             if le.max_element() <= 0.0 || !self.accepted(&[], None, None, &cam[..t - 1]) {
                 return Color::ZERO;
@@ -786,7 +860,7 @@ impl<'a> Bdpt<'a> {
             } else {
                 1.0
             };
-            return v * w;
+            return Self::finish(v * w, z.collapsed);
         }
         if z.kind != Kind::Surface || !z.connectible() || z.bsdf.is_none() {
             return Color::ZERO;
@@ -819,7 +893,7 @@ impl<'a> Bdpt<'a> {
         };
         let fz = self.f(&z, z.w_prev, w_zy, TransportMode::Radiance);
         let fy: [(Option<Symbol>, Color); 2] = if s == 1 {
-            [(None, self.light_emit(&y, -w_zy)), (None, Color::ZERO)]
+            [(None, self.light_emit(&y, -w_zy, sp)), (None, Color::ZERO)]
         } else {
             let f = self.f(&y, y.w_prev, -w_zy, TransportMode::Importance);
             [(Some(f[0].0), f[0].1), (Some(f[1].0), f[1].1)]
@@ -862,10 +936,11 @@ impl<'a> Bdpt<'a> {
         if !vis {
             return Color::ZERO;
         }
+        let collapse = y.collapsed || z.collapsed || self.dispersive(&y) || self.dispersive(&z);
         if directional || self.mode != BdptMode::Full {
-            return v;
+            return Self::finish(v, collapse);
         }
-        v * self.mis_weight(light, cam, t, None)
+        Self::finish(v * self.mis_weight(light, cam, t, None), collapse)
     }
 
     /// Power-heuristic MIS weight of strategy (s = light.len(), t) for the path light + cam

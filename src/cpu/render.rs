@@ -157,7 +157,7 @@ impl Renderer {
         count: u32,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> bool {
-        if opts.estimator != Estimator::Path && !self.spectral {
+        if opts.estimator != Estimator::Path {
             // Bidirectional passes are not cancellable mid-pass (splats span all rows).
             self.render_pass_bdpt(opts, film, first_spp, count);
             return true;
@@ -248,7 +248,12 @@ impl Renderer {
                         let mut sampler = Sampler::new(pixel, s, seed);
                         let mut bad_splat = false;
                         let v = bd.sample(x as u32, y as u32, &mut sampler, &mut |sx, sy, v| {
-                            if crate::film::sample_is_valid(v) {
+                            let ok = if integ.spectral {
+                                v.is_finite()
+                            } else {
+                                crate::film::sample_is_valid(v)
+                            };
+                            if ok {
                                 let i = 3 * (sy as usize * w as usize + sx as usize);
                                 add(i, v.x as f64);
                                 add(i + 1, v.y as f64);
@@ -257,7 +262,12 @@ impl Renderer {
                                 bad_splat = true;
                             }
                         });
-                        if !Film::add_to(px, v) || bad_splat {
+                        let ok = if integ.spectral {
+                            Film::add_signed_to(px, v)
+                        } else {
+                            Film::add_to(px, v)
+                        };
+                        if !ok || bad_splat {
                             dropped += 1;
                         }
                     }
