@@ -35,6 +35,10 @@ pub struct BenchOptions {
     pub estimators: Vec<Estimator>,
     /// Estimator of the reference (bdpt converges far faster on caustics).
     pub ref_estimator: Estimator,
+    /// Measure the CPU renderer (every estimator).
+    pub cpu: bool,
+    /// Measure the GPU renderer (path estimator; skipped with a message if no adapter).
+    pub gpu: bool,
 }
 
 /// One point of an error-vs-time curve.
@@ -182,13 +186,73 @@ pub fn bench_scene_cpu(
     let ref_noise = rel_mse(&a, &b) / 4.0;
     let mut points = Vec::new();
     let mut sums = Vec::new();
-    for &est in &o.estimators {
+    if o.gpu {
+        match measure_gpu(&r.scene, spec, o, &reference, ref_noise) {
+            Ok((p, s)) => {
+                points.extend(p);
+                sums.push(s);
+            }
+            Err(e) => eprintln!("  GPU skipped on {spec}: {e:#}"),
+        }
+    }
+    for &est in o.estimators.iter().filter(|_| o.cpu) {
         eprintln!("  measuring {est:?} …");
         let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, ro.ref_spp);
         points.extend(p);
         sums.push(s);
     }
     Ok((points, sums))
+}
+
+/// The GPU renderer's curve (path tracer): batches up to each power of two, image read back
+/// at each point (the readback time is included in the wall time).
+fn measure_gpu(
+    scene: &Scene,
+    spec: &str,
+    o: &BenchOptions,
+    reference: &[Vec3],
+    ref_noise: f64,
+) -> Result<(Vec<BenchPoint>, BenchSummary)> {
+    let mut go = crate::gpu::GpuOptions::from_scene(scene);
+    go.seed = RUN_SEED;
+    let mut r = crate::gpu::GpuRenderer::new(scene.clone(), go)?;
+    let device = format!("gpu ({})", r.adapter_info().name);
+    eprintln!("  measuring path on {device} …");
+    let pixels = (o.width * o.height) as f64;
+    let mut points = Vec::new();
+    let start = Instant::now();
+    let (mut done, mut next) = (0u64, 1u64);
+    while start.elapsed() < o.budget || done < 1 {
+        let img = r.render((next - done) as u32)?;
+        done = next;
+        let secs = start.elapsed().as_secs_f64();
+        points.push(BenchPoint {
+            scene: spec.to_string(),
+            device: device.clone(),
+            estimator: "path".into(),
+            spp: done,
+            seconds: secs,
+            samples_per_sec: done as f64 * pixels / secs.max(1e-9),
+            rel_mse: rel_mse(&img.mean, reference),
+            rmse: rmse(&img.mean, reference),
+            lum_ratio: mean_luminance(&img.mean) / mean_luminance(reference).max(1e-12),
+        });
+        next *= 2;
+        if done >= 1 << 20 {
+            break;
+        }
+    }
+    let summary = BenchSummary {
+        scene: spec.to_string(),
+        device,
+        estimator: "path".into(),
+        samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
+        t_rel_01: time_to(&points, 0.01),
+        t_rel_001: time_to(&points, 0.001),
+        ref_noise,
+        ref_spp: o.ref_spp,
+    };
+    Ok((points, summary))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -402,7 +466,7 @@ pub fn run(o: &BenchOptions) -> Result<String> {
     let mut all = Vec::new();
     let mut sums = Vec::new();
     for spec in &o.scenes {
-        eprintln!("bench {spec} (cpu) …");
+        eprintln!("bench {spec} …");
         let (pts, sum) = bench_scene_cpu(spec, o)?;
         all.extend(pts);
         sums.extend(sum);

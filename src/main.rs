@@ -60,7 +60,7 @@ struct BenchArgs {
     /// Estimator of the cached reference (bdpt converges much faster on caustics).
     #[arg(long, default_value = "bdpt")]
     ref_estimator: Estimator,
-    /// Renderer to measure: cpu (the GPU renderer is measured with `render --device gpu`).
+    /// Renderer to measure: cpu, gpu (path tracer) or all.
     #[arg(long, default_value = "cpu")]
     device: String,
     /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
@@ -338,11 +338,12 @@ fn bench(args: &BenchArgs) -> Result<()> {
             bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
         }
     }
-    if args.device != "cpu" {
-        bail!(
-            "bench measures the CPU renderer only so far (use `render --device gpu` for GPU timings)"
-        );
-    }
+    let (cpu, gpu) = match args.device.to_ascii_lowercase().as_str() {
+        "cpu" => (true, false),
+        "gpu" => (false, true),
+        "all" => (true, true),
+        d => bail!("unknown device '{d}' (use cpu, gpu or all)"),
+    };
     if args.ref_spp < 2 {
         bail!("--ref-spp must be at least 2 (two independent halves)");
     }
@@ -364,6 +365,8 @@ fn bench(args: &BenchArgs) -> Result<()> {
         cache_dir: args.cache.clone(),
         estimators: args.estimators.clone(),
         ref_estimator: args.ref_estimator,
+        cpu,
+        gpu,
     };
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads.filter(|&t| t > 0) {

@@ -103,3 +103,76 @@ fn render_writes_exr_and_png() {
     let png_img = image::open(&png).expect("read png").into_rgb8();
     assert_eq!(png_img.dimensions(), (24, 16));
 }
+
+#[test]
+fn bench_writes_csv_plot_and_table() {
+    let out = tmp("bench");
+    let cache = tmp("bench-cache");
+    let (ok, stdout, err) = refract(&[
+        "bench",
+        "--scenes",
+        "builtin:furnace",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "--ref-spp",
+        "8",
+        "--budget",
+        "200ms",
+        "--estimators",
+        "path",
+        "bdpt",
+        "--out",
+        &out,
+        "--cache",
+        &cache,
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        stdout.contains("| builtin:furnace | cpu | path |"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("| builtin:furnace | cpu | bdpt |"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(format!("{out}/bench.csv")).expect("csv");
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert!(rows.len() >= 2, "{csv}");
+    for r in rows {
+        let rel: f64 = r
+            .split(',')
+            .nth(6)
+            .expect("rel_mse column")
+            .parse()
+            .expect("number");
+        assert!(rel.is_finite() && rel >= 0.0, "{r}");
+    }
+    assert!(std::path::Path::new(&format!("{out}/bench.png")).exists());
+    assert!(std::path::Path::new(&format!("{out}/bench.md")).exists());
+    // the second run reuses the cached reference
+    let (ok, _, err2) = refract(&[
+        "bench",
+        "--scenes",
+        "builtin:furnace",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "--ref-spp",
+        "8",
+        "--budget",
+        "100ms",
+        "--estimators",
+        "path",
+        "--out",
+        &out,
+        "--cache",
+        &cache,
+    ]);
+    assert!(
+        ok && !err2.contains("reference half"),
+        "reference not cached: {err2}"
+    );
+}
