@@ -74,6 +74,29 @@ struct Vertex {
 }
 
 impl Vertex {
+    /// Origin of a light subpath on a punctual light (delta position) picked with `pick`.
+    fn delta_light(light: LightRef, p: Vec3, pick: f32) -> Vertex {
+        Vertex {
+            kind: Kind::Light {
+                light,
+                delta_pos: true,
+            },
+            p,
+            ng: Vec3::ZERO,
+            ns: Vec3::ZERO,
+            material: 0,
+            bsdf: None,
+            beta: Color::splat(1.0 / pick),
+            pdf_fwd: pick,
+            pdf_rev: 0.0,
+            delta: false,
+            class: Symbol::L,
+            w_prev: Vec3::ZERO,
+            tri: 0,
+            collapsed: false,
+        }
+    }
+
     fn on_surface(&self) -> bool {
         self.kind == Kind::Surface
             || matches!(
@@ -475,47 +498,11 @@ impl<'a> Bdpt<'a> {
                     }
                     PunctualLight::Directional { .. } => {
                         // Only the s = 1 strategy handles directional lights.
-                        path.push(Vertex {
-                            kind: Kind::Light {
-                                light,
-                                delta_pos: true,
-                            },
-                            p: Vec3::ZERO,
-                            ng: Vec3::ZERO,
-                            ns: Vec3::ZERO,
-                            material: 0,
-                            bsdf: None,
-                            beta: Color::splat(1.0 / pick),
-                            pdf_fwd: pick,
-                            pdf_rev: 0.0,
-                            delta: false,
-                            class: Symbol::L,
-                            w_prev: Vec3::ZERO,
-                            tri: 0,
-                            collapsed: false,
-                        });
+                        path.push(Vertex::delta_light(light, Vec3::ZERO, pick));
                         return;
                     }
                 };
-                path.push(Vertex {
-                    kind: Kind::Light {
-                        light,
-                        delta_pos: true,
-                    },
-                    p,
-                    ng: Vec3::ZERO,
-                    ns: Vec3::ZERO,
-                    material: 0,
-                    bsdf: None,
-                    beta: Color::splat(1.0 / pick),
-                    pdf_fwd: pick,
-                    pdf_rev: 0.0,
-                    delta: false,
-                    class: Symbol::L,
-                    w_prev: Vec3::ZERO,
-                    tri: 0,
-                    collapsed: false,
-                });
+                path.push(Vertex::delta_light(light, p, pick));
                 if intensity.max_element() <= 0.0 {
                     return;
                 }
