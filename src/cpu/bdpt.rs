@@ -746,7 +746,15 @@ impl<'a> Bdpt<'a> {
                 if t == 1 {
                     // (1,1) would see emitters directly a second time; (0,2) does that in the
                     // full estimator (as in Veach's and pbrt's BDPT). Pure light tracing keeps it.
-                    if s == 0 || (s == 1 && self.mode == BdptMode::Full) {
+                    // A delta-position light is never seen directly through a pinhole.
+                    let delta_light = matches!(
+                        light.first().map(|v| v.kind),
+                        Some(Kind::Light {
+                            delta_pos: true,
+                            ..
+                        })
+                    );
+                    if s == 0 || (s == 1 && (self.mode == BdptMode::Full || delta_light)) {
                         continue;
                     }
                     if let Some((px, py, v)) = self.connect_camera(&light[..s], &cam, sp) {
