@@ -1102,3 +1102,186 @@ fn shading_correction(wo: Vec3, wi: Vec3, ns: Vec3, ng: Vec3) -> f32 {
     let den = wo.dot(ng).abs() * wi.dot(ns).abs();
     if den <= 0.0 { 0.0 } else { num / den }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::{RenderOptions, Renderer};
+    use crate::scene::{MaterialKind, Scene};
+
+    /// MIS check (Veach 1997, §9.2): for a fixed full path x0 (on the light) … xk (camera) of
+    /// non-delta vertices, the power-heuristic weights of all strategies (s, t = k + 1 − s)
+    /// that can produce it sum to 1. The subpaths are built with the densities the random
+    /// walks would store; `mis_weight` recomputes the connection vertices itself.
+    #[test]
+    fn strategy_weights_sum_to_one() {
+        let scene = Scene::load("builtin:cornell-glass").expect("builtin");
+        let r = Renderer::new(scene).expect("valid");
+        let mut o = RenderOptions::from_scene(&r.scene);
+        o.width = 64;
+        o.height = 64;
+        let integ = r.integrator(&o);
+        let bd = Bdpt::new(&integ, BdptMode::Full, None, 64, 64);
+        let sc = &r.scene;
+        let diffuse: Vec<u32> = (0..sc.mesh.triangle_count() as u32)
+            .filter(|&t| {
+                sc.materials[sc.mesh.tri_material[t as usize] as usize].kind
+                    == MaterialKind::Diffuse
+                    && !sc.materials[sc.mesh.tri_material[t as usize] as usize].is_emissive()
+            })
+            .collect();
+        let light_tris = sc.emissive_triangles();
+        let mut rng = Sampler::new(7, 0, 1);
+        let surface = |t: u32, u: glam::Vec2, prev: Vec3| -> Vertex {
+            let (p, n, _) = sample_triangle(sc, t, u);
+            let m = sc.mesh.tri_material[t as usize];
+            let mat = &sc.materials[m as usize];
+            Vertex {
+                kind: Kind::Surface,
+                p,
+                ng: n,
+                ns: n,
+                material: m,
+                bsdf: Some(mat.bsdf(&sc.textures, glam::Vec2::ZERO, mat.ior)),
+                beta: Color::ONE,
+                pdf_fwd: 0.0,
+                pdf_rev: 0.0,
+                delta: false,
+                class: Symbol::D,
+                w_prev: (prev - p).normalize(),
+                tri: t,
+                collapsed: false,
+            }
+        };
+        let mut checked = 0;
+        for _ in 0..400 {
+            let k = 2 + (rng.next_1d() * 4.0) as usize; // path of k segments, k + 1 vertices
+            // x0 on the light, x1..x(k-1) on diffuse walls (different planes), xk = camera.
+            let lt =
+                light_tris[(rng.next_1d() * light_tris.len() as f32) as usize % light_tris.len()];
+            let (p0, n0, _) = sample_triangle(sc, lt, rng.next_2d());
+            let mut xs: Vec<(Vec3, Vec3, u32)> = vec![(p0, n0, lt)];
+            while xs.len() < k {
+                let t = diffuse[(rng.next_1d() * diffuse.len() as f32) as usize % diffuse.len()];
+                let (p, n, _) = sample_triangle(sc, t, rng.next_2d());
+                let (pp, pn, _) = *xs.last().unwrap();
+                let d = (p - pp).normalize();
+                if n.dot(-d) > 0.05 && pn.dot(d) > 0.05 {
+                    xs.push((p, n, t));
+                }
+            }
+            // the last surface vertex must be on the film
+            let cam_p = bd.cam.pos;
+            let (pl, _, _) = *xs.last().unwrap();
+            if bd.cam.raster((pl - cam_p).normalize()).is_none() {
+                continue;
+            }
+            // full path as vertices, both directions' densities
+            let mut full: Vec<Vertex> = Vec::new();
+            for (i, &(p, _, t)) in xs.iter().enumerate() {
+                let prev = if i == 0 { p + n0 } else { xs[i - 1].0 };
+                let mut v = surface(t, glam::Vec2::ZERO, prev);
+                v.p = p;
+                full.push(v);
+            }
+            full[0].kind = Kind::Light {
+                light: LightRef::Triangle(lt),
+                delta_pos: false,
+            };
+            full[0].bsdf = None;
+            let mut cam_v = full[0];
+            cam_v.kind = Kind::Camera;
+            cam_v.p = cam_p;
+            cam_v.ng = Vec3::ZERO;
+            cam_v.ns = Vec3::ZERO;
+            cam_v.bsdf = None;
+            full.push(cam_v);
+            let n = full.len(); // k + 1
+            // light-direction densities
+            let mut pl_fwd = vec![0.0f32; n];
+            pl_fwd[0] = bd.light_point_pdf(&Vertex {
+                kind: Kind::Surface,
+                ..full[0]
+            });
+            for i in 1..n {
+                let w = (full[i].p - full[i - 1].p).normalize();
+                let pdf_w = if i == 1 {
+                    bd.light_pdf_dir(&full[0], w)
+                } else {
+                    let v = &full[i - 1];
+                    let f = Frame::from_normal(v.ns);
+                    let wo = (full[i - 2].p - v.p).normalize();
+                    v.bsdf.unwrap().pdf(f.to_local(wo), f.to_local(w))
+                };
+                pl_fwd[i] = to_area(pdf_w, &full[i - 1], &full[i]);
+            }
+            // camera-direction densities
+            let mut pc_fwd = vec![0.0f32; n];
+            pc_fwd[n - 1] = 1.0;
+            for i in (0..n - 1).rev() {
+                let w = (full[i].p - full[i + 1].p).normalize();
+                let pdf_w = if i == n - 2 {
+                    bd.cam.pdf_dir(w)
+                } else {
+                    let v = &full[i + 1];
+                    let f = Frame::from_normal(v.ns);
+                    let wo = (full[i + 2].p - v.p).normalize();
+                    v.bsdf.unwrap().pdf(f.to_local(wo), f.to_local(w))
+                };
+                pc_fwd[i] = to_area(pdf_w, &full[i + 1], &full[i]);
+            }
+            let mut sum = 0.0f32;
+            for s in 0..n {
+                let t = n - s;
+                if t < 1 || (s == 1 && t == 1) {
+                    continue;
+                }
+                let light: Vec<Vertex> = (0..s)
+                    .map(|i| Vertex {
+                        pdf_fwd: pl_fwd[i],
+                        pdf_rev: pc_fwd[i],
+                        w_prev: if i == 0 {
+                            full[0].w_prev
+                        } else {
+                            (full[i - 1].p - full[i].p).normalize()
+                        },
+                        ..full[i]
+                    })
+                    .collect();
+                let cam: Vec<Vertex> = (0..t)
+                    .map(|j| {
+                        let i = n - 1 - j;
+                        let w_prev = if j == 0 {
+                            Vec3::ZERO
+                        } else {
+                            (full[i + 1].p - full[i].p).normalize()
+                        };
+                        Vertex {
+                            pdf_fwd: pc_fwd[i],
+                            pdf_rev: pl_fwd[i],
+                            w_prev,
+                            ..full[i]
+                        }
+                    })
+                    .collect();
+                let w = if t == 1 {
+                    let y = light[s - 1];
+                    let pdf_cam_y = to_area(bd.cam.pdf_dir((y.p - cam_p).normalize()), &cam[0], &y);
+                    bd.mis_weight(&light, &cam, 1, Some(pdf_cam_y))
+                } else if s == 0 {
+                    // the camera path ends on the emitter x0
+                    let mut cam = cam;
+                    let last = cam.len() - 1;
+                    cam[last].kind = Kind::Surface;
+                    bd.mis_weight(&[], &cam, t, None)
+                } else {
+                    bd.mis_weight(&light, &cam, t, None)
+                };
+                sum += w;
+            }
+            assert!((sum - 1.0).abs() < 1e-3, "k = {k}: weights sum to {sum}");
+            checked += 1;
+        }
+        assert!(checked > 100, "only {checked} paths checked");
+    }
+}
