@@ -37,8 +37,11 @@ pub struct BenchOptions {
     pub ref_estimator: Estimator,
     /// Measure the CPU renderer (every estimator).
     pub cpu: bool,
-    /// Measure the GPU renderer (path estimator; skipped with a message if no adapter).
+    /// Measure the GPU renderer (path and lt+pt; skipped with a message if no adapter).
     pub gpu: bool,
+    /// Heckbert path filter applied to the reference and every run (None = all paths), e.g.
+    /// `LS+DE` to measure the caustic component alone.
+    pub paths: Option<String>,
 }
 
 /// One point of an error-vs-time curve.
@@ -112,8 +115,13 @@ fn scene_hash(spec: &str, opts: &RenderOptions, ref_spp: u32) -> u64 {
     {
         h = fnv1a(&bytes, h);
     }
+    let filter = opts
+        .filter
+        .as_ref()
+        .map(|f| format!("{:x}", fnv1a(bytemuck::cast_slice(&f.words()), 0)))
+        .unwrap_or_default();
     let meta = format!(
-        "{}x{} d{} rr{} spp{} v{} {:?}",
+        "{}x{} d{} rr{} spp{} v{} {:?} paths[{filter}]",
         opts.width,
         opts.height,
         opts.max_depth,
@@ -178,7 +186,14 @@ pub fn bench_scene_cpu(
     scene.settings.width = o.width;
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;
-    let opts = RenderOptions::from_scene(&r.scene);
+    let mut opts = RenderOptions::from_scene(&r.scene);
+    let filter = o
+        .paths
+        .as_deref()
+        .map(crate::paths::PathFilter::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
+    Renderer::set_filter(&mut opts, filter.as_ref());
     let ro = o.clone();
     let (a, b) = reference(&r, spec, &opts, &ro)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
@@ -186,16 +201,38 @@ pub fn bench_scene_cpu(
     let ref_noise = rel_mse(&a, &b) / 4.0;
     let mut points = Vec::new();
     let mut sums = Vec::new();
-    if o.gpu {
-        match measure_gpu(&r.scene, spec, o, &reference, ref_noise) {
+    for &est in o.estimators.iter().filter(|_| o.gpu) {
+        let ge = match est {
+            Estimator::Path => crate::gpu::GpuEstimator::Path,
+            Estimator::LtPt => crate::gpu::GpuEstimator::LtPt,
+            e => {
+                eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
+                continue;
+            }
+        };
+        match measure_gpu(
+            &r.scene,
+            spec,
+            o,
+            filter.as_ref(),
+            ge,
+            &reference,
+            ref_noise,
+        ) {
             Ok((p, s)) => {
                 points.extend(p);
                 sums.push(s);
             }
-            Err(e) => eprintln!("  GPU skipped on {spec}: {e:#}"),
+            Err(e) => eprintln!("  GPU {ge} skipped on {spec}: {e:#}"),
         }
     }
     for &est in o.estimators.iter().filter(|_| o.cpu) {
+        if est == Estimator::LtPt {
+            eprintln!(
+                "  CPU: lt+pt is the GPU estimator (the CPU's bdpt is its superset), skipped"
+            );
+            continue;
+        }
         eprintln!("  measuring {est:?} …");
         let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, ro.ref_spp);
         points.extend(p);
@@ -204,20 +241,26 @@ pub fn bench_scene_cpu(
     Ok((points, sums))
 }
 
-/// The GPU renderer's curve (path tracer): batches up to each power of two, image read back
-/// at each point (the readback time is included in the wall time).
+/// A GPU estimator's curve: batches up to each power of two, image read back at each point
+/// (the readback time is included in the wall time).
+#[allow(clippy::too_many_arguments)]
 fn measure_gpu(
     scene: &Scene,
     spec: &str,
     o: &BenchOptions,
+    filter: Option<&crate::paths::PathFilter>,
+    estimator: crate::gpu::GpuEstimator,
     reference: &[Vec3],
     ref_noise: f64,
 ) -> Result<(Vec<BenchPoint>, BenchSummary)> {
     let mut go = crate::gpu::GpuOptions::from_scene(scene);
     go.seed = RUN_SEED;
     let mut r = crate::gpu::GpuRenderer::new(scene.clone(), go)?;
+    r.set_filter(filter);
+    r.set_estimator(estimator)?;
     let device = format!("gpu ({})", r.adapter_info().name);
-    eprintln!("  measuring path on {device} …");
+    let name = estimator.to_string();
+    eprintln!("  measuring {name} on {device} …");
     let pixels = (o.width * o.height) as f64;
     let mut points = Vec::new();
     let start = Instant::now();
@@ -229,7 +272,7 @@ fn measure_gpu(
         points.push(BenchPoint {
             scene: spec.to_string(),
             device: device.clone(),
-            estimator: "path".into(),
+            estimator: name.clone(),
             spp: done,
             seconds: secs,
             samples_per_sec: done as f64 * pixels / secs.max(1e-9),
@@ -245,7 +288,7 @@ fn measure_gpu(
     let summary = BenchSummary {
         scene: spec.to_string(),
         device,
-        estimator: "path".into(),
+        estimator: name,
         samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
         t_rel_01: time_to(&points, 0.01),
         t_rel_001: time_to(&points, 0.001),
@@ -266,7 +309,7 @@ fn measure(
     ref_noise: f64,
     ref_spp: u32,
 ) -> (Vec<BenchPoint>, BenchSummary) {
-    let estimator = format!("{est:?}").to_lowercase();
+    let estimator = est.to_string();
     opts.estimator = est;
     opts.seed = RUN_SEED;
     let pixels = (opts.width * opts.height) as f64;

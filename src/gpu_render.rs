@@ -4,7 +4,7 @@
 use anyhow::{Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use refract::film::{self, ToneMap};
-use refract::gpu::{GpuContext, GpuOptions, GpuRenderer};
+use refract::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
 use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
@@ -27,14 +27,15 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
     };
     let filter = job.filter;
-    if args.estimator != refract::cpu::Estimator::Path {
-        if forced {
-            bail!(
-                "the GPU renderer implements the path tracer only (use --estimator path or --device cpu)"
-            );
+    use refract::cpu::Estimator;
+    let estimator = match args.estimator {
+        Estimator::Path => GpuEstimator::Path,
+        Estimator::LtPt => GpuEstimator::LtPt,
+        e if forced => {
+            bail!("the GPU renderer implements path and lt+pt (estimator '{e}' needs --device cpu)")
         }
-        return Ok(false);
-    }
+        _ => return Ok(false),
+    };
     let ctx = match GpuContext::new() {
         Ok(c) => c,
         Err(e) if !forced => {
@@ -68,9 +69,16 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         Err(e) => return Err(e),
     };
     r.set_filter(Some(filter));
+    if let Err(e) = r.set_estimator(estimator) {
+        if !forced {
+            eprintln!("{e:#}; rendering on the CPU");
+            return Ok(false);
+        }
+        return Err(e);
+    }
     let (bvh_time, depth, nodes) = r.bvh_info();
     eprintln!(
-        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}{}{}",
+        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}, estimator {}{}{}",
         scene.name,
         scene.mesh.triangle_count(),
         bvh_time.as_secs_f64() * 1e3,
@@ -78,6 +86,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         opts.height,
         spp,
         opts.max_depth,
+        r.effective_estimator(),
         if filter.is_accept_all() {
             String::new()
         } else {

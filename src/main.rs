@@ -54,18 +54,21 @@ struct BenchArgs {
     /// Reference cache folder.
     #[arg(long, default_value = "target/bench-cache")]
     cache: PathBuf,
-    /// Estimators to measure: path, bdpt, lt.
+    /// Estimators to measure: path, bdpt, lt (CPU), lt+pt (GPU).
     #[arg(long, num_args = 1.., default_values_t = [Estimator::Path, Estimator::Bdpt])]
     estimators: Vec<Estimator>,
     /// Estimator of the cached reference (bdpt converges much faster on caustics).
     #[arg(long, default_value = "bdpt")]
     ref_estimator: Estimator,
-    /// Renderer to measure: cpu, gpu (path tracer) or all.
+    /// Renderer to measure: cpu, gpu (path and lt+pt) or all.
     #[arg(long, default_value = "cpu")]
     device: String,
     /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
     #[arg(long)]
     quick: bool,
+    /// Heckbert path filter for the reference and every run, e.g. 'LS+DE' (the caustic alone).
+    #[arg(long)]
+    paths: Option<String>,
     #[arg(long)]
     threads: Option<usize>,
 }
@@ -128,7 +131,8 @@ struct RenderArgs {
     #[arg(long)]
     paths: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
-    /// strategies), lt (pure light tracing).
+    /// strategies), lt (pure light tracing), lt+pt (GPU: light tracing and path tracing
+    /// combined by MIS; the CPU runs bdpt for it).
     #[arg(long, default_value = "path")]
     estimator: Estimator,
     /// Hide the progress bar.
@@ -280,6 +284,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     opts.seed = seed;
     Renderer::set_filter(&mut opts, Some(&filter));
     opts.estimator = args.estimator;
+    if args.estimator == Estimator::LtPt {
+        eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
+    }
 
     eprintln!(
         "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
@@ -367,6 +374,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
         ref_estimator: args.ref_estimator,
         cpu,
         gpu,
+        paths: args.paths.clone(),
     };
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads.filter(|&t| t > 0) {

@@ -20,6 +20,11 @@ pub enum Estimator {
     Bdpt,
     /// Pure light tracing (light subpaths connected to the camera only).
     Lt,
+    /// Path tracing and light tracing combined by MIS: the GPU estimator for caustics
+    /// (src/shaders/light_tracing.wgsl). The CPU renders it with full BDPT, whose strategies
+    /// are a superset.
+    #[serde(rename = "lt+pt", alias = "ltpt")]
+    LtPt,
 }
 
 impl std::fmt::Display for Estimator {
@@ -28,6 +33,7 @@ impl std::fmt::Display for Estimator {
             Estimator::Path => "path",
             Estimator::Bdpt => "bdpt",
             Estimator::Lt => "lt",
+            Estimator::LtPt => "lt+pt",
         })
     }
 }
@@ -39,7 +45,10 @@ impl std::str::FromStr for Estimator {
             "path" | "pt" => Ok(Estimator::Path),
             "bdpt" => Ok(Estimator::Bdpt),
             "lt" | "light" => Ok(Estimator::Lt),
-            _ => Err(format!("unknown estimator '{s}' (use path, bdpt or lt)")),
+            "lt+pt" | "ltpt" | "pt+lt" => Ok(Estimator::LtPt),
+            _ => Err(format!(
+                "unknown estimator '{s}' (use path, bdpt, lt or lt+pt)"
+            )),
         }
     }
 }

@@ -15,4 +15,4 @@ pub mod renderer;
 pub mod upload;
 
 pub use context::GpuContext;
-pub use renderer::{GpuImage, GpuOptions, GpuRenderer, GpuStats};
+pub use renderer::{GpuEstimator, GpuImage, GpuOptions, GpuRenderer, GpuStats};

@@ -20,11 +20,22 @@ const MICROFACET: &str = include_str!("../shaders/microfacet.wgsl");
 const BSDF: &str = include_str!("../shaders/bsdf.wgsl");
 const SCENE: &str = include_str!("../shaders/scene.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
+const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
 
 /// The integrator kernel's full WGSL source.
 pub fn integrator_source() -> String {
-    [COMMON, RNG, SPECTRUM, MICROFACET, BSDF, SCENE, INTEGRATOR].join("\n")
+    [
+        COMMON,
+        RNG,
+        SPECTRUM,
+        MICROFACET,
+        BSDF,
+        SCENE,
+        INTEGRATOR,
+        LIGHT_TRACING,
+    ]
+    .join("\n")
 }
 
 /// The probe kernel's full WGSL source (maths only, no scene).
@@ -59,6 +70,8 @@ pub struct Specialization {
     pub filter: bool,
     /// Hero-wavelength spectral transport (a dispersive material exists).
     pub spectral: bool,
+    /// Light tracing combined with path tracing by MIS (`lt+pt`; the estimator, not the scene).
+    pub light_tracing: bool,
 }
 
 impl Specialization {
@@ -132,6 +145,7 @@ impl Specialization {
             textures: self.textures | o.textures,
             filter: self.filter | o.filter,
             spectral: self.spectral | o.spectral,
+            light_tracing: self.light_tracing | o.light_tracing,
         }
     }
 
@@ -154,16 +168,38 @@ impl Specialization {
             ("HAS_TEXTURES", b(self.textures)),
             ("HAS_FILTER", b(self.filter)),
             ("HAS_SPECTRAL", b(self.spectral)),
+            ("HAS_LT", b(self.light_tracing)),
         ]
     }
 }
+
+/// The entry points of the integrator module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    /// Camera paths (`render`): path tracing, plus folding light-tracing splats into the film.
+    Render,
+    /// Light subpaths connected to the camera (`light_trace`, only with `light_tracing`).
+    LightTrace,
+}
+
+impl Kernel {
+    fn entry(self) -> &'static str {
+        match self {
+            Kernel::Render => "render",
+            Kernel::LightTrace => "light_trace",
+        }
+    }
+}
+
+/// Storage buffers the integrator binds (bindings 1–8 and 10).
+pub const STORAGE_BUFFERS: u32 = 9;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
-    cache: HashMap<Specialization, wgpu::ComputePipeline>,
+    cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
     /// Number of pipelines compiled so far (tests check that edits do not recompile).
     pub compiled: u32,
 }
@@ -202,6 +238,13 @@ fn create_module(ctx: &GpuContext, label: &str, source: String) -> Result<wgpu::
 
 impl Pipelines {
     pub fn new(ctx: &GpuContext) -> Result<Pipelines> {
+        let max = ctx.device.limits().max_storage_buffers_per_shader_stage;
+        anyhow::ensure!(
+            max >= STORAGE_BUFFERS,
+            "GPU adapter '{}' allows {max} storage buffers per shader stage; refract needs \
+             {STORAGE_BUFFERS} (use --device cpu)",
+            ctx.info.name
+        );
         let module = create_module(ctx, "integrator.wgsl", integrator_source())?;
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
             binding: 0,
@@ -230,6 +273,8 @@ impl Pipelines {
             },
             count: None,
         });
+        // Light-tracing splats (fixed-point atomics).
+        entries.push(storage_entry(10, false));
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -252,10 +297,20 @@ impl Pipelines {
         })
     }
 
-    /// The pipeline for `spec` (compiled on first use, then cached).
+    /// The `render` pipeline for `spec` (compiled on first use, then cached).
     pub fn get(&mut self, ctx: &GpuContext, spec: Specialization) -> &wgpu::ComputePipeline {
+        self.get_kernel(ctx, spec, Kernel::Render)
+    }
+
+    /// The pipeline of `kernel` for `spec` (compiled on first use, then cached).
+    pub fn get_kernel(
+        &mut self,
+        ctx: &GpuContext,
+        spec: Specialization,
+        kernel: Kernel,
+    ) -> &wgpu::ComputePipeline {
         let (layout, module, compiled) = (&self.layout, &self.module, &mut self.compiled);
-        self.cache.entry(spec).or_insert_with(|| {
+        self.cache.entry((spec, kernel)).or_insert_with(|| {
             *compiled += 1;
             let constants = spec.constants();
             ctx.device
@@ -263,7 +318,7 @@ impl Pipelines {
                     label: Some("integrator"),
                     layout: Some(layout),
                     module,
-                    entry_point: Some("render"),
+                    entry_point: Some(kernel.entry()),
                     compilation_options: wgpu::PipelineCompilationOptions {
                         constants: &constants,
                         zero_initialize_workgroup_memory: false,

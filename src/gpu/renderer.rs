@@ -5,7 +5,7 @@
 
 use super::GpuContext;
 use super::layout::{self, GpuLayout, Params};
-use super::pipeline::{Pipelines, Specialization};
+use super::pipeline::{Kernel, Pipelines, Specialization};
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
 use crate::scene::{Camera, Material, Scene, light::LightSet};
@@ -38,6 +38,28 @@ impl GpuOptions {
             seed: 0,
             batch_spp: None,
         }
+    }
+}
+
+/// Light-transport estimator of the GPU renderer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GpuEstimator {
+    /// Path tracing with next-event estimation (MIS between BSDF and light sampling).
+    #[default]
+    Path,
+    /// Path tracing plus light tracing (one light subpath per camera path, connected to the
+    /// camera and splatted with fixed-point atomics), all three strategies combined by MIS
+    /// (src/shaders/light_tracing.wgsl). Converges caustics (LS+DE) that path tracing barely
+    /// finds. RGB only (no dispersion).
+    LtPt,
+}
+
+impl std::fmt::Display for GpuEstimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            GpuEstimator::Path => "path",
+            GpuEstimator::LtPt => "lt+pt",
+        })
     }
 }
 
@@ -112,6 +134,8 @@ struct Buffers {
     stats: wgpu::Buffer,
     texels: wgpu::Buffer,
     filter: wgpu::Buffer,
+    /// Light-tracing splats: per pixel and channel a 64-bit fixed-point sum (two u32).
+    splats: wgpu::Buffer,
 }
 
 /// The GPU progressive renderer for one scene.
@@ -134,7 +158,11 @@ pub struct GpuRenderer {
     /// Whether a path filter is set (part of the specialisation).
     filtered: bool,
     filter_table: Option<crate::paths::DfaTable>,
+    estimator: GpuEstimator,
 }
+
+/// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
+const SPLAT_BYTES_PER_PIXEL: u64 = 24;
 
 /// Buffers, light count and the texture reference slots of each material.
 type BuiltBuffers = (Buffers, u32, Vec<(u32, u32)>);
@@ -200,6 +228,7 @@ impl GpuRenderer {
             tex_slots,
             filtered: false,
             filter_table: None,
+            estimator: GpuEstimator::Path,
         })
     }
 
@@ -217,8 +246,9 @@ impl GpuRenderer {
         let (lights, light_count) = upload::pack_lights(scene, bvh, light_set);
         let pixels = opts.width as u64 * opts.height as u64;
         let accum_bytes = pixels * 16;
+        let splat_bytes = pixels * SPLAT_BYTES_PER_PIXEL;
         ensure!(
-            accum_bytes <= upload::MAX_BUFFER_BYTES,
+            splat_bytes <= upload::MAX_BUFFER_BYTES,
             "image {}x{} too large for the GPU accumulation buffer (limit {} MiB)",
             opts.width,
             opts.height,
@@ -260,6 +290,12 @@ impl GpuRenderer {
                     contents: bytemuck::cast_slice(&[0u32; layout::FILTER_WORDS]),
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
+            splats: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("light-tracing splats"),
+                size: splat_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         };
         Ok((buffers, light_count, tex_slots))
     }
@@ -277,7 +313,7 @@ impl GpuRenderer {
             &b.texels,
             &b.filter,
         ];
-        let entries: Vec<wgpu::BindGroupEntry> = bufs
+        let mut entries: Vec<wgpu::BindGroupEntry> = bufs
             .iter()
             .enumerate()
             .map(|(i, buf)| wgpu::BindGroupEntry {
@@ -285,6 +321,10 @@ impl GpuRenderer {
                 resource: buf.as_entire_binding(),
             })
             .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 10,
+            resource: b.splats.as_entire_binding(),
+        });
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("integrator"),
             layout: &p.bind_group_layout,
@@ -332,6 +372,7 @@ impl GpuRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         enc.clear_buffer(&self.buffers.accum, 0, None);
         enc.clear_buffer(&self.buffers.stats, 0, None);
+        enc.clear_buffer(&self.buffers.splats, 0, None);
         self.ctx.queue.submit([enc.finish()]);
         self.spp = 0;
         self.elapsed = Duration::ZERO;
@@ -386,6 +427,21 @@ impl GpuRenderer {
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        let groups = (self.opts.width.div_ceil(8), self.opts.height.div_ceil(8));
+        if self.spec.light_tracing {
+            // Light subpaths first: `render` folds their splats into the film (wgpu orders the
+            // two passes' storage accesses).
+            let pipeline = self
+                .pipelines
+                .get_kernel(&self.ctx, self.spec, Kernel::LightTrace);
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("light trace"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        }
         {
             let pipeline = self.pipelines.get(&self.ctx, self.spec);
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -394,7 +450,7 @@ impl GpuRenderer {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(self.opts.width.div_ceil(8), self.opts.height.div_ceil(8), 1);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
         }
         self.ctx.queue.submit([enc.finish()]);
         self.spp += k as u64;
@@ -566,9 +622,44 @@ impl GpuRenderer {
     fn respecialize(&mut self) {
         let mut spec = Specialization::for_scene(&self.scene);
         spec.filter = self.filtered;
+        // Light tracing is RGB-only: a dispersive scene renders with the path tracer.
+        spec.light_tracing = self.estimator == GpuEstimator::LtPt && !spec.spectral;
         if spec != self.spec {
             self.spec = spec;
             self.pipelines.get(&self.ctx, spec);
+            if spec.light_tracing {
+                self.pipelines
+                    .get_kernel(&self.ctx, spec, Kernel::LightTrace);
+            }
+        }
+    }
+
+    /// Choose the estimator. `LtPt` is refused (with the reason) for scenes with dispersion.
+    /// Accumulation restarts.
+    pub fn set_estimator(&mut self, estimator: GpuEstimator) -> Result<()> {
+        ensure!(
+            estimator != GpuEstimator::LtPt || !self.scene.features().dispersion,
+            "GPU light tracing (lt+pt) is RGB-only and this scene has dispersion; use \
+             --estimator path, or --device cpu --estimator bdpt"
+        );
+        self.estimator = estimator;
+        self.respecialize();
+        self.reset();
+        Ok(())
+    }
+
+    /// The estimator asked for.
+    pub fn estimator(&self) -> GpuEstimator {
+        self.estimator
+    }
+
+    /// The estimator the kernels run (path tracing when light tracing cannot apply, e.g. after
+    /// dispersion was switched on).
+    pub fn effective_estimator(&self) -> GpuEstimator {
+        if self.spec.light_tracing {
+            GpuEstimator::LtPt
+        } else {
+            GpuEstimator::Path
         }
     }
 

@@ -15,6 +15,8 @@ override HAS_ABSORPTION: bool = true;
 override HAS_FILTER: bool = true;
 // Hero-wavelength spectral transport (scenes with a dispersive material).
 override HAS_SPECTRAL: bool = true;
+// Light tracing combined with this kernel by MIS (`lt+pt`, light_tracing.wgsl).
+override HAS_LT: bool = false;
 
 struct Params {
     // xyz camera position, w = tan(yfov / 2)
@@ -279,9 +281,22 @@ struct ClassMask {
     g: bool,
 }
 
+// What the camera walk knows about the light-tracing strategy (HAS_LT; light_tracing.wgsl
+// explains the densities). At vertex xj: prod = Π_{i=1..j-2} p←(xi)/p→(xi), pf_prev = p→(x_{j-1}),
+// pf_cur = p→(xj), cos_prev = |ng(x_{j-1})·d| and t_prev = |xj − x_{j-1}|; ok = x1 is not delta.
+struct LtMis {
+    ok: bool,
+    first: bool,
+    prod: f32,
+    pf_prev: f32,
+    pf_cur: f32,
+    cos_prev: f32,
+    t_prev: f32,
+}
+
 // One next-event estimate at `hit` (without the path throughput), MIS-weighted.
-// Twin of `Integrator::sample_light`.
-fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral) -> vec4<f32> {
+// Twin of `Integrator::sample_light` (plus the light-tracing strategy when HAS_LT).
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis) -> vec4<f32> {
     let zero = vec4<f32>(0.0);
     let pick = light_set_pick(ul);
     if pick.prob <= 0.0 {
@@ -298,6 +313,9 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     var tmax = 1.0;
     var has_target_n = false;
     var target_n = vec3<f32>(0.0);
+    // Light-side solid-angle density of emitting towards hit.p, and the squared distance.
+    var emit_pdf = 0.0;
+    var dist2_l = 1.0;
     if light.kind == LIGHT_TRIANGLE {
         if !HAS_LIGHTS {
             return zero;
@@ -333,6 +351,10 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
         li = spectral_c(sp, v3(m.emission));
         pdf = p_pick / area * dist2 / cos_l;
         delta = false;
+        if HAS_LT {
+            emit_pdf = emission_pdf_dir(m, cos_l);
+            dist2_l = dist2;
+        }
         shadow_dir = to;
         has_target_n = true;
         target_n = nl;
@@ -357,6 +379,10 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
             }
             wi_w = to / sqrt(d2);
             shadow_dir = to;
+            if HAS_LT {
+                emit_pdf = punctual_pdf_dir(light);
+                dist2_l = d2;
+            }
             if light.kind == LIGHT_SPOT {
                 let fall = spot_falloff(dot3(-wi_w, v3(light.direction)), light.cos_inner, light.cos_outer);
                 if fall <= 0.0 {
@@ -407,7 +433,22 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
         return zero;
     }
     var w = 1.0;
-    if !delta {
+    if HAS_LT {
+        // p_t1 / p_s1 = Π_{i=1..j} p←(xi)/p→(xi), xj = this vertex (Veach 1997, §10.2).
+        var r_t = 0.0;
+        if lt.ok && emit_pdf > 0.0 {
+            r_t = ratio(emit_pdf * abs(dot3(hit.ng, wi_w)) / dist2_l, lt.pf_cur);
+            if !lt.first {
+                let p_back = bsdf_pdf(bsdf, wi, wo) * lt.cos_prev / (lt.t_prev * lt.t_prev);
+                r_t *= lt.prod * ratio(p_back, lt.pf_prev);
+            }
+        }
+        var r_0 = 0.0;
+        if !delta {
+            r_0 = bsdf_pdf(bsdf, wo, wi) / pdf;
+        }
+        w = mis_weight3(r_0, r_t);
+    } else if !delta {
         w = power_heuristic(pdf, bsdf_pdf(bsdf, wo, wi));
     }
     return f * abs(wi.z) * li * (w / pdf);
@@ -437,6 +478,8 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
     let NO_MEDIUM = 0xffffffffu;
     var medium = NO_MEDIUM;
     var depth = 0u;
+    // Light-tracing MIS state (HAS_LT).
+    var lt = LtMis(HAS_LT, true, 1.0, 0.0, 0.0, 0.0, 0.0);
     // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
     var q = 0u;
     if HAS_FILTER {
@@ -470,11 +513,39 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         }
         let mat = materials[hit.material];
         let front = dot3(d, hit.ng) < 0.0;
+        if HAS_LT {
+            // p→ of this vertex (area; 1 after a delta vertex), camera density for x1.
+            let cos_here = abs(dot3(hit.ng, d));
+            lt.pf_prev = lt.pf_cur;
+            lt.first = depth == 0u;
+            lt.t_prev = hit.t;
+            if depth == 0u {
+                lt.pf_cur = camera_pdf_dir(-dot3(d, params.cam_back.xyz)) * cos_here / (hit.t * hit.t);
+            } else if prev_delta {
+                lt.pf_cur = 1.0;
+            } else {
+                lt.pf_cur = prev_pdf * cos_here / (hit.t * hit.t);
+            }
+        }
 
         // Emission (one-sided unless doubleSided).
         if HAS_LIGHTS && (mat.flags & MAT_EMISSIVE) != 0u && (front || (mat.flags & MAT_DOUBLE_SIDED) != 0u) && integrator_accepts_light(q) {
             var w = 1.0;
-            if !prev_delta {
+            if HAS_LT {
+                // Ratios of next-event estimation (s = 1) and light tracing (t = 1) to this
+                // BSDF-sampled hit (s = 0); light tracing needs k ≥ 2 and x1 non-delta.
+                var r_1 = 0.0;
+                if !prev_delta {
+                    r_1 = integrator_light_pdf(hit, d) / prev_pdf;
+                }
+                var r_t = 0.0;
+                if lt.ok && depth >= 1u {
+                    let tri = triangles[hit.slot];
+                    let p_back = emission_pdf_dir(mat, abs(dot3(hit.ng, d))) * lt.cos_prev / (hit.t * hit.t);
+                    r_t = lt.prod * ratio(p_back, lt.pf_prev) * ratio(tri.pick_prob / tri.area, lt.pf_cur);
+                }
+                w = mis_weight3(r_1, r_t);
+            } else if !prev_delta {
                 w = power_heuristic(prev_pdf, integrator_light_pdf(hit, d));
             }
             l += beta * spectral_c(sp, v3(mat.emission)) * w;
@@ -523,7 +594,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
             let mask = ClassMask(integrator_accepts_light(integrator_step(q, SYM_D)), integrator_accepts_light(integrator_step(q, SYM_G)));
             if mask.d || mask.g {
-                l += beta * integrator_sample_light(hit, ng, frame, wo, wo_w, bsdf, ul, ul2, mask, sp);
+                l += beta * integrator_sample_light(hit, ng, frame, wo, wo_w, bsdf, ul, ul2, mask, sp, lt);
             }
         }
 
@@ -555,6 +626,19 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             }
         }
         beta *= s.weight;
+        if HAS_LT {
+            if depth >= 1u {
+                // p←(x_{j-1}): this vertex samples the previous one (1 if delta).
+                var p_back = 1.0;
+                if !s.is_delta {
+                    p_back = bsdf_pdf(bsdf, s.wi, wo) * lt.cos_prev / (hit.t * hit.t);
+                }
+                lt.prod *= ratio(p_back, lt.pf_prev);
+            } else if s.is_delta {
+                lt.ok = false; // x1 is delta: light tracing cannot connect it to the camera
+            }
+            lt.cos_prev = abs(dot3(hit.ng, wi_w));
+        }
         if s.event == EVENT_TRANSMIT {
             eta_scale *= s.eta_rel * s.eta_rel;
             if (mat.flags & MAT_SOLID) != 0u {
@@ -643,6 +727,13 @@ fn render(@builtin(global_invocation_id) gid: vec3<u32>) {
             sum += v;
         } else {
             dropped++;
+        }
+    }
+    if HAS_LT {
+        // This batch's light-tracing splats (k light paths per pixel, like the camera paths).
+        let lt_sum = splat_take(pixel);
+        if is_finite_v3(lt_sum) {
+            sum += lt_sum;
         }
     }
     // Fold the batch into the running mean without drift: mean·n/(n+k) + Σ/(n+k).

@@ -1,0 +1,518 @@
+// light_tracing.wgsl — light tracing (the t = 1 strategy of Veach 1997, §10.2) combined with
+// the path tracer's two strategies (s = 0: a BSDF-sampled ray hits the light; s = 1: next-event
+// estimation) by multiple importance sampling, the GPU estimator `lt+pt`.
+//
+// Each thread traces one light subpath y0 (on a light) … ym per sample and connects every
+// non-delta surface vertex to the pinhole camera. The contribution is splatted into a
+// fixed-point film (`splats`, two u32 atomics per channel forming a 64-bit counter in units of
+// 2⁻²⁰; WGSL has no float atomics) that the `render` kernel folds into the running mean after
+// the same batch's camera paths (integrator.wgsl, HAS_LT).
+//
+// MIS (power heuristic, Veach 1997 §9.2.4) over three strategies for a path x0 (camera) … xk
+// (light), with area densities p→(xi) of the camera-side walk and p←(xi) of the light-side walk:
+//   p_s0 = Π_{i=1..k} p→(xi)
+//   p_s1 = Π_{i=1..k-1} p→(xi) · p_light(xk)              (needs x_{k-1} non-delta)
+//   p_t1 = p_light(xk) · Π_{i=1..k-1} p←(xi)              (needs x1 non-delta)
+// Both kernels evaluate the same ratios from their own side with running products, like the
+// recursive MIS of Georgiev et al. 2012 ("Light Transport Simulation with Vertex Connection and
+// Merging", tech. report "Implementing VCM") restricted to these three strategies. Vertices
+// sampled from a delta vertex get density 1 on both sides (the delta factors cancel; PBR 3rd ed.
+// §16.3.5 `remap0`), so the weights sum to one for every path that more than one strategy can
+// make. Russian roulette is not part of the densities (it stays unbiased).
+//
+// Importance transport uses the adjoint BSDF (`MODE_IMPORTANCE`: no 1/η² on refraction) and the
+// shading-normal correction |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (Veach 1997, eq. 5.19).
+// RGB only: scenes with dispersion render `lt+pt` on the CPU's bdpt instead (the host refuses).
+
+@group(0) @binding(10) var<storage, read_write> splats: array<atomic<u32>>;
+
+// Fixed point: 2²⁰ steps per unit of radiance; one splat may carry up to SPLAT_MAX.
+const SPLAT_SCALE: f32 = 1048576.0;
+const SPLAT_MAX: f32 = 1.0e6;
+const TWO_POW_32: f32 = 4294967296.0;
+// Largest f32 below 2³² (u32 conversion of anything larger is undefined).
+const U32_MAX_F: f32 = 4294967040.0;
+// Stream separation between camera and light subpaths of the same (pixel, sample).
+const LT_SEED_MIX: u32 = 0x9e3779b9u;
+
+// Add v (≥ 0, ≤ SPLAT_MAX per channel) to pixel `pixel` of the splat film.
+fn splat_add(pixel: u32, v: vec3<f32>) {
+    for (var c = 0u; c < 3u; c++) {
+        let x = v[c] * SPLAT_SCALE;
+        if !(x > 0.0) {
+            continue;
+        }
+        let hi = floor(x / TWO_POW_32);
+        let lo = u32(min(x - hi * TWO_POW_32 + 0.5, U32_MAX_F));
+        let i = (pixel * 3u + c) * 2u;
+        let old = atomicAdd(&splats[i], lo);
+        if old + lo < old {
+            atomicAdd(&splats[i + 1u], 1u);
+        }
+        if hi > 0.0 {
+            atomicAdd(&splats[i + 1u], u32(hi));
+        }
+    }
+}
+
+// Take (read and clear) the splats of `pixel`: Σ of this batch's light-tracing contributions.
+fn splat_take(pixel: u32) -> vec3<f32> {
+    var out = vec3<f32>(0.0);
+    for (var c = 0u; c < 3u; c++) {
+        let i = (pixel * 3u + c) * 2u;
+        let lo = atomicExchange(&splats[i], 0u);
+        let hi = atomicExchange(&splats[i + 1u], 0u);
+        out[c] = (f32(hi) * TWO_POW_32 + f32(lo)) / SPLAT_SCALE;
+    }
+    return out;
+}
+
+// Area of the image plane at distance 1.
+fn camera_a_plane() -> f32 {
+    let tan_half = params.cam_pos.w;
+    return 4.0 * tan_half * tan_half * params.cam_right.w;
+}
+
+// Solid-angle density of a primary ray at angle θ to the view axis (uniform on the image
+// plane): 1 / (A_plane cos³θ). PBR 3rd ed. §16.1.1 (`PerspectiveCamera::Pdf_We`).
+fn camera_pdf_dir(cos_theta: f32) -> f32 {
+    return 1.0 / (camera_a_plane() * cos_theta * cos_theta * cos_theta);
+}
+
+struct Raster {
+    ok: bool,
+    pixel: u32,
+    cos_theta: f32,
+}
+
+// The pixel a direction `w` from the camera lands in (inverse of `camera_ray_dir`).
+fn camera_raster(w: vec3<f32>) -> Raster {
+    let lx = dot3(w, params.cam_right.xyz);
+    let ly = dot3(w, params.cam_up.xyz);
+    let lz = dot3(w, params.cam_back.xyz);
+    if lz >= 0.0 {
+        return Raster(false, 0u, 0.0);
+    }
+    let tan_half = params.cam_pos.w;
+    let x = lx / -lz / (tan_half * params.cam_right.w);
+    let y = ly / -lz / tan_half;
+    let sx = 0.5 * (x + 1.0);
+    let sy = 0.5 * (1.0 - y);
+    if !(sx >= 0.0 && sx < 1.0 && sy >= 0.0 && sy < 1.0) {
+        return Raster(false, 0u, 0.0);
+    }
+    let px = min(u32(sx * f32(params.width)), params.width - 1u);
+    let py = min(u32(sy * f32(params.height)), params.height - 1u);
+    return Raster(true, py * params.width + px, -lz / sqrt(lx * lx + ly * ly + lz * lz));
+}
+
+// Solid-angle density with which an area light emits towards a direction at cosθ to its normal
+// (cosine-weighted, half on each side when double-sided).
+fn emission_pdf_dir(m: Material, cos_l: f32) -> f32 {
+    var two = 1.0;
+    if (m.flags & MAT_DOUBLE_SIDED) != 0u {
+        two = 0.5;
+    }
+    return two * cos_l * FRAC_1_PI;
+}
+
+// Solid-angle density of a punctual light's emitted direction (point: sphere, spot: cone).
+fn punctual_pdf_dir(light: Light) -> f32 {
+    if light.kind == LIGHT_SPOT {
+        return 1.0 / (2.0 * PI * max(1.0 - light.cos_outer, 1e-7));
+    }
+    return 0.25 * FRAC_1_PI;
+}
+
+// Uniform direction on the sphere. PBR 4th ed. §A.5.2.
+fn uniform_sphere(u: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max(1.0 - z * z, 0.0));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+// Uniform direction in a cone around +z with cosθ ≥ cos_max. PBR 4th ed. §A.5.4.
+fn uniform_cone(u: vec2<f32>, cos_max: f32) -> vec3<f32> {
+    let cos_t = (1.0 - u.x) + u.x * cos_max;
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
+}
+
+// a / b, 0 when b is not positive (a density that cannot occur).
+fn ratio(a: f32, b: f32) -> f32 {
+    if b > 0.0 {
+        return a / b;
+    }
+    return 0.0;
+}
+
+// Power-heuristic weight of a strategy given the density ratios of the two others to it.
+fn mis_weight3(r_a: f32, r_b: f32) -> f32 {
+    let s = 1.0 + r_a * r_a + r_b * r_b;
+    if !is_finite_f32(s) {
+        return 0.0; // another strategy is infinitely more likely (or a ratio is NaN)
+    }
+    return 1.0 / s;
+}
+
+// Veach 1997, eq. 5.19: |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (twin of `bdpt::shading_correction`).
+fn shading_correction(wo: vec3<f32>, wi: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>) -> f32 {
+    let num = abs(dot3(wo, ns)) * abs(dot3(wi, ng));
+    let den = abs(dot3(wo, ng)) * abs(dot3(wi, ns));
+    if den <= 0.0 {
+        return 0.0;
+    }
+    return num / den;
+}
+
+// Heckbert classes of the light subpath's surface vertices y1 … y64, two bits each (D=1, G=2,
+// S=3), so the eye→light DFA can read the full string at a camera connection.
+struct SymString {
+    w: array<u32, 4>,
+}
+
+const LT_MAX_SYMBOLS: u32 = 64u;
+
+fn sym_get(s: SymString, j: u32) -> u32 {
+    return (s.w[(j - 1u) / 16u] >> (2u * ((j - 1u) % 16u))) & 3u;
+}
+
+// Does E · class(ym) · class(y_{m-1}) … class(y1) · L pass the filter (read eye→light)?
+fn lt_accepts(s: SymString, m: u32, cls: u32) -> bool {
+    var q = dfa_table_step(dfa_table_step(dfa_word(DFA_TRANSITIONS + 2u), SYM_E), cls);
+    for (var j = m - 1u; j >= 1u; j--) {
+        q = dfa_table_step(q, sym_get(s, j));
+    }
+    return dfa_table_is_accepting(dfa_table_step(q, SYM_L));
+}
+
+// State of a light subpath at its current vertex ym (m ≥ 1).
+struct LightWalk {
+    // Light-side throughput (importance), RGB.
+    beta: vec3<f32>,
+    m: u32,
+    // p_light(y0): pick/area (area light) or pick (punctual).
+    p_light: f32,
+    area_light: bool,
+    // |n(y0)·ω0|, cosine at the light of the first segment.
+    cos_emit: f32,
+    // p←-side (light walk) area densities of y_{m-1} and ym.
+    pl_prev: f32,
+    pl_cur: f32,
+    // |ng(y_{m-1})·d| on the segment y_{m-1} → ym, and its squared length.
+    cos_prev: f32,
+    t2: f32,
+    // Π_{j=1..m-2} pC(yj)/pL(yj): camera-side over light-side densities of earlier vertices.
+    prod: f32,
+    // Camera-side density of y0 (sampled from y1), known once y1 scattered.
+    pc_y0: f32,
+    y1_delta: bool,
+    syms: SymString,
+}
+
+// Connect light vertex ym (non-delta BSDF `bsdf` at `hit`) to the camera and splat its
+// MIS-weighted contribution. Returns 1 if the value was rejected by the firewall.
+fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf) -> u32 {
+    let to_cam = params.cam_pos.xyz - hit.p;
+    let d2 = dot3(to_cam, to_cam);
+    if !(d2 > 0.0) {
+        return 0u;
+    }
+    let wc = to_cam / sqrt(d2);
+    let r = camera_raster(-wc);
+    if !r.ok {
+        return 0u;
+    }
+    let side_o = dot3(wo_w, ng);
+    let side_i = dot3(wc, ng);
+    if side_i == 0.0 || (!(side_o * side_i > 0.0) && !bsdf_can_transmit(bsdf)) {
+        return 0u;
+    }
+    let wi = frame_to_local(frame, wc);
+    var f: vec4<f32>;
+    if HAS_FILTER {
+        let lv = bsdf_eval_lobes(bsdf, wo, wi, MODE_IMPORTANCE);
+        f = select(vec4<f32>(0.0), lv.d, lt_accepts(lw.syms, lw.m, SYM_D)) + select(vec4<f32>(0.0), lv.g, lt_accepts(lw.syms, lw.m, SYM_G));
+    } else {
+        f = bsdf_eval(bsdf, wo, wi, MODE_IMPORTANCE);
+    }
+    if !(max_element4(f) > 0.0) {
+        return 0u;
+    }
+    // We·G for a pinhole with the adjoint shading correction: |ωc·ns|·corr / (d² A cos³θ)
+    // = |ωc·ng| |ωo·ns| / (|ωo·ng| d² A cos³θ).
+    let corr_cos = ratio(abs(dot3(wc, ng)) * abs(dot3(wo_w, ns)), abs(dot3(wo_w, ng)));
+    let c = r.cos_theta;
+    let we_g = corr_cos / (d2 * camera_a_plane() * c * c * c);
+    var v = lw.beta * f.xyz * we_g;
+    if !(max_element3(v) > 0.0) {
+        return 0u;
+    }
+    var off_n = -ng;
+    if side_i > 0.0 {
+        off_n = ng;
+    }
+    let origin = offset_ray_origin(hit.p, off_n);
+    if bvh_occluded(origin, params.cam_pos.xyz - origin, 1.0) {
+        return 0u;
+    }
+    // MIS: densities of the other strategies relative to this one (p_t1).
+    let pc_m = camera_pdf_dir(c) * abs(dot3(ng, wc)) / d2;
+    let pc_back = bsdf_pdf(bsdf, wi, wo);
+    var l: f32;
+    var pc0: f32;
+    if lw.m == 1u {
+        l = ratio(pc_m, lw.pl_cur);
+        pc0 = pc_back * lw.cos_emit / lw.t2;
+    } else {
+        l = lw.prod * ratio(pc_back * lw.cos_prev / lw.t2, lw.pl_prev) * ratio(pc_m, lw.pl_cur);
+        pc0 = lw.pc_y0;
+    }
+    var r_s1 = l;
+    if lw.y1_delta && lw.m > 1u {
+        r_s1 = 0.0;
+    }
+    var r_s0 = 0.0;
+    if lw.area_light {
+        r_s0 = l * ratio(pc0, lw.p_light);
+    }
+    v *= mis_weight3(r_s0, r_s1);
+    if !is_finite_v3(v) || min(min(v.x, v.y), v.z) < 0.0 || max_element3(v) > SPLAT_MAX {
+        return 1u;
+    }
+    splat_add(r.pixel, v);
+    return 0u;
+}
+
+// Trace one light subpath and connect its vertices to the camera; returns rejected samples.
+fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
+    if params.light_count == 0u {
+        return 0u;
+    }
+    let pick = light_set_pick(sampler_next_1d(sampler));
+    let u_pos = sampler_next_2d(sampler);
+    let u_dir = sampler_next_2d(sampler);
+    if pick.prob <= 0.0 {
+        return 0u;
+    }
+    let light = lights[pick.index];
+    let sp = Spectral(false, vec4<f32>(0.0));
+    var lw: LightWalk;
+    lw.m = 0u;
+    lw.prod = 1.0;
+    lw.pl_prev = 0.0;
+    lw.pl_cur = 0.0;
+    lw.pc_y0 = 0.0;
+    lw.y1_delta = false;
+    lw.syms = SymString(array<u32, 4>(0u, 0u, 0u, 0u));
+    var o: vec3<f32>;
+    var d: vec3<f32>;
+    var prev_pdf: f32;
+    if light.kind == LIGHT_TRIANGLE {
+        if !HAS_LIGHTS {
+            return 0u;
+        }
+        let tri = triangles[light.index];
+        let a = v3(tri.p0);
+        let b = v3(tri.p1);
+        let c = v3(tri.p2);
+        let bc = uniform_triangle(u_pos);
+        let p = a * (1.0 - bc.x - bc.y) + b * bc.x + c * bc.y;
+        let nn = cross3(b - a, c - a);
+        let len = sqrt(dot3(nn, nn));
+        if !(len > 0.0) {
+            return 0u;
+        }
+        let nl = nn / len;
+        let area = 0.5 * len;
+        let m = materials[tri.material];
+        var side = nl;
+        if (m.flags & MAT_DOUBLE_SIDED) != 0u && sampler_next_1d(sampler) < 0.5 {
+            side = -nl;
+        }
+        var local = cosine_hemisphere(u_dir);
+        if local.z <= 0.0 {
+            return 0u;
+        }
+        local.z = max(local.z, 1e-7);
+        d = frame_to_world(frame_from_normal(side), local);
+        prev_pdf = emission_pdf_dir(m, local.z);
+        lw.p_light = pick.prob / area;
+        lw.area_light = true;
+        lw.cos_emit = local.z;
+        // β1 = Le cosθ / (p_light p_dir)
+        lw.beta = v3(m.emission) * (local.z / (lw.p_light * prev_pdf));
+        o = offset_ray_origin(p, side);
+    } else {
+        if !HAS_PUNCTUAL || light.kind == LIGHT_DIRECTIONAL {
+            // Directional lights are reached by next-event estimation only (weight 1 there).
+            return 0u;
+        }
+        var intensity = v3(light.intensity);
+        if light.kind == LIGHT_SPOT {
+            let local = uniform_cone(u_dir, light.cos_outer);
+            d = frame_to_world(frame_from_normal(v3(light.direction)), local);
+            intensity *= spot_falloff(local.z, light.cos_inner, light.cos_outer);
+        } else {
+            d = uniform_sphere(u_dir);
+        }
+        prev_pdf = punctual_pdf_dir(light);
+        lw.p_light = pick.prob;
+        lw.area_light = false;
+        lw.cos_emit = 1.0;
+        lw.beta = intensity / (lw.p_light * prev_pdf);
+        o = v3(light.position);
+    }
+    if !(max_element3(lw.beta) > 0.0) {
+        return 0u;
+    }
+    let NO_MEDIUM = 0xffffffffu;
+    var medium = NO_MEDIUM;
+    var prev_delta = false;
+    var cos_prev = lw.cos_emit;
+    var rejected = 0u;
+    loop {
+        let h = bvh_intersect(o, d, F32_MAX);
+        segments++;
+        if !h.found {
+            break;
+        }
+        let hit = integrator_surface(h);
+        lw.m += 1u;
+        if HAS_ABSORPTION && medium != NO_MEDIUM {
+            let mm = materials[medium];
+            if (mm.flags & MAT_ABSORBS) != 0u {
+                lw.beta *= exp(-v3(mm.sigma_a) * hit.t);
+            }
+        }
+        let mat = materials[hit.material];
+        let front = dot3(d, hit.ng) < 0.0;
+        let t2 = hit.t * hit.t;
+        // Light-side density of ym (1 after a delta vertex).
+        lw.pl_prev = lw.pl_cur;
+        if prev_delta {
+            lw.pl_cur = 1.0;
+        } else {
+            lw.pl_cur = prev_pdf * abs(dot3(hit.ng, d)) / t2;
+        }
+        lw.cos_prev = cos_prev;
+        lw.t2 = t2;
+        if (mat.flags & MAT_BLACK_EMITTER) != 0u {
+            break; // emitters are black surfaces otherwise (as in the path tracer)
+        }
+        let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
+        var ng = hit.ng;
+        var ns = hit.ns;
+        if !(transmissive || front) {
+            if (mat.flags & MAT_DOUBLE_SIDED) != 0u {
+                ng = -hit.ng;
+                ns = -hit.ns;
+            } else {
+                break;
+            }
+        }
+        let bsdf = material_bsdf(mat, hit.uv, mat.eta, sp);
+        let frame = frame_from_normal(ns);
+        let wo_w = -d;
+        let wo = frame_to_local(frame, wo_w);
+        // The full path x0 … xk has k = m + 1 segments.
+        if !bsdf_is_delta(bsdf) {
+            rejected += lt_connect(lw, hit, ng, ns, frame, wo_w, wo, bsdf);
+        }
+        if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
+            break;
+        }
+        let uc = sampler_next_1d(sampler);
+        let u2 = sampler_next_2d(sampler);
+        let s = bsdf_sample(bsdf, wo, uc, u2, MODE_IMPORTANCE);
+        if !s.valid {
+            break;
+        }
+        let wi_w = frame_to_world(frame, s.wi);
+        let side_o = dot3(wo_w, ng);
+        let side_i = dot3(wi_w, ng);
+        var consistent: bool;
+        if s.event == EVENT_REFLECT {
+            consistent = side_o * side_i > 0.0;
+        } else {
+            consistent = side_o * side_i < 0.0;
+        }
+        if !is_finite_v4(s.weight) {
+            rejected += 1u;
+            break;
+        }
+        if !consistent {
+            break;
+        }
+        lw.beta *= s.weight.xyz * shading_correction(wo_w, wi_w, ns, ng);
+        // Camera-side density of the previous vertex, sampled from ym towards it.
+        var pc_back = 1.0;
+        if lw.m == 1u {
+            if !s.is_delta {
+                pc_back = bsdf_pdf(bsdf, s.wi, wo) * lw.cos_emit / t2;
+            }
+            lw.pc_y0 = pc_back;
+            lw.y1_delta = s.is_delta;
+        } else {
+            if !s.is_delta {
+                pc_back = bsdf_pdf(bsdf, s.wi, wo) * cos_prev / t2;
+            }
+            lw.prod *= ratio(pc_back, lw.pl_prev);
+        }
+        if lw.m <= LT_MAX_SYMBOLS {
+            let j = lw.m - 1u;
+            lw.syms.w[j / 16u] |= (s.lobe + 1u) << (2u * (j % 16u));
+        }
+        if s.event == EVENT_TRANSMIT && (mat.flags & MAT_SOLID) != 0u {
+            if dot3(wi_w, hit.ng) < 0.0 {
+                medium = hit.material;
+            } else {
+                medium = NO_MEDIUM;
+            }
+        }
+        prev_pdf = s.pdf;
+        prev_delta = s.is_delta;
+        cos_prev = abs(dot3(hit.ng, wi_w));
+        var off_n = -ng;
+        if side_i > 0.0 {
+            off_n = ng;
+        }
+        o = offset_ray_origin(hit.p, off_n);
+        d = wi_w;
+        // Russian roulette on the importance throughput (as the camera walk, from rr_depth).
+        if lw.m >= params.rr_depth {
+            let q_rr = min(max_element3(lw.beta), 0.95);
+            if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
+                break;
+            }
+            lw.beta /= q_rr;
+        } else if max_element3(lw.beta) <= 0.0 {
+            break;
+        }
+    }
+    return rejected;
+}
+
+// One light subpath per invocation per sample of the batch (as many as camera paths).
+@compute @workgroup_size(8, 8, 1)
+fn light_trace(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if !HAS_LT {
+        return;
+    }
+    let x = gid.x;
+    let y = gid.y;
+    if x >= params.width || y >= params.height {
+        return;
+    }
+    let id = y * params.width + x;
+    segments = 0u;
+    var rejected = 0u;
+    for (var k = 0u; k < params.batch; k++) {
+        var sampler = sampler_new(id, params.sample_offset + k, params.seed ^ LT_SEED_MIX);
+        rejected += lt_path(&sampler);
+    }
+    add_counter_dropped(rejected);
+    add_counter_segments(segments);
+}
