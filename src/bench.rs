@@ -381,9 +381,9 @@ pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
         writeln!(
             s,
             "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6}",
-            p.scene,
-            p.device,
-            p.estimator,
+            csv_field(&p.scene),
+            csv_field(&p.device),
+            csv_field(&p.estimator),
             p.spp,
             p.seconds,
             p.samples_per_sec,
@@ -393,6 +393,16 @@ pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
         )?;
     }
     std::fs::write(path, s).with_context(|| format!("cannot write '{}'", path.display()))
+}
+
+/// A CSV field, quoted when it holds a comma, quote or newline (RFC 4180), e.g. a GPU name
+/// such as "llvmpipe (LLVM 15.0.6, 256 bits)".
+fn csv_field(x: &str) -> String {
+    if x.contains([',', '"', '\n']) {
+        format!("\"{}\"", x.replace('"', "\"\""))
+    } else {
+        x.to_string()
+    }
 }
 
 pub fn markdown_table(summaries: &[BenchSummary]) -> String {

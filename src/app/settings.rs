@@ -252,12 +252,17 @@ pub struct RenderEdit {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum EstimatorChoice {
-    /// Bidirectional when the scene has glass and a small or delta light (caustics), else path.
+    /// Light + path tracing (MIS) when the scene has glass and a small or delta light
+    /// (caustics), else path tracing.
     #[default]
     Auto,
     Path,
     Bdpt,
     Lt,
+    /// Light tracing and path tracing combined by MIS (the GPU's caustic estimator; the CPU
+    /// backend renders it with bdpt, a superset).
+    #[serde(rename = "lt+pt", alias = "ltpt")]
+    LtPt,
 }
 
 impl EstimatorChoice {
@@ -268,6 +273,7 @@ impl EstimatorChoice {
             EstimatorChoice::Path => Estimator::Path,
             EstimatorChoice::Bdpt => Estimator::Bdpt,
             EstimatorChoice::Lt => Estimator::Lt,
+            EstimatorChoice::LtPt => Estimator::LtPt,
             EstimatorChoice::Auto => {
                 let f = scene.features();
                 let glass = f.smooth_glass || f.rough_glass || f.thin_glass;
@@ -281,9 +287,11 @@ impl EstimatorChoice {
                     .iter()
                     .map(|&t| scene.mesh.area(t as usize))
                     .sum();
-                let small = f.punctual_lights || light_area < 0.01 * box_area;
+                // (No emitter at all, e.g. an environment-lit furnace: nothing to trace from.)
+                let small = f.punctual_lights || (light_area > 0.0 && light_area < 0.01 * box_area);
                 if glass && small {
-                    Estimator::Bdpt
+                    // lt+pt: the GPU runs light + path tracing, the CPU backend bdpt.
+                    Estimator::LtPt
                 } else {
                     Estimator::Path
                 }
@@ -717,5 +725,20 @@ mod tests {
         let back: ViewerSettings = serde_json::from_str(&text).unwrap();
         assert_eq!(s, back);
         assert_eq!(back.apply(&base).0.materials[4].ior, 1.333);
+    }
+
+    /// `auto` picks light + path tracing for glass lit by a small light (caustics), path
+    /// tracing otherwise; `lt+pt` survives a settings round trip under its own name.
+    #[test]
+    fn auto_estimator_picks_by_scene_features() {
+        use crate::cpu::Estimator;
+        let caustic = Scene::load("builtin:caustic").unwrap();
+        let furnace = Scene::load("builtin:furnace").unwrap();
+        assert_eq!(EstimatorChoice::Auto.resolve(&caustic), Estimator::LtPt);
+        assert_eq!(EstimatorChoice::Auto.resolve(&furnace), Estimator::Path);
+        let text = serde_json::to_string(&EstimatorChoice::LtPt).unwrap();
+        assert_eq!(text, "\"lt+pt\"");
+        let back: EstimatorChoice = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, EstimatorChoice::LtPt);
     }
 }

@@ -57,17 +57,20 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         egui::ComboBox::from_label("Estimator")
             .selected_text(match r.estimator {
                 EstimatorChoice::Auto => format!("auto ({resolved})"),
+                EstimatorChoice::LtPt => "lt+pt".to_string(),
                 other => format!("{other:?}").to_lowercase(),
             })
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut r.estimator, EstimatorChoice::Auto, "auto")
-                    .on_hover_text("Bidirectional when the scene has glass and a small light (caustics), else path tracing.");
+                    .on_hover_text("Light + path tracing when the scene has glass and a small light (caustics), else path tracing.");
                 ui.selectable_value(&mut r.estimator, EstimatorChoice::Path, "path")
                     .on_hover_text("Paths start at the eye; light is found by aiming at lights (NEE) and by chance: caustics from small lights converge slowly.");
                 ui.selectable_value(&mut r.estimator, EstimatorChoice::Bdpt, "bdpt")
                     .on_hover_text("Paths from the eye and from the light, joined in every possible way and weighted by MIS: caustics on diffuse surfaces converge fast.");
                 ui.selectable_value(&mut r.estimator, EstimatorChoice::Lt, "light tracing")
                     .on_hover_text("Paths start at the light and are connected to the camera: sees caustics at once, but cannot see mirrors or glass directly.");
+                ui.selectable_value(&mut r.estimator, EstimatorChoice::LtPt, "lt+pt")
+                    .on_hover_text("Eye paths and light paths, each path weighted by how likely each side was to find it (MIS): caustics and glass both converge. The GPU's caustic estimator; the CPU runs bdpt for it.");
             })
             .response
             .on_hover_text("How light paths are sampled; all estimators converge to the same image.");
