@@ -351,6 +351,9 @@ fn bench(args: &BenchArgs) -> Result<()> {
         "all" => (true, true),
         d => bail!("unknown device '{d}' (use cpu, gpu or all)"),
     };
+    if let Some(p) = &args.paths {
+        refract::paths::PathFilter::parse(p).map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
+    }
     if args.ref_spp < 2 {
         bail!("--ref-spp must be at least 2 (two independent halves)");
     }

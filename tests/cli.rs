@@ -56,6 +56,22 @@ fn errors_are_one_clear_line() {
         ),
         (&["render", "--tonemap", "sepia", "--out", &out], "tone map"),
         (&["render", "--threads", "0", "--out", &out], "threads"),
+        (
+            &[
+                "render",
+                "--device",
+                "gpu",
+                "--estimator",
+                "bdpt",
+                "--out",
+                &out,
+            ],
+            "needs --device cpu",
+        ),
+        (
+            &["bench", "--paths", "L(S", "--scenes", "builtin:furnace"],
+            "--paths",
+        ),
     ];
     for (args, needle) in cases {
         let (ok, _, err) = refract(args);
@@ -69,6 +85,11 @@ fn errors_are_one_clear_line() {
     // clap's own argument errors exit non-zero without a panic
     let (ok, _, err) = refract(&["render", "--time-budget", "ten seconds"]);
     assert!(!ok && err.contains("invalid duration"), "{err}");
+    let (ok, _, err) = refract(&["render", "--estimator", "photons", "--out", &out]);
+    assert!(
+        !ok && err.contains("unknown estimator 'photons' (use path, bdpt, lt or lt+pt)"),
+        "{err}"
+    );
 }
 
 #[test]
