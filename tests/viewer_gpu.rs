@@ -103,7 +103,8 @@ fn gpu_backend_accumulates_and_restarts_on_a_material_edit() {
     assert_eq!((img.width, img.height), (64, 48));
     assert_eq!(img.generation, b.generation());
     assert!(img.spp >= 2);
-    let mean: f32 = img.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / img.pixels.len() as f32;
+    let mean: f32 =
+        img.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / img.pixels.len() as f32;
     assert!(mean > 0.01, "the image is lit (mean {mean})");
 
     // Invalid edits are refused like the CPU backend does (no restart, old value kept).
@@ -126,17 +127,17 @@ fn gpu_tone_map_matches_film_to_srgb8() {
     };
     load(&mut b, 80, 60);
     let ctx = egui::Context::default();
+    step_until(&mut b, "4 spp", |b| b.spp() >= 4);
+    // Paused and idle: every display setting below tone-maps the same accumulated image.
+    b.set_paused(true);
+    step_until(&mut b, "the last batch", |b| !b.batch_in_flight());
     for (tone_map, exposure) in [
         (ToneMap::Clamp, 0.0),
         (ToneMap::Reinhard, 1.5),
         (ToneMap::Aces, -0.5),
         (ToneMap::Clamp, 2.0),
     ] {
-        let display = DisplayParams {
-            exposure,
-            tone_map,
-        };
-        step_until(&mut b, "4 spp", |b| b.spp() >= 4);
+        let display = DisplayParams { exposure, tone_map };
         let tex = b.display_texture(&ctx, &display).expect("a texture");
         assert_eq!(tex.size, [80, 60]);
         // Both reads wait for the queue: the tone map was queued after every batch so far.
@@ -158,9 +159,15 @@ fn gpu_tone_map_matches_film_to_srgb8() {
         );
         assert!(worst <= 1, "{tone_map:?}: off by {worst}/255");
         // Only f32 pow rounding at a byte boundary may differ.
-        assert!(off * 100 <= want.len(), "{tone_map:?}: {off} channels differ");
+        assert!(
+            off * 100 <= want.len(),
+            "{tone_map:?}: {off} channels differ"
+        );
         let lit = shown.chunks(4).filter(|p| p[0] > 10 || p[1] > 10).count();
-        assert!(lit * 2 > shown.len() / 4, "mostly dark image: {lit} lit pixels");
+        assert!(
+            lit * 2 > shown.len() / 4,
+            "mostly dark image: {lit} lit pixels"
+        );
     }
 }
 
@@ -191,8 +198,8 @@ fn gpu_backend_step_never_blocks_the_ui() {
     let Some(mut b) = backend("gpu_backend_step_never_blocks_the_ui") else {
         return;
     };
-    // Large enough that one batch takes a while (especially on lavapipe).
-    load(&mut b, 1024, 768);
+    // Large enough that one batch takes a while (seconds on lavapipe).
+    load(&mut b, 512, 384);
     let ctx = egui::Context::default();
     let display = DisplayParams {
         exposure: 0.0,
@@ -201,7 +208,7 @@ fn gpu_backend_step_never_blocks_the_ui() {
     let mut worst = Duration::ZERO;
     let mut saw_in_flight = false;
     let start = Instant::now();
-    while b.spp() < 3 {
+    while b.spp() < 2 {
         assert!(start.elapsed() < Duration::from_secs(180), "no progress");
         let t = Instant::now();
         b.step(Duration::from_millis(8));
@@ -210,7 +217,10 @@ fn gpu_backend_step_never_blocks_the_ui() {
         saw_in_flight |= b.batch_in_flight();
         std::thread::sleep(Duration::from_millis(4));
     }
-    eprintln!("slowest step + display_texture: {:.2} ms", worst.as_secs_f64() * 1e3);
+    eprintln!(
+        "slowest step + display_texture: {:.2} ms",
+        worst.as_secs_f64() * 1e3
+    );
     assert!(saw_in_flight, "a batch was seen in flight");
     // Queueing work and polling never waits for the GPU: far below one batch's duration.
     assert!(

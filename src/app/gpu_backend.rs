@@ -16,7 +16,11 @@
 //!   an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's own
 //!   textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the CPU
 //!   path. The tone map reruns only when the generation, the spp or the display settings
-//!   change.
+//!   change, and only while no batch is in flight (it is queued right after a batch finishes,
+//!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
+//!   behind a running batch. (Software drivers such as lavapipe execute a submission before
+//!   accepting the next, so there eframe's own frame submission still waits for the batch:
+//!   that is why `--device auto` keeps the CPU backend on software adapters.)
 //! - Only [`Backend::read_image`] (screenshots) reads the accumulation buffer back.
 //! - Edits apply synchronously to the renderer (buffers rewritten in place, BVH kept where
 //!   possible); queue order guarantees that a batch already in flight finishes before the
@@ -208,6 +212,8 @@ impl ToneMapper {
         let view = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("refract image (sRGB view)"),
             format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
+            // Sampled only: sRGB formats cannot be storage-bound.
+            usage: Some(wgpu::TextureUsages::TEXTURE_BINDING),
             ..Default::default()
         });
         let filter = wgpu::FilterMode::Linear;
@@ -248,6 +254,7 @@ impl ToneMapper {
         let view = target.texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("refract image (storage view)"),
             format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
             ..Default::default()
         });
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -352,8 +359,10 @@ pub struct GpuBackend {
     sec_per_sample: Option<f64>,
     budget: Duration,
     tonemap: ToneMapper,
-    /// (generation, queued spp, size, display) of the tone-mapped texture.
+    /// (generation, spp, size, display) of the tone-mapped texture.
     shown: Option<(u64, u64, [u32; 2], DisplayParams)>,
+    /// Display settings of the last `display_texture` call.
+    display: Option<DisplayParams>,
     readback: StatsReadback,
     poller: Poller,
     message: Option<String>,
@@ -413,6 +422,7 @@ impl GpuBackend {
             budget: DEFAULT_BUDGET,
             tonemap,
             shown: None,
+            display: None,
             readback,
             poller,
             message: None,
@@ -607,7 +617,9 @@ impl GpuBackend {
             .in_flight
             .as_ref()
             .and_then(|b| *b.done.lock().unwrap_or_else(|e| e.into_inner()));
-        if let (Some(t), Some(b)) = (finished, self.in_flight.take()) {
+        if let Some(t) = finished
+            && let Some(b) = self.in_flight.take()
+        {
             let dt = t.saturating_duration_since(b.submitted);
             let per = dt.as_secs_f64() / (b.k as f64 * b.pixels as f64).max(1.0);
             self.sec_per_sample = Some(match self.sec_per_sample {
@@ -645,7 +657,7 @@ impl GpuBackend {
         let Some(r) = self.renderer.as_ref() else {
             return;
         };
-        if self.readback.pending.is_some() {
+        if self.readback.pending.is_some() || r.spp() == 0 {
             return;
         }
         let mut enc = self
@@ -663,6 +675,31 @@ impl GpuBackend {
                 state.store(s, Ordering::Release);
             });
         self.readback.pending = Some(self.generation);
+    }
+
+    /// Re-run the tone map if the generation, the spp or the display settings changed, and
+    /// only while no batch is in flight (otherwise the next `step` does it, right after the
+    /// batch finishes: the image and a new exposure appear within one batch).
+    fn refresh_display(&mut self) {
+        if self.in_flight.is_some() {
+            return;
+        }
+        let (Some(r), Some(display)) = (self.renderer.as_ref(), self.display) else {
+            return;
+        };
+        let size = [r.options().width, r.options().height];
+        let key = (self.generation, r.spp(), size, display);
+        // Nothing rendered for this generation yet: keep showing the previous image.
+        if r.spp() > 0 && self.shown != Some(key) {
+            self.tonemap.run(
+                &self.ctx,
+                &self.egui_renderer,
+                r.accum_buffer(),
+                size,
+                &display,
+            );
+            self.shown = Some(key);
+        }
     }
 
     fn wants_samples(&self, queued: u64) -> bool {
@@ -819,6 +856,11 @@ impl Backend for GpuBackend {
         if self.in_flight.is_some() {
             return; // at most one batch in flight
         }
+        // The GPU is idle now: tone-map and copy the counters before the next batch, so no
+        // submission of ours ever queues behind a running batch (software drivers such as
+        // lavapipe block `queue.submit` until the previous submission has finished).
+        self.refresh_display();
+        self.start_readback();
         let (generation, budget, per) = (self.generation, frame_budget, self.sec_per_sample);
         let Some(r) = self.renderer.as_mut() else {
             return;
@@ -865,7 +907,6 @@ impl Backend for GpuBackend {
             submitted: Instant::now(),
             done,
         });
-        self.start_readback();
     }
 
     fn spp(&self) -> u64 {
@@ -905,9 +946,7 @@ impl Backend for GpuBackend {
         if let Some(cpu) = &self.fallback {
             return format!("{} (GPU {gpu} cannot render this scene)", cpu.device_name());
         }
-        let path_only = self
-            .options
-            .is_some_and(|o| o.estimator != Estimator::Path);
+        let path_only = self.options.is_some_and(|o| o.estimator != Estimator::Path);
         if path_only {
             format!("GPU {gpu}, path tracing (bdpt/lt: CPU only)")
         } else {
@@ -948,22 +987,8 @@ impl Backend for GpuBackend {
         if let Some(cpu) = self.fallback.as_mut() {
             return cpu.display_texture(ctx, display);
         }
-        if let Some(r) = self.renderer.as_ref() {
-            let size = [r.options().width, r.options().height];
-            let key = (self.generation, r.spp(), size, *display);
-            // Nothing queued for this generation yet: keep showing the previous image. Queue
-            // order makes the tone map see every batch queued before it.
-            if r.spp() > 0 && self.shown != Some(key) {
-                self.tonemap.run(
-                    &self.ctx,
-                    &self.egui_renderer,
-                    r.accum_buffer(),
-                    size,
-                    display,
-                );
-                self.shown = Some(key);
-            }
-        }
+        self.display = Some(*display);
+        self.refresh_display();
         self.tonemap.target.as_ref().map(|t| DisplayTexture {
             id: t.id,
             size: t.size,
