@@ -83,6 +83,10 @@ struct ViewArgs {
     /// Close the window after this much time (e.g. 5s, 2m).
     #[arg(long, value_parser = parse_duration)]
     exit_after: Option<Duration>,
+    /// Renderer: auto (GPU on a hardware adapter, else CPU), cpu, or gpu (also on a software
+    /// adapter such as lavapipe).
+    #[arg(long, default_value = "auto")]
+    device: refract::app::DeviceChoice,
 }
 
 #[derive(clap::Args, Clone)]
@@ -398,6 +402,7 @@ fn view(args: ViewArgs) -> Result<()> {
         scene: args.scene,
         frames: args.frames,
         exit_after: args.exit_after,
+        device: args.device,
     })
 }
 

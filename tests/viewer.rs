@@ -300,23 +300,29 @@ fn png_mean(path: &Path) -> Option<f64> {
     )
 }
 
-/// The real window under Xvfb: `refract view --frames 120` must show a non-black image and exit
-/// cleanly. Skipped (with a message) where Xvfb or ImageMagick's `import` is missing; CI
-/// installs both.
-#[test]
-fn real_window_under_xvfb_is_not_black() {
+/// What one run of the real window under Xvfb produced.
+struct WindowRun {
+    log: String,
+    /// Best mean brightness over the screenshots taken while it ran.
+    best: f64,
+    shots: usize,
+}
+
+/// Run `refract view ARGS` in a fresh Xvfb server, taking screenshots until it exits. None
+/// (with a SKIP message) where Xvfb or ImageMagick's `import` is missing; CI installs both.
+fn run_window_under_xvfb(test: &str, args: &[&str]) -> Option<WindowRun> {
     let (Some(xvfb), Some(import)) = (which("Xvfb"), which("import")) else {
         assert!(
             std::env::var_os("REFRACT_REQUIRE_GPU").is_none(),
             "CI must run the window test: Xvfb and ImageMagick are required"
         );
-        eprintln!(
-            "SKIPPED real_window_under_xvfb_is_not_black: Xvfb or ImageMagick `import` is not installed"
-        );
-        return;
+        eprintln!("SKIPPED {test}: Xvfb or ImageMagick `import` is not installed");
+        return None;
     };
-    let dir = scratch_dir("xvfb");
-    let display = format!(":{}", 90 + std::process::id() % 50);
+    let dir = scratch_dir(test);
+    // A display number per test and process (tests run in parallel).
+    let offset = test.bytes().map(u32::from).sum::<u32>() % 7;
+    let display = format!(":{}", 90 + (std::process::id() % 50) * 7 + offset);
     let mut server = Command::new(xvfb)
         .args([
             display.as_str(),
@@ -335,7 +341,7 @@ fn real_window_under_xvfb_is_not_black() {
     let runtime = dir.join("runtime");
     std::fs::create_dir_all(&runtime).unwrap();
     let mut viewer = Command::new(env!("CARGO_BIN_EXE_refract"))
-        .args(["view", "--frames", "120", "--exit-after", "90s"])
+        .args(args)
         .env("DISPLAY", &display)
         .env("XDG_RUNTIME_DIR", &runtime)
         .env("HOME", &dir) // keep the persisted settings out of the user's home
@@ -351,10 +357,10 @@ fn real_window_under_xvfb_is_not_black() {
         if let Some(st) = viewer.try_wait().unwrap() {
             break st;
         }
-        if start.elapsed() > Duration::from_secs(120) {
+        if start.elapsed() > Duration::from_secs(150) {
             let _ = viewer.kill();
             let _ = server.kill();
-            panic!("refract view --frames 120 did not exit within 120 s");
+            panic!("refract {args:?} did not exit within 150 s");
         }
         std::thread::sleep(Duration::from_millis(700));
         let shot = dir.join(format!("shot-{shots}.png"));
@@ -376,8 +382,59 @@ fn real_window_under_xvfb_is_not_black() {
     }
     let _ = server.kill();
     let _ = server.wait();
-    assert!(status.success(), "refract view failed: {status}\n{log}");
+    assert!(status.success(), "refract {args:?} failed: {status}\n{log}");
+    Some(WindowRun { log, best, shots })
+}
+
+/// The real window under Xvfb: `refract view --frames 120` must show a non-black image and exit
+/// cleanly (auto device: the CPU backend on a software adapter).
+#[test]
+fn real_window_under_xvfb_is_not_black() {
+    let test = "real_window_under_xvfb_is_not_black";
+    let args = ["view", "--frames", "120", "--exit-after", "90s"];
+    let Some(WindowRun { log, best, shots }) = run_window_under_xvfb(test, &args) else {
+        return;
+    };
     assert!(log.contains("120 frames"), "no frame summary:\n{log}");
+    assert!(shots > 0, "no screenshot could be taken");
+    assert!(
+        best > 20.0,
+        "the window looked black (best mean brightness {best:.1}/255 over {shots} screenshots)\n{log}"
+    );
+}
+
+/// The same with `--device gpu`: the GPU backend renders on eframe's device (lavapipe here),
+/// the frame summary names it, and the image is not black.
+#[test]
+fn gpu_window_under_xvfb_is_not_black() {
+    let test = "gpu_window_under_xvfb_is_not_black";
+    if let Err(e) = refract::gpu::GpuContext::new() {
+        assert!(
+            std::env::var_os("REFRACT_REQUIRE_GPU").is_none(),
+            "{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})"
+        );
+        eprintln!("SKIP {test}: no GPU adapter ({e:#})");
+        return;
+    }
+    let args = [
+        "view",
+        "--device",
+        "gpu",
+        // lavapipe: ~1.5 s per frame here (one 256×256 sample per pixel per batch)
+        "--frames",
+        "20",
+        "--exit-after",
+        "100s",
+    ];
+    let Some(WindowRun { log, best, shots }) = run_window_under_xvfb(test, &args) else {
+        return;
+    };
+    eprintln!("{log}");
+    assert!(log.contains("20 frames"), "no frame summary:\n{log}");
+    assert!(
+        log.contains("render: GPU"),
+        "the frame summary does not name the GPU backend:\n{log}"
+    );
     assert!(shots > 0, "no screenshot could be taken");
     assert!(
         best > 20.0,

@@ -8,14 +8,14 @@
 //! [`CpuBackend`] runs the CPU path tracer (`cpu::Renderer`, rayon) on a background thread in
 //! short passes that an edit can cancel mid-pass.
 //!
-//! GPU SEAM: the wgpu compute renderer (`gpu::GpuRenderer`, another branch) plugs in as a
-//! second `impl Backend`. It gets the `egui_wgpu::RenderState` from
-//! `eframe::CreationContext::wgpu_render_state` (device created in `app::run` with the
-//! adapter's own limits so compute works), runs its passes from [`Backend::step`] within the
-//! frame budget, tone-maps on the GPU into its own `wgpu::Texture` and registers that with
-//! `render_state.renderer.write().register_native_texture(...)`; [`Backend::display_texture`]
-//! then returns that id (no CPU readback). Only [`Backend::read_image`] (screenshots) reads
-//! the accumulation buffer back. `app::ViewerApp::new` chooses the backend.
+//! The GPU backend, [`super::gpu_backend::GpuBackend`], is the second `impl Backend`. It gets
+//! the `egui_wgpu::RenderState` from `eframe::CreationContext::wgpu_render_state` (device
+//! created in `app::run` with the adapter's own limits so compute works), queues its batches
+//! from [`Backend::step`] within the frame budget, tone-maps on the GPU into its own
+//! `wgpu::Texture` registered with `render_state.renderer.write().register_native_texture(...)`;
+//! [`Backend::display_texture`] returns that id (no CPU readback). Only
+//! [`Backend::read_image`] (screenshots) reads the accumulation buffer back. `app::run`
+//! chooses the backend (`refract view --device auto|cpu|gpu`).
 
 use crate::cpu::{RenderOptions, Renderer};
 use crate::film::{Film, ToneMap, linear_to_srgb};
@@ -98,6 +98,11 @@ pub trait Backend {
     ) -> Option<DisplayTexture>;
     /// The accumulated mean radiance (for screenshots; a GPU backend reads it back here).
     fn read_image(&self) -> Option<Accumulated>;
+    /// A notice for the user since the last call (e.g. "the GPU cannot render this scene,
+    /// rendering on the CPU"); the viewer shows it in the side panel.
+    fn take_message(&mut self) -> Option<String> {
+        None
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

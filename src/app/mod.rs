@@ -6,6 +6,7 @@
 //! window ([`run`]) and in the `egui_kittest` tests without a window.
 
 pub mod backend;
+pub mod gpu_backend;
 pub mod panels;
 pub mod screenshot;
 pub mod settings;
@@ -32,6 +33,32 @@ pub struct ViewOptions {
     pub frames: Option<u64>,
     /// Close after this much time.
     pub exit_after: Option<Duration>,
+    /// Which renderer drives the viewport.
+    pub device: DeviceChoice,
+}
+
+/// `refract view --device`: which backend renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DeviceChoice {
+    /// The GPU backend on a hardware adapter, else the CPU backend (a software adapter such
+    /// as lavapipe is much slower than the CPU renderer).
+    #[default]
+    Auto,
+    Cpu,
+    /// The GPU backend on whatever adapter eframe opened (software ones included).
+    Gpu,
+}
+
+impl std::str::FromStr for DeviceChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "auto" => Ok(DeviceChoice::Auto),
+            "cpu" => Ok(DeviceChoice::Cpu),
+            "gpu" => Ok(DeviceChoice::Gpu),
+            other => Err(format!("unknown device '{other}' (use auto, cpu or gpu)")),
+        }
+    }
 }
 
 /// A message shown at the top of the side panel until dismissed.
@@ -96,10 +123,16 @@ impl ViewerApp {
         settings: ViewerSettings,
         repaint: Option<egui::Context>,
     ) -> anyhow::Result<ViewerApp> {
+        ViewerApp::with_backend(base, settings, Box::new(CpuBackend::new(repaint)))
+    }
+
+    /// A viewer on `base` rendered by `backend` (`app::run` picks the CPU or GPU backend).
+    pub fn with_backend(
+        base: Scene,
+        settings: ViewerSettings,
+        backend: Box<dyn Backend>,
+    ) -> anyhow::Result<ViewerApp> {
         base.validate()?;
-        // GPU SEAM: choose `gpu::GpuBackend` here when `--device gpu|auto` finds an adapter
-        // (it needs the `egui_wgpu::RenderState` of the creation context).
-        let backend: Box<dyn Backend> = Box::new(CpuBackend::new(repaint));
         let (scene, warnings) = settings.apply(&base);
         let pick_bvh = Bvh::build(&scene.mesh);
         let orbit = settings.orbit_for(&base);
@@ -408,6 +441,9 @@ impl ViewerApp {
         self.poll_dialog();
         self.handle_input(&ctx);
         self.backend.step(Duration::from_millis(8));
+        if let Some(m) = self.backend.take_message() {
+            self.messages.info = Some(m);
+        }
 
         egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
         egui::Panel::left("controls")
@@ -513,7 +549,7 @@ impl ViewerApp {
         let s = &self.stats;
         let n = s.frames.max(1);
         format!(
-            "{} frames in {:.2} s: mean frame interval {:.2} ms, mean UI build {:.2} ms; {} spp at {}x{}",
+            "{} frames in {:.2} s: mean frame interval {:.2} ms, mean UI build {:.2} ms; {} spp at {}x{}; render: {}",
             s.frames,
             s.started.elapsed().as_secs_f64(),
             s.interval_sum.as_secs_f64() * 1e3 / (n.saturating_sub(1)).max(1) as f64,
@@ -521,6 +557,7 @@ impl ViewerApp {
             self.backend.spp(),
             self.settings.resolution(&self.scene).0,
             self.settings.resolution(&self.scene).1,
+            self.backend.device_name(),
         )
     }
 
@@ -556,8 +593,8 @@ impl eframe::App for ViewerApp {
 }
 
 /// The wgpu setup: our own device with the adapter's full limits (eframe's default asks for
-/// WebGL2-level limits, too small for compute).
-fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
+/// WebGL2-level limits, too small for compute). The GPU backend renders on this device.
+pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     use eframe::wgpu;
     let mut create = WgpuSetupCreateNew::without_display_handle();
@@ -570,6 +607,41 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     WgpuConfiguration {
         wgpu_setup: WgpuSetup::CreateNew(create),
         ..Default::default()
+    }
+}
+
+/// The backend for `--device` on the adapter eframe opened, and a note for the user when the
+/// choice was not what was asked for.
+fn choose_backend(
+    device: DeviceChoice,
+    cc: &eframe::CreationContext<'_>,
+) -> anyhow::Result<(Box<dyn Backend>, Option<String>)> {
+    let repaint = Some(cc.egui_ctx.clone());
+    let cpu = |repaint| -> Box<dyn Backend> { Box::new(CpuBackend::new(repaint)) };
+    if device == DeviceChoice::Cpu {
+        return Ok((cpu(repaint), None));
+    }
+    let Some(rs) = &cc.wgpu_render_state else {
+        anyhow::ensure!(
+            device != DeviceChoice::Gpu,
+            "--device gpu needs the wgpu renderer, which did not start"
+        );
+        return Ok((cpu(repaint), None));
+    };
+    let info = rs.adapter.get_info();
+    if device == DeviceChoice::Auto && info.device_type == eframe::wgpu::DeviceType::Cpu {
+        // lavapipe & co. are ~15x slower than the CPU renderer on the same cores.
+        return Ok((cpu(repaint), None));
+    }
+    match gpu_backend::GpuBackend::from_render_state(rs, repaint.clone()) {
+        Ok(g) => Ok((Box::new(g), None)),
+        Err(e) => Ok((
+            cpu(repaint),
+            Some(format!(
+                "The GPU backend could not start on {} ({e:#}); rendering on the CPU.",
+                info.name
+            )),
+        )),
     }
 }
 
@@ -607,10 +679,14 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 settings.scene = spec.clone();
                 settings.clear_scene_edits();
             }
-            let mut app = ViewerApp::new(base, settings, Some(cc.egui_ctx.clone()))?;
+            let (backend, note) = choose_backend(opts.device, cc)?;
+            let mut app = ViewerApp::with_backend(base, settings, backend)?;
             if let Some(rs) = &cc.wgpu_render_state {
                 let info = rs.adapter.get_info();
                 app.display_device = format!("{} ({:?})", info.name, info.backend);
+            }
+            if let Some(n) = note {
+                app.messages.info = Some(n);
             }
             app.exit_frames = opts.frames;
             app.exit_after = opts.exit_after;

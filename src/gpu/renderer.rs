@@ -775,4 +775,29 @@ impl GpuRenderer {
             .queue
             .write_buffer(&self.buffers.filter, 0, bytemuck::cast_slice(&words));
     }
+
+    // ---- BEGIN viewer accessors (used by app::gpu_backend; keep this block last) ----------
+
+    /// The accumulation buffer: `array<vec4<f32>>`, per-pixel MEAN radiance (linear Rec.709),
+    /// row-major, top row first, `width × height` entries. The viewer tone-maps it on the GPU.
+    pub fn accum_buffer(&self) -> &wgpu::Buffer {
+        &self.buffers.accum
+    }
+
+    /// The stats buffer; its first 16 bytes are the [`layout::Stats`] counters.
+    pub fn stats_buffer(&self) -> &wgpu::Buffer {
+        &self.buffers.stats
+    }
+
+    /// Set the path filter from an eye→light table (as `cpu::RenderOptions::filter`; None =
+    /// every path). Like [`GpuRenderer::set_filter`]; accumulation restarts.
+    pub fn set_filter_table(&mut self, table: Option<crate::paths::DfaTable>) {
+        self.filtered = table.is_some();
+        self.filter_table = table;
+        self.write_filter_table(table);
+        self.respecialize();
+        self.reset();
+    }
+
+    // ---- END viewer accessors ---------------------------------------------------------------
 }

@@ -1,0 +1,1021 @@
+//! [`GpuBackend`]: the viewer's wgpu backend (the GPU SEAM of [`super::backend`]).
+//!
+//! It renders with [`crate::gpu::GpuRenderer`] on eframe's own device (the
+//! `egui_wgpu::RenderState`, created in `app::wgpu_configuration` with the adapter's limits),
+//! so the accumulated image never leaves the GPU:
+//!
+//! - [`Backend::step`] (UI thread, once per frame) queues at most one batch at a time and never
+//!   waits for the GPU. Completion is signalled by `Queue::on_submitted_work_done`; a helper
+//!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
+//!   fires (and is timed) within about a millisecond, and wakes the UI. The samples per pixel
+//!   of the next batch follow the measured time per pixel sample so that a batch takes about
+//!   the frame budget. While the user drags, and when one sample per pixel at full resolution
+//!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
+//! - [`Backend::display_texture`] tone-maps the accumulation buffer on the GPU
+//!   (`shaders/tonemap.wgsl`) into an `Rgba8Unorm` storage texture holding sRGB-encoded bytes;
+//!   an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's own
+//!   textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the CPU
+//!   path. The tone map reruns only when the generation, the spp or the display settings
+//!   change, and only while no batch is in flight (it is queued right after a batch finishes,
+//!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
+//!   behind a running batch. (Software drivers such as lavapipe execute a submission before
+//!   accepting the next, so there eframe's own frame submission still waits for the batch:
+//!   that is why `--device auto` keeps the CPU backend on software adapters.)
+//! - Only [`Backend::read_image`] (screenshots) reads the accumulation buffer back.
+//! - Edits apply synchronously to the renderer (buffers rewritten in place, BVH kept where
+//!   possible); queue order guarantees that a batch already in flight finishes before the
+//!   reset, and its samples are not counted for the new generation.
+//! - A scene or setting the GPU kernel cannot handle (`upload::check_supported`, buffers over
+//!   the limit) switches to a [`CpuBackend`] with a message; the next scene or options change
+//!   tries the GPU again.
+
+use super::backend::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
+use crate::cpu::{Estimator, RenderOptions};
+use crate::film::ToneMap;
+use crate::gpu::{GpuContext, GpuOptions, GpuRenderer};
+use crate::scene::{Camera, Material, Scene};
+use anyhow::{Context as _, Result};
+use eframe::egui;
+use eframe::egui::mutex::RwLock;
+use eframe::egui_wgpu;
+use eframe::wgpu;
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+const TONEMAP_WGSL: &str = include_str!("../shaders/tonemap.wgsl");
+
+/// Upper bound of samples per pixel in one batch (keeps single dispatches short).
+const MAX_BATCH_SPP: u32 = 256;
+
+/// Frame budget assumed before the first `step`.
+const DEFAULT_BUDGET: Duration = Duration::from_millis(8);
+
+// ---------------------------------------------------------------------------------------------
+// Completion polling
+// ---------------------------------------------------------------------------------------------
+
+/// Polls the device (never waits on it) while a batch is in flight. A blocking
+/// `PollType::Wait` would hold the device's fence lock and stall the UI thread's submissions.
+struct Poller {
+    busy: Arc<AtomicBool>,
+    quit: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Poller {
+    fn new(device: wgpu::Device) -> Poller {
+        let busy = Arc::new(AtomicBool::new(false));
+        let quit = Arc::new(AtomicBool::new(false));
+        let (b, q) = (Arc::clone(&busy), Arc::clone(&quit));
+        let thread = std::thread::Builder::new()
+            .name("refract-gpu-poll".into())
+            .spawn(move || {
+                while !q.load(Ordering::Acquire) {
+                    if b.load(Ordering::Acquire) {
+                        let _ = device.poll(wgpu::PollType::Poll);
+                        std::thread::sleep(Duration::from_micros(500));
+                    } else {
+                        std::thread::park_timeout(Duration::from_millis(100));
+                    }
+                }
+            })
+            .ok();
+        Poller { busy, quit, thread }
+    }
+
+    /// A batch was queued: poll until its callback clears `busy`.
+    fn kick(&self) {
+        self.busy.store(true, Ordering::Release);
+        if let Some(t) = &self.thread {
+            t.thread().unpark();
+        }
+    }
+}
+
+impl Drop for Poller {
+    fn drop(&mut self) {
+        self.quit.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
+    }
+}
+
+/// One queued dispatch.
+struct Batch {
+    k: u32,
+    pixels: u64,
+    generation: u64,
+    submitted: Instant,
+    /// Set by the `on_submitted_work_done` callback: when the GPU finished.
+    done: Arc<Mutex<Option<Instant>>>,
+}
+
+/// Asynchronous readback of the 16-byte stats header (dropped-sample counter).
+struct StatsReadback {
+    staging: wgpu::Buffer,
+    /// Generation of the copy in flight; None = the staging buffer is free.
+    pending: Option<u64>,
+    /// Set by the `map_async` callback: [`MAP_PENDING`], [`MAP_OK`] or [`MAP_FAILED`].
+    state: Arc<AtomicU8>,
+}
+
+const MAP_PENDING: u8 = 0;
+const MAP_OK: u8 = 1;
+const MAP_FAILED: u8 = 2;
+
+// ---------------------------------------------------------------------------------------------
+// Tone mapping
+// ---------------------------------------------------------------------------------------------
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ToneParams {
+    width: u32,
+    height: u32,
+    tone: u32,
+    scale: f32,
+}
+
+/// The tone-mapped image: an `Rgba8Unorm` storage texture with an `Rgba8UnormSrgb` view
+/// registered with egui-wgpu.
+struct Target {
+    texture: wgpu::Texture,
+    size: [u32; 2],
+    id: egui::TextureId,
+}
+
+struct ToneMapper {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    target: Option<Target>,
+}
+
+impl ToneMapper {
+    fn new(ctx: &GpuContext) -> Result<ToneMapper> {
+        let device = &ctx.device;
+        let module = create_module(ctx, "tonemap.wgsl", TONEMAP_WGSL)?;
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tonemap"),
+            layout: None,
+            module: &module,
+            entry_point: Some("tonemap"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let layout = pipeline.get_bind_group_layout(0);
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tonemap params"),
+            size: std::mem::size_of::<ToneParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(ToneMapper {
+            pipeline,
+            layout,
+            params,
+            target: None,
+        })
+    }
+
+    /// Make sure the target texture has `size`, (re)registering it with egui.
+    fn ensure_target(
+        &mut self,
+        ctx: &GpuContext,
+        egui_renderer: &RwLock<egui_wgpu::Renderer>,
+        size: [u32; 2],
+    ) {
+        if self.target.as_ref().is_some_and(|t| t.size == size) {
+            return;
+        }
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("refract image"),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[wgpu::TextureFormat::Rgba8UnormSrgb],
+        });
+        // egui samples its textures as linear colour and stores its own as Rgba8UnormSrgb:
+        // the sRGB view decodes our sRGB bytes exactly as it decodes its own.
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("refract image (sRGB view)"),
+            format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
+            // Sampled only: sRGB formats cannot be storage-bound.
+            usage: Some(wgpu::TextureUsages::TEXTURE_BINDING),
+            ..Default::default()
+        });
+        let filter = wgpu::FilterMode::Linear;
+        let mut r = egui_renderer.write();
+        let id = match self.target.take() {
+            Some(old) => {
+                r.update_egui_texture_from_wgpu_texture(&ctx.device, &view, filter, old.id);
+                old.id
+            }
+            None => r.register_native_texture(&ctx.device, &view, filter),
+        };
+        self.target = Some(Target { texture, size, id });
+    }
+
+    /// Queue the tone map of `accum` (`size` pixels) into the target texture.
+    fn run(
+        &mut self,
+        ctx: &GpuContext,
+        egui_renderer: &RwLock<egui_wgpu::Renderer>,
+        accum: &wgpu::Buffer,
+        size: [u32; 2],
+        display: &DisplayParams,
+    ) {
+        self.ensure_target(ctx, egui_renderer, size);
+        let Some(target) = &self.target else { return };
+        let p = ToneParams {
+            width: size[0],
+            height: size[1],
+            tone: match display.tone_map {
+                ToneMap::Clamp => 0,
+                ToneMap::Reinhard => 1,
+                ToneMap::Aces => 2,
+            },
+            scale: exposure_scale(display.exposure),
+        };
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let view = target.texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("refract image (storage view)"),
+            format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
+            ..Default::default()
+        });
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: accum.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tonemap"),
+            });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tonemap"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
+        }
+        ctx.queue.submit([enc.finish()]);
+    }
+}
+
+/// Compile a WGSL module, validating it with naga first so an error is an `Err` (wgpu would
+/// panic), as `gpu::pipeline` does for the integrator.
+fn create_module(ctx: &GpuContext, label: &str, source: &str) -> Result<wgpu::ShaderModule> {
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(source)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(source)))?;
+    Ok(ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        }))
+}
+
+/// The same adapter, device and queue (wgpu handles are reference-counted).
+fn share(ctx: &GpuContext) -> GpuContext {
+    GpuContext {
+        adapter: ctx.adapter.clone(),
+        device: ctx.device.clone(),
+        queue: ctx.queue.clone(),
+        info: ctx.info.clone(),
+    }
+}
+
+/// 2^stops, as `CpuBackend` shows it (non-finite exposure = 1, clamped to ±30 stops).
+fn exposure_scale(stops: f32) -> f32 {
+    if stops.is_finite() {
+        2f32.powf(stops.clamp(-30.0, 30.0))
+    } else {
+        1.0
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The backend
+// ---------------------------------------------------------------------------------------------
+
+/// Interactive rendering on eframe's wgpu device (see the module documentation).
+pub struct GpuBackend {
+    ctx: GpuContext,
+    egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
+    repaint: Option<egui::Context>,
+    renderer: Option<GpuRenderer>,
+    /// Set while the GPU cannot render the current scene/options: everything goes here.
+    fallback: Option<CpuBackend>,
+    /// What the viewer asked for (replayed into the fallback, or into a new renderer).
+    scene: Option<Scene>,
+    options: Option<RenderOptions>,
+    interactive: bool,
+    paused: bool,
+    spp_target: u64,
+    generation: u64,
+    /// Samples per pixel of the current generation whose batch has finished.
+    done_spp: u64,
+    elapsed: Duration,
+    dropped: u64,
+    in_flight: Option<Batch>,
+    /// Measured GPU time per pixel sample (moving average over batches).
+    sec_per_sample: Option<f64>,
+    budget: Duration,
+    tonemap: ToneMapper,
+    /// (generation, spp, size, display) of the tone-mapped texture.
+    shown: Option<(u64, u64, [u32; 2], DisplayParams)>,
+    /// Display settings of the last `display_texture` call.
+    display: Option<DisplayParams>,
+    readback: StatsReadback,
+    poller: Poller,
+    message: Option<String>,
+}
+
+impl GpuBackend {
+    /// A backend on eframe's device. `repaint` is woken whenever a batch finishes.
+    pub fn from_render_state(
+        rs: &egui_wgpu::RenderState,
+        repaint: Option<egui::Context>,
+    ) -> Result<GpuBackend> {
+        let ctx = GpuContext {
+            adapter: rs.adapter.clone(),
+            device: rs.device.clone(),
+            queue: rs.queue.clone(),
+            info: rs.adapter.get_info(),
+        };
+        GpuBackend::new(ctx, Arc::clone(&rs.renderer), repaint)
+    }
+
+    /// A backend on `ctx`, registering its image with `egui_renderer` (which must draw with
+    /// the same device).
+    pub fn new(
+        ctx: GpuContext,
+        egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
+        repaint: Option<egui::Context>,
+    ) -> Result<GpuBackend> {
+        let tonemap = ToneMapper::new(&ctx).context("cannot build the GPU tone-map pipeline")?;
+        let readback = StatsReadback {
+            staging: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("stats readback"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            pending: None,
+            state: Arc::new(AtomicU8::new(MAP_PENDING)),
+        };
+        let poller = Poller::new(ctx.device.clone());
+        Ok(GpuBackend {
+            ctx,
+            egui_renderer,
+            repaint,
+            renderer: None,
+            fallback: None,
+            scene: None,
+            options: None,
+            interactive: false,
+            paused: false,
+            spp_target: 0,
+            generation: 0,
+            done_spp: 0,
+            elapsed: Duration::ZERO,
+            dropped: 0,
+            in_flight: None,
+            sec_per_sample: None,
+            budget: DEFAULT_BUDGET,
+            tonemap,
+            shown: None,
+            display: None,
+            readback,
+            poller,
+            message: None,
+        })
+    }
+
+    /// The device the backend renders on.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// True while the CPU renders instead (the GPU cannot handle the scene or options).
+    pub fn is_fallback(&self) -> bool {
+        self.fallback.is_some()
+    }
+
+    /// True while a batch is queued on the GPU and not yet finished.
+    pub fn batch_in_flight(&self) -> bool {
+        self.in_flight.is_some()
+    }
+
+    /// Samples per pixel queued for the current generation (finished or not).
+    pub fn queued_spp(&self) -> u64 {
+        self.renderer.as_ref().map_or(0, |r| r.spp())
+    }
+
+    /// Read the tone-mapped texture back: (width, height, RGBA8 sRGB bytes). Blocking; for
+    /// tests and debugging only (the viewer never reads it back).
+    pub fn read_display_pixels(&self) -> Result<(u32, u32, Vec<u8>)> {
+        let t = self
+            .tonemap
+            .target
+            .as_ref()
+            .context("no tone-mapped image yet")?;
+        let [w, h] = t.size;
+        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let size = row as u64 * h as u64;
+        let buf = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("texture readback"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &t.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.ctx.queue.submit([enc.finish()]);
+        let bytes = self.ctx.read_buffer(&buf, size)?;
+        let mut out = Vec::with_capacity((w * h * 4) as usize);
+        for y in 0..h as usize {
+            let start = y * row as usize;
+            out.extend_from_slice(&bytes[start..start + w as usize * 4]);
+        }
+        Ok((w, h, out))
+    }
+
+    /// Every edit: a new generation with no samples.
+    fn bump(&mut self) {
+        self.generation += 1;
+        self.done_spp = 0;
+        self.elapsed = Duration::ZERO;
+        self.dropped = 0;
+    }
+
+    /// The renderer's options for the current viewer options, interactive state and speed.
+    fn gpu_options(&self) -> Option<GpuOptions> {
+        let o = self.options?;
+        let (mut w, mut h) = (o.width, o.height);
+        // Quarter resolution while dragging, when one full-resolution sample per pixel would
+        // not fit the frame budget (as `CpuBackend`, which always drops to a quarter).
+        let full = w as f64 * h as f64;
+        let slow = self
+            .sec_per_sample
+            .is_some_and(|s| s * full > self.budget.as_secs_f64());
+        if self.interactive && slow {
+            w = (w / 4).max(1);
+            h = (h / 4).max(1);
+        }
+        Some(GpuOptions {
+            width: w,
+            height: h,
+            max_depth: o.max_depth,
+            rr_depth: o.rr_depth,
+            seed: o.seed,
+            batch_spp: None,
+        })
+    }
+
+    /// (Re)build the GPU state from the mirrored scene and options. Ok(false): not enough
+    /// to render yet (no scene or no options).
+    fn sync_full(&mut self) -> Result<bool> {
+        let (Some(scene), Some(gopts), Some(o)) =
+            (self.scene.clone(), self.gpu_options(), self.options)
+        else {
+            return Ok(false);
+        };
+        match self.renderer.as_mut() {
+            Some(r) => r.set_scene(scene, gopts)?,
+            None => {
+                self.renderer = Some(GpuRenderer::with_context(share(&self.ctx), scene, gopts)?);
+            }
+        }
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_filter_table(o.filter);
+        }
+        Ok(true)
+    }
+
+    /// Options changed on a working renderer.
+    fn sync_options(&mut self) -> Result<()> {
+        let (Some(gopts), Some(o)) = (self.gpu_options(), self.options) else {
+            return Ok(());
+        };
+        let Some(r) = self.renderer.as_mut() else {
+            return self.sync_full().map(|_| ());
+        };
+        r.set_options(gopts)?;
+        if r.filter().copied() != o.filter {
+            r.set_filter_table(o.filter);
+        }
+        Ok(())
+    }
+
+    /// Render on the CPU from now on (state replayed), with a message saying why.
+    fn enter_fallback(&mut self, why: &anyhow::Error) {
+        self.in_flight = None;
+        self.message = Some(format!(
+            "The GPU renderer cannot render this ({why:#}); rendering on the CPU instead."
+        ));
+        let mut cpu = CpuBackend::new(self.repaint.clone());
+        if let Some(s) = &self.scene {
+            cpu.set_scene(s);
+        }
+        if let Some(o) = &self.options {
+            cpu.set_options(o);
+        }
+        cpu.set_interactive(self.interactive);
+        cpu.set_paused(self.paused);
+        cpu.set_spp_target(self.spp_target);
+        self.fallback = Some(cpu);
+    }
+
+    /// A whole-scene or options change while on the CPU fallback: try the GPU again.
+    fn retry_gpu(&mut self) -> bool {
+        match self.sync_full() {
+            Ok(true) => {
+                self.fallback = None;
+                self.shown = None;
+                self.message = Some("Rendering on the GPU again.".into());
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Apply `f` to the renderer; an error switches to the CPU fallback.
+    fn with_renderer(&mut self, f: impl FnOnce(&mut GpuRenderer) -> Result<()>) {
+        if let Some(r) = self.renderer.as_mut()
+            && let Err(e) = f(r)
+        {
+            self.enter_fallback(&e);
+        }
+    }
+
+    /// Collect a finished batch and the stats readback (never waits).
+    fn collect(&mut self) {
+        let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        let finished = self
+            .in_flight
+            .as_ref()
+            .and_then(|b| *b.done.lock().unwrap_or_else(|e| e.into_inner()));
+        if let Some(t) = finished
+            && let Some(b) = self.in_flight.take()
+        {
+            let dt = t.saturating_duration_since(b.submitted);
+            let per = dt.as_secs_f64() / (b.k as f64 * b.pixels as f64).max(1.0);
+            self.sec_per_sample = Some(match self.sec_per_sample {
+                Some(s) => 0.5 * s + 0.5 * per,
+                None => per,
+            });
+            if b.generation == self.generation {
+                self.done_spp += b.k as u64;
+                self.elapsed += dt;
+            }
+        }
+        let Some(generation) = self.readback.pending else {
+            return;
+        };
+        match self.readback.state.load(Ordering::Acquire) {
+            MAP_OK => {
+                let slice = self.readback.staging.slice(..);
+                if let Ok(view) = slice.get_mapped_range() {
+                    let s: crate::gpu::layout::Stats = bytemuck::pod_read_unaligned(&view[..16]);
+                    if generation == self.generation {
+                        self.dropped = s.dropped_lo as u64 | (s.dropped_hi as u64) << 32;
+                    }
+                }
+                self.readback.staging.unmap();
+            }
+            MAP_FAILED => {}
+            _ => return, // still pending
+        }
+        self.readback.state.store(MAP_PENDING, Ordering::Release);
+        self.readback.pending = None;
+    }
+
+    /// Queue the stats header copy after a batch (if the staging buffer is free).
+    fn start_readback(&mut self) {
+        let Some(r) = self.renderer.as_ref() else {
+            return;
+        };
+        if self.readback.pending.is_some() || r.spp() == 0 {
+            return;
+        }
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.copy_buffer_to_buffer(r.stats_buffer(), 0, &self.readback.staging, 0, 16);
+        self.ctx.queue.submit([enc.finish()]);
+        let state = Arc::clone(&self.readback.state);
+        self.readback
+            .staging
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |res| {
+                let s = if res.is_ok() { MAP_OK } else { MAP_FAILED };
+                state.store(s, Ordering::Release);
+            });
+        self.readback.pending = Some(self.generation);
+    }
+
+    /// Re-run the tone map if the generation, the spp or the display settings changed, and
+    /// only while no batch is in flight (otherwise the next `step` does it, right after the
+    /// batch finishes: the image and a new exposure appear within one batch).
+    fn refresh_display(&mut self) {
+        if self.in_flight.is_some() {
+            return;
+        }
+        let (Some(r), Some(display)) = (self.renderer.as_ref(), self.display) else {
+            return;
+        };
+        let size = [r.options().width, r.options().height];
+        let key = (self.generation, r.spp(), size, display);
+        // Nothing rendered for this generation yet: keep showing the previous image.
+        if r.spp() > 0 && self.shown != Some(key) {
+            self.tonemap.run(
+                &self.ctx,
+                &self.egui_renderer,
+                r.accum_buffer(),
+                size,
+                &display,
+            );
+            self.shown = Some(key);
+        }
+    }
+
+    fn wants_samples(&self, queued: u64) -> bool {
+        !self.paused && (self.spp_target == 0 || queued < self.spp_target)
+    }
+}
+
+impl Drop for GpuBackend {
+    fn drop(&mut self) {
+        if let Some(t) = self.tonemap.target.take() {
+            self.egui_renderer.write().free_texture(&t.id);
+        }
+    }
+}
+
+impl Backend for GpuBackend {
+    fn set_scene(&mut self, scene: &Scene) {
+        self.bump();
+        self.scene = Some(scene.clone());
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.set_scene(scene);
+            self.retry_gpu();
+            return;
+        }
+        if let Err(e) = self.sync_full() {
+            self.enter_fallback(&e);
+        }
+    }
+
+    fn update_material(&mut self, index: usize, material: &Material) {
+        if material.validate().is_err() {
+            return; // the CPU backend ignores invalid materials the same way
+        }
+        self.bump();
+        if let Some(slot) = self.scene.as_mut().and_then(|s| s.materials.get_mut(index)) {
+            *slot = material.clone();
+        }
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.update_material(index, material);
+            return;
+        }
+        let m = material.clone();
+        self.with_renderer(|r| r.set_material(index, m));
+    }
+
+    fn update_lights(&mut self, scene: &Scene, geometry_changed: bool) {
+        self.bump();
+        let old = self.scene.replace(scene.clone());
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.update_lights(scene, geometry_changed);
+            return;
+        }
+        let scene = scene.clone();
+        self.with_renderer(|r| {
+            let rebuild = geometry_changed
+                || old.as_ref().is_none_or(|o| {
+                    o.punctual_lights != scene.punctual_lights
+                        || o.materials.len() != scene.materials.len()
+                });
+            if rebuild {
+                let opts = *r.options();
+                return r.set_scene(scene, opts);
+            }
+            // Same geometry: rewrite the changed materials (emission → light CDF) in place.
+            for (i, m) in scene.materials.iter().enumerate() {
+                if r.scene().materials.get(i) != Some(m) {
+                    r.set_material(i, m.clone())?;
+                }
+            }
+            r.set_environment(scene.environment)?;
+            Ok(())
+        });
+    }
+
+    fn update_camera(&mut self, camera: &Camera) {
+        if camera.validate().is_err() {
+            return;
+        }
+        self.bump();
+        if let Some(s) = self.scene.as_mut() {
+            s.camera = *camera;
+        }
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.update_camera(camera);
+            return;
+        }
+        let c = *camera;
+        self.with_renderer(|r| r.set_camera(c));
+    }
+
+    fn set_options(&mut self, options: &RenderOptions) {
+        self.bump();
+        // ESTIMATOR: the GPU kernel implements the path tracer only, so `options.estimator`
+        // (bdpt / lt, also what "auto" picks for caustic scenes) renders as path tracing here;
+        // `device_name` says so. GPU light tracing plugs in at this point.
+        self.options = Some(*options);
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.set_options(options);
+            self.retry_gpu();
+            return;
+        }
+        if let Err(e) = self.sync_options() {
+            self.enter_fallback(&e);
+        }
+    }
+
+    fn set_interactive(&mut self, interactive: bool) {
+        if self.interactive == interactive {
+            return;
+        }
+        self.bump();
+        self.interactive = interactive;
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.set_interactive(interactive);
+            return;
+        }
+        if let Err(e) = self.sync_options() {
+            self.enter_fallback(&e);
+        }
+    }
+
+    fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.set_paused(paused);
+        }
+    }
+
+    fn set_spp_target(&mut self, spp: u64) {
+        self.spp_target = spp;
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.set_spp_target(spp);
+        }
+    }
+
+    fn reset(&mut self) {
+        self.bump();
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.reset();
+            return;
+        }
+        if let Some(r) = self.renderer.as_mut() {
+            r.reset();
+        }
+    }
+
+    fn step(&mut self, frame_budget: Duration) {
+        if let Some(cpu) = self.fallback.as_mut() {
+            cpu.step(frame_budget);
+            return;
+        }
+        self.budget = frame_budget;
+        self.collect();
+        if self.in_flight.is_some() {
+            return; // at most one batch in flight
+        }
+        // The GPU is idle now: tone-map and copy the counters before the next batch, so no
+        // submission of ours ever queues behind a running batch (software drivers such as
+        // lavapipe block `queue.submit` until the previous submission has finished).
+        self.refresh_display();
+        self.start_readback();
+        let (generation, budget, per) = (self.generation, frame_budget, self.sec_per_sample);
+        let Some(r) = self.renderer.as_mut() else {
+            return;
+        };
+        let queued = r.spp();
+        if self.paused || (self.spp_target > 0 && queued >= self.spp_target) {
+            return;
+        }
+        let o = r.options();
+        let pixels = o.width as u64 * o.height as u64;
+        let mut k = match per {
+            // The first batch of a generation: one sample, to show the edit at once.
+            _ if queued == 0 => 1,
+            Some(s) => {
+                let fit = budget.as_secs_f64() / (s * pixels.max(1) as f64);
+                fit.clamp(1.0, MAX_BATCH_SPP as f64) as u32
+            }
+            None => 1,
+        };
+        if self.spp_target > 0 {
+            k = k.min((self.spp_target - queued).min(MAX_BATCH_SPP as u64) as u32);
+        }
+        let k = k.max(1);
+        // Mark busy before the callback can possibly run.
+        self.poller.kick();
+        r.dispatch(k);
+        let done = Arc::new(Mutex::new(None));
+        {
+            let done = Arc::clone(&done);
+            let busy = Arc::clone(&self.poller.busy);
+            let repaint = self.repaint.clone();
+            self.ctx.queue.on_submitted_work_done(move || {
+                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some(Instant::now());
+                busy.store(false, Ordering::Release);
+                if let Some(c) = repaint {
+                    c.request_repaint();
+                }
+            });
+        }
+        self.in_flight = Some(Batch {
+            k,
+            pixels,
+            generation,
+            submitted: Instant::now(),
+            done,
+        });
+    }
+
+    fn spp(&self) -> u64 {
+        match &self.fallback {
+            Some(cpu) => cpu.spp(),
+            None => self.done_spp,
+        }
+    }
+
+    fn samples_per_sec(&self) -> f64 {
+        if let Some(cpu) = &self.fallback {
+            return cpu.samples_per_sec();
+        }
+        let pixels = self
+            .renderer
+            .as_ref()
+            .map_or(0, |r| r.options().width as u64 * r.options().height as u64);
+        (self.done_spp * pixels) as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+
+    fn elapsed(&self) -> Duration {
+        match &self.fallback {
+            Some(cpu) => cpu.elapsed(),
+            None => self.elapsed,
+        }
+    }
+
+    fn dropped(&self) -> u64 {
+        match &self.fallback {
+            Some(cpu) => cpu.dropped(),
+            None => self.dropped,
+        }
+    }
+
+    fn device_name(&self) -> String {
+        let gpu = format!("{} ({:?})", self.ctx.info.name, self.ctx.info.backend);
+        if let Some(cpu) = &self.fallback {
+            return format!("{} (GPU {gpu} cannot render this scene)", cpu.device_name());
+        }
+        let path_only = self.options.is_some_and(|o| o.estimator != Estimator::Path);
+        if path_only {
+            format!("GPU {gpu}, path tracing (bdpt/lt: CPU only)")
+        } else {
+            format!("GPU {gpu}")
+        }
+    }
+
+    fn is_rendering(&self) -> bool {
+        if let Some(cpu) = &self.fallback {
+            return cpu.is_rendering();
+        }
+        self.in_flight.is_some()
+            || self
+                .renderer
+                .as_ref()
+                .is_some_and(|r| self.wants_samples(r.spp()))
+    }
+
+    fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    fn material(&self, index: usize) -> Option<Material> {
+        match &self.fallback {
+            Some(cpu) => cpu.material(index),
+            None => self
+                .renderer
+                .as_ref()
+                .and_then(|r| r.scene().materials.get(index).cloned()),
+        }
+    }
+
+    fn display_texture(
+        &mut self,
+        ctx: &egui::Context,
+        display: &DisplayParams,
+    ) -> Option<DisplayTexture> {
+        if let Some(cpu) = self.fallback.as_mut() {
+            return cpu.display_texture(ctx, display);
+        }
+        self.display = Some(*display);
+        self.refresh_display();
+        self.tonemap.target.as_ref().map(|t| DisplayTexture {
+            id: t.id,
+            size: t.size,
+        })
+    }
+
+    fn read_image(&self) -> Option<Accumulated> {
+        if let Some(cpu) = &self.fallback {
+            return cpu.read_image();
+        }
+        let r = self.renderer.as_ref()?;
+        if r.spp() == 0 {
+            return None;
+        }
+        let img = r.image().ok()?;
+        Some(Accumulated {
+            generation: self.generation,
+            width: img.width,
+            height: img.height,
+            pixels: img.mean,
+            spp: img.spp,
+            dropped: img.dropped,
+            elapsed: self.elapsed,
+        })
+    }
+
+    fn take_message(&mut self) -> Option<String> {
+        self.message.take()
+    }
+}

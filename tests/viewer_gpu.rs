@@ -1,0 +1,302 @@
+//! The viewer's GPU backend (`app::gpu_backend::GpuBackend`): headless on a `GpuContext` with
+//! an `egui_wgpu::Renderer` (no window), and the whole viewer through egui_kittest with a
+//! wgpu renderer. Tests print a SKIP line and return when there is no adapter, unless
+//! REFRACT_REQUIRE_GPU is set (CI installs lavapipe, so they run there).
+
+use eframe::egui;
+use eframe::egui::mutex::RwLock;
+use eframe::egui_wgpu;
+use eframe::wgpu;
+use refract::app::ViewerApp;
+use refract::app::backend::{Backend, DisplayParams};
+use refract::app::gpu_backend::GpuBackend;
+use refract::app::settings::{DEFAULT_SCENE, ViewerSettings};
+use refract::cpu::RenderOptions;
+use refract::film::{self, ToneMap};
+use refract::gpu::GpuContext;
+use refract::scene::Scene;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The glass sphere of the default scene.
+const GLASS: usize = 4;
+
+fn context(test: &str) -> Option<GpuContext> {
+    match GpuContext::new() {
+        Ok(c) => {
+            eprintln!("{test}: GPU adapter {}", c.describe());
+            Some(c)
+        }
+        Err(e) => {
+            // CI installs lavapipe: there a missing adapter is a failure, not a skip.
+            if std::env::var_os("REFRACT_REQUIRE_GPU").is_some() {
+                panic!("{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})");
+            }
+            eprintln!("SKIP {test}: no GPU adapter ({e:#})");
+            None
+        }
+    }
+}
+
+/// A GPU backend on its own device with a windowless egui-wgpu renderer.
+fn backend(test: &str) -> Option<GpuBackend> {
+    let ctx = context(test)?;
+    let renderer = egui_wgpu::Renderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8Unorm,
+        egui_wgpu::RendererOptions::default(),
+    );
+    Some(GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("GPU backend"))
+}
+
+fn small_options(scene: &Scene, w: u32, h: u32) -> RenderOptions {
+    let mut o = RenderOptions::from_scene(scene);
+    o.width = w;
+    o.height = h;
+    o
+}
+
+/// The default scene at `w`×`h` on `b`.
+fn load(b: &mut GpuBackend, w: u32, h: u32) -> Scene {
+    let scene = Scene::load(DEFAULT_SCENE).unwrap();
+    b.set_scene(&scene);
+    b.set_options(&small_options(&scene, w, h));
+    assert!(!b.is_fallback(), "the GPU renders the default scene");
+    scene
+}
+
+/// Step (like the UI would, 8 ms budget) until `cond` holds.
+fn step_until(b: &mut GpuBackend, what: &str, cond: impl Fn(&GpuBackend) -> bool) {
+    let start = Instant::now();
+    while !cond(b) {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "timed out waiting for {what}"
+        );
+        b.step(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+#[test]
+fn gpu_backend_accumulates_and_restarts_on_a_material_edit() {
+    let Some(mut b) = backend("gpu_backend_accumulates_and_restarts_on_a_material_edit") else {
+        return;
+    };
+    let scene = load(&mut b, 64, 48);
+    assert!(b.device_name().starts_with("GPU "), "{}", b.device_name());
+    step_until(&mut b, "4 spp", |b| b.spp() >= 4);
+    assert!(b.is_rendering());
+    assert!(b.samples_per_sec() > 0.0);
+    assert!(b.elapsed() > Duration::ZERO);
+    assert_eq!(b.material(GLASS).map(|m| m.ior), Some(1.5));
+
+    let gen0 = b.generation();
+    let mut m = scene.materials[GLASS].clone();
+    m.ior = 2.0;
+    b.update_material(GLASS, &m);
+    assert!(b.generation() > gen0, "an edit bumps the generation");
+    assert_eq!(b.spp(), 0, "no sample from before the edit survives");
+    assert_eq!(b.material(GLASS).map(|m| m.ior), Some(2.0));
+    step_until(&mut b, "samples after the edit", |b| b.spp() >= 2);
+    let img = b.read_image().expect("an image");
+    assert_eq!((img.width, img.height), (64, 48));
+    assert_eq!(img.generation, b.generation());
+    assert!(img.spp >= 2);
+    let mean: f32 =
+        img.pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / img.pixels.len() as f32;
+    assert!(mean > 0.01, "the image is lit (mean {mean})");
+
+    // Invalid edits are refused like the CPU backend does (no restart, old value kept).
+    let g = b.generation();
+    m.ior = f32::NAN;
+    b.update_material(GLASS, &m);
+    assert_eq!(b.generation(), g);
+    assert_eq!(b.material(GLASS).map(|m| m.ior), Some(2.0));
+
+    // The spp target stops accumulation exactly there.
+    b.set_spp_target(5);
+    step_until(&mut b, "the target", |b| !b.is_rendering());
+    assert_eq!(b.spp(), 5);
+}
+
+#[test]
+fn gpu_tone_map_matches_film_to_srgb8() {
+    let Some(mut b) = backend("gpu_tone_map_matches_film_to_srgb8") else {
+        return;
+    };
+    load(&mut b, 80, 60);
+    let ctx = egui::Context::default();
+    step_until(&mut b, "4 spp", |b| b.spp() >= 4);
+    // Paused and idle: every display setting below tone-maps the same accumulated image.
+    b.set_paused(true);
+    step_until(&mut b, "the last batch", |b| !b.batch_in_flight());
+    for (tone_map, exposure) in [
+        (ToneMap::Clamp, 0.0),
+        (ToneMap::Reinhard, 1.5),
+        (ToneMap::Aces, -0.5),
+        (ToneMap::Clamp, 2.0),
+    ] {
+        let display = DisplayParams { exposure, tone_map };
+        let tex = b.display_texture(&ctx, &display).expect("a texture");
+        assert_eq!(tex.size, [80, 60]);
+        // Both reads wait for the queue: the tone map was queued after every batch so far.
+        let (w, h, shown) = b.read_display_pixels().unwrap();
+        let img = b.read_image().unwrap();
+        assert_eq!((w, h), (img.width, img.height));
+        let want = film::to_srgb8(&img.pixels, exposure, tone_map);
+        assert_eq!(shown.len(), want.len());
+        let mut worst = 0;
+        let mut off = 0;
+        for (a, c) in shown.iter().zip(&want) {
+            let d = (*a as i32 - *c as i32).abs();
+            worst = worst.max(d);
+            off += (d > 0) as usize;
+        }
+        eprintln!(
+            "{tone_map:?} {exposure:+} stops: max |GPU − film::to_srgb8| = {worst}/255, {off} of {} channels differ",
+            want.len()
+        );
+        assert!(worst <= 1, "{tone_map:?}: off by {worst}/255");
+        // Only f32 pow rounding at a byte boundary may differ.
+        assert!(
+            off * 100 <= want.len(),
+            "{tone_map:?}: {off} channels differ"
+        );
+        let lit = shown.chunks(4).filter(|p| p[0] > 10 || p[1] > 10).count();
+        assert!(
+            lit * 2 > shown.len() / 4,
+            "mostly dark image: {lit} lit pixels"
+        );
+    }
+}
+
+#[test]
+fn paused_gpu_backend_stops_accumulating() {
+    let Some(mut b) = backend("paused_gpu_backend_stops_accumulating") else {
+        return;
+    };
+    load(&mut b, 64, 48);
+    step_until(&mut b, "2 spp", |b| b.spp() >= 2);
+    b.set_paused(true);
+    step_until(&mut b, "the last batch", |b| !b.batch_in_flight());
+    let spp = b.spp();
+    let generation = b.generation();
+    for _ in 0..20 {
+        b.step(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert_eq!(b.spp(), spp, "paused: no new samples");
+    assert_eq!(b.generation(), generation, "pausing keeps the samples");
+    assert!(!b.is_rendering());
+    b.set_paused(false);
+    step_until(&mut b, "rendering to resume", |b| b.spp() > spp);
+}
+
+#[test]
+fn gpu_backend_step_never_blocks_the_ui() {
+    let Some(mut b) = backend("gpu_backend_step_never_blocks_the_ui") else {
+        return;
+    };
+    // Large enough that one batch takes a while (seconds on lavapipe).
+    load(&mut b, 512, 384);
+    let ctx = egui::Context::default();
+    let display = DisplayParams {
+        exposure: 0.0,
+        tone_map: ToneMap::Clamp,
+    };
+    let mut worst = Duration::ZERO;
+    let mut saw_in_flight = false;
+    let start = Instant::now();
+    while b.spp() < 2 {
+        assert!(start.elapsed() < Duration::from_secs(180), "no progress");
+        let t = Instant::now();
+        b.step(Duration::from_millis(8));
+        b.display_texture(&ctx, &display);
+        worst = worst.max(t.elapsed());
+        saw_in_flight |= b.batch_in_flight();
+        std::thread::sleep(Duration::from_millis(4));
+    }
+    eprintln!(
+        "slowest step + display_texture: {:.2} ms",
+        worst.as_secs_f64() * 1e3
+    );
+    assert!(saw_in_flight, "a batch was seen in flight");
+    // Queueing work and polling never waits for the GPU: far below one batch's duration.
+    assert!(
+        worst < Duration::from_millis(100),
+        "step blocked the UI for {worst:?}"
+    );
+}
+
+#[test]
+fn unsupported_size_falls_back_to_the_cpu_and_back() {
+    let Some(mut b) = backend("unsupported_size_falls_back_to_the_cpu_and_back") else {
+        return;
+    };
+    let scene = load(&mut b, 64, 48);
+    // 3000×3000 × 16 bytes is over the renderer's 128 MiB accumulation-buffer limit.
+    b.set_options(&small_options(&scene, 3000, 3000));
+    assert!(b.is_fallback());
+    assert!(b.device_name().starts_with("CPU"), "{}", b.device_name());
+    let msg = b.take_message().expect("a message says why");
+    assert!(msg.contains("CPU"), "{msg}");
+    // Edits go to the CPU renderer meanwhile.
+    let mut m = scene.materials[GLASS].clone();
+    m.ior = 1.7;
+    b.update_material(GLASS, &m);
+    b.set_options(&small_options(&scene, 64, 48));
+    assert!(!b.is_fallback(), "a size the GPU handles brings it back");
+    assert!(b.device_name().starts_with("GPU "));
+    assert_eq!(b.material(GLASS).map(|m| m.ior), Some(1.7));
+    step_until(&mut b, "GPU samples", |b| b.spp() >= 1);
+}
+
+/// The whole viewer through egui_kittest, drawn by kittest's wgpu renderer on the same device
+/// the GPU backend renders with: the viewport shows the GPU image.
+#[test]
+fn kittest_viewer_on_the_gpu_backend() {
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
+    if context("kittest_viewer_on_the_gpu_backend").is_none() {
+        return;
+    }
+    let rs = egui_kittest::wgpu::create_render_state(
+        refract::app::wgpu_configuration().wgpu_setup,
+        egui_wgpu::RendererOptions::PREDICTABLE,
+    );
+    let backend = GpuBackend::from_render_state(&rs, None).expect("GPU backend");
+    let base = Scene::load(DEFAULT_SCENE).unwrap();
+    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
+    settings.render.render_scale = 0.125; // 64×64
+    let app = ViewerApp::with_backend(base, settings, Box::new(backend)).unwrap();
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 900.0))
+        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(rs))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    h.step();
+    h.get_by_label_contains("render: GPU");
+    let start = Instant::now();
+    while h.state().backend().spp() < 4 {
+        assert!(start.elapsed() < Duration::from_secs(120), "no GPU samples");
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
+    h.step();
+    let img = h.render().expect("kittest renders with wgpu");
+    // The viewport is right of the side panel: its brightest region is the rendered image
+    // (the background there is grey 16, the "rendering…" placeholder black).
+    let (w, hh) = img.dimensions();
+    let mut sum = 0.0;
+    let mut n = 0.0;
+    for y in hh / 4..hh * 3 / 4 {
+        for x in w / 2..w * 7 / 8 {
+            let p = img.get_pixel(x, y);
+            sum += (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0;
+            n += 1.0;
+        }
+    }
+    let mean = sum / n;
+    eprintln!("viewport mean brightness {mean:.1}/255");
+    assert!(mean > 30.0, "the viewport looks empty (mean {mean:.1})");
+}
