@@ -300,3 +300,42 @@ fn kittest_viewer_on_the_gpu_backend() {
     eprintln!("viewport mean brightness {mean:.1}/255");
     assert!(mean > 30.0, "the viewport looks empty (mean {mean:.1})");
 }
+
+/// The estimator selector on the GPU backend: lt+pt (what "auto" picks on `caustic`) runs
+/// light + path tracing and accumulates; switching dispersion on keeps rendering (path
+/// tracing, said in the status) and switching it off resumes light tracing.
+#[test]
+fn gpu_backend_runs_lt_pt_and_survives_dispersion() {
+    use refract::app::settings::EstimatorChoice;
+    use refract::cpu::Estimator;
+    let Some(mut b) = backend("gpu_backend_runs_lt_pt_and_survives_dispersion") else {
+        return;
+    };
+    let scene = Scene::load("builtin:caustic").unwrap();
+    assert_eq!(EstimatorChoice::Auto.resolve(&scene), Estimator::LtPt);
+    b.set_scene(&scene);
+    let mut o = small_options(&scene, 48, 32);
+    o.estimator = EstimatorChoice::Auto.resolve(&scene);
+    b.set_options(&o);
+    assert!(!b.is_fallback());
+    assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
+    step_until(&mut b, "2 spp of lt+pt", |b| b.spp() >= 2);
+    let img = b.read_image().expect("image");
+    assert!(img.pixels.iter().all(|p| p.is_finite()));
+    assert!(img.pixels.iter().any(|p| p.max_element() > 0.0));
+
+    let glass = scene
+        .materials
+        .iter()
+        .position(|m| m.is_transmissive())
+        .expect("caustic has glass");
+    let mut m = scene.materials[glass].clone();
+    m.abbe = Some(30.0);
+    b.update_material(glass, &m);
+    assert!(b.device_name().contains("path"), "{}", b.device_name());
+    step_until(&mut b, "2 spp with dispersion", |b| b.spp() >= 2);
+    m.abbe = None;
+    b.update_material(glass, &m);
+    assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
+    step_until(&mut b, "2 spp after dispersion", |b| b.spp() >= 2);
+}

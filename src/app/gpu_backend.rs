@@ -32,7 +32,7 @@
 use super::backend::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
 use crate::cpu::{Estimator, RenderOptions};
 use crate::film::ToneMap;
-use crate::gpu::{GpuContext, GpuOptions, GpuRenderer};
+use crate::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
 use crate::scene::{Camera, Material, Scene};
 use anyhow::{Context as _, Result};
 use eframe::egui;
@@ -551,7 +551,34 @@ impl GpuBackend {
         if let Some(r) = self.renderer.as_mut() {
             r.set_filter_table(o.filter);
         }
+        self.sync_estimator();
         Ok(true)
+    }
+
+    /// The GPU estimator for the viewer's choice: path tracing stays path tracing; the
+    /// bidirectional choices (lt+pt, what "auto" picks for caustic scenes, and bdpt / lt,
+    /// which exist only on the CPU) run light + path tracing with MIS.
+    fn wanted_estimator(&self) -> GpuEstimator {
+        match self.options.map(|o| o.estimator) {
+            None | Some(Estimator::Path) => GpuEstimator::Path,
+            Some(_) => GpuEstimator::LtPt,
+        }
+    }
+
+    /// Apply the wanted estimator (only when it changed: switching restarts accumulation).
+    /// A dispersive scene cannot run lt+pt (RGB only): the renderer path-traces while it is
+    /// dispersive (message), and resumes light tracing when dispersion is switched off.
+    fn sync_estimator(&mut self) {
+        let want = self.wanted_estimator();
+        let Some(r) = self.renderer.as_mut() else {
+            return;
+        };
+        if r.estimator() == want {
+            return;
+        }
+        if let Err(e) = r.set_estimator(want) {
+            self.message = Some(format!("{e:#}; path tracing while dispersion is on."));
+        }
     }
 
     /// Options changed on a working renderer.
@@ -566,6 +593,7 @@ impl GpuBackend {
         if r.filter().copied() != o.filter {
             r.set_filter_table(o.filter);
         }
+        self.sync_estimator();
         Ok(())
     }
 
@@ -792,9 +820,7 @@ impl Backend for GpuBackend {
 
     fn set_options(&mut self, options: &RenderOptions) {
         self.bump();
-        // ESTIMATOR: the GPU kernel implements the path tracer only, so `options.estimator`
-        // (bdpt / lt, also what "auto" picks for caustic scenes) renders as path tracing here;
-        // `device_name` says so. GPU light tracing plugs in at this point.
+        // The estimator is applied by `sync_options`/`sync_full` (`wanted_estimator`).
         self.options = Some(*options);
         if let Some(cpu) = self.fallback.as_mut() {
             cpu.set_options(options);
@@ -946,11 +972,18 @@ impl Backend for GpuBackend {
         if let Some(cpu) = &self.fallback {
             return format!("{} (GPU {gpu} cannot render this scene)", cpu.device_name());
         }
-        let path_only = self.options.is_some_and(|o| o.estimator != Estimator::Path);
-        if path_only {
-            format!("GPU {gpu}, path tracing (bdpt/lt: CPU only)")
-        } else {
-            format!("GPU {gpu}")
+        let Some(r) = &self.renderer else {
+            return format!("GPU {gpu}");
+        };
+        let running = r.effective_estimator();
+        match self.options.map(|o| o.estimator) {
+            Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
+                format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")
+            }
+            _ if running != self.wanted_estimator() => {
+                format!("GPU {gpu}, {running} (lt+pt is RGB-only: the scene has dispersion)")
+            }
+            _ => format!("GPU {gpu}, {running}"),
         }
     }
 

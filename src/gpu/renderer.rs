@@ -634,17 +634,18 @@ impl GpuRenderer {
         }
     }
 
-    /// Choose the estimator. `LtPt` is refused (with the reason) for scenes with dispersion.
-    /// Accumulation restarts.
+    /// Choose the estimator; accumulation restarts. `LtPt` on a scene with dispersion is an
+    /// error (with the reason), but the choice is kept: the kernels path-trace while the scene
+    /// is dispersive and light tracing resumes when it no longer is (`effective_estimator`).
     pub fn set_estimator(&mut self, estimator: GpuEstimator) -> Result<()> {
+        self.estimator = estimator;
+        self.respecialize();
+        self.reset();
         ensure!(
             estimator != GpuEstimator::LtPt || !self.scene.features().dispersion,
             "GPU light tracing (lt+pt) is RGB-only and this scene has dispersion; use \
              --estimator path, or --device cpu --estimator bdpt"
         );
-        self.estimator = estimator;
-        self.respecialize();
-        self.reset();
         Ok(())
     }
 
