@@ -114,3 +114,21 @@ pub fn flatten(mesh: &Mesh) -> Mesh {
     }
     out
 }
+
+/// A GPU context for test `test`, or None (with a SKIP line) when there is no adapter; with
+/// REFRACT_REQUIRE_GPU set (CI installs lavapipe) a missing adapter fails the test instead.
+pub fn gpu_context(test: &str) -> Option<refract::gpu::GpuContext> {
+    match refract::gpu::GpuContext::new() {
+        Ok(c) => {
+            eprintln!("{test}: GPU adapter {}", c.describe());
+            Some(c)
+        }
+        Err(e) => {
+            if std::env::var_os("REFRACT_REQUIRE_GPU").is_some() {
+                panic!("{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})");
+            }
+            eprintln!("SKIP {test}: no GPU adapter ({e:#})");
+            None
+        }
+    }
+}

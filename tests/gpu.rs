@@ -27,20 +27,7 @@ use refract::scene::material::{Texture, TextureRef, Wrap};
 use refract::scene::{Camera, Material, Mesh, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => {
-            eprintln!("{test}: GPU adapter {}", c.describe());
-            Some(c)
-        }
-        Err(e) => {
-            // CI installs lavapipe: there a missing adapter is a failure, not a skip.
-            if std::env::var_os("REFRACT_REQUIRE_GPU").is_some() {
-                panic!("{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})");
-            }
-            eprintln!("SKIP {test}: no GPU adapter ({e:#})");
-            None
-        }
-    }
+    gpu_context(test)
 }
 
 #[test]

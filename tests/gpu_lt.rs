@@ -14,19 +14,7 @@ use refract::paths::PathFilter;
 use refract::scene::{Camera, Material, Mesh, PunctualLight, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => {
-            eprintln!("{test}: GPU adapter {}", c.describe());
-            Some(c)
-        }
-        Err(e) => {
-            if std::env::var_os("REFRACT_REQUIRE_GPU").is_some() {
-                panic!("{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})");
-            }
-            eprintln!("SKIP {test}: no GPU adapter ({e:#})");
-            None
-        }
-    }
+    gpu_context(test)
 }
 
 fn small(spec: &str, w: u32, h: u32) -> Scene {

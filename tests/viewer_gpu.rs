@@ -3,6 +3,9 @@
 //! wgpu renderer. Tests print a SKIP line and return when there is no adapter, unless
 //! REFRACT_REQUIRE_GPU is set (CI installs lavapipe, so they run there).
 
+mod common_scenes;
+use common_scenes::gpu_context;
+
 use eframe::egui;
 use eframe::egui::mutex::RwLock;
 use eframe::egui_wgpu;
@@ -22,20 +25,7 @@ use std::time::{Duration, Instant};
 const GLASS: usize = 4;
 
 fn context(test: &str) -> Option<GpuContext> {
-    match GpuContext::new() {
-        Ok(c) => {
-            eprintln!("{test}: GPU adapter {}", c.describe());
-            Some(c)
-        }
-        Err(e) => {
-            // CI installs lavapipe: there a missing adapter is a failure, not a skip.
-            if std::env::var_os("REFRACT_REQUIRE_GPU").is_some() {
-                panic!("{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})");
-            }
-            eprintln!("SKIP {test}: no GPU adapter ({e:#})");
-            None
-        }
-    }
+    gpu_context(test)
 }
 
 /// A GPU backend on its own device with a windowless egui-wgpu renderer.
@@ -208,7 +198,11 @@ fn gpu_backend_step_never_blocks_the_ui() {
     let mut worst = Duration::ZERO;
     let mut saw_in_flight = false;
     let start = Instant::now();
+    let mut first_batch = None;
     while b.spp() < 2 {
+        if b.spp() >= 1 && first_batch.is_none() {
+            first_batch = Some(start.elapsed());
+        }
         assert!(start.elapsed() < Duration::from_secs(180), "no progress");
         let t = Instant::now();
         b.step(Duration::from_millis(8));
@@ -221,11 +215,18 @@ fn gpu_backend_step_never_blocks_the_ui() {
         "slowest step + display_texture: {:.2} ms",
         worst.as_secs_f64() * 1e3
     );
+    let batch = first_batch.unwrap_or_else(|| start.elapsed());
+    eprintln!(
+        "first 1-spp batch done after {:.0} ms",
+        batch.as_secs_f64() * 1e3
+    );
     assert!(saw_in_flight, "a batch was seen in flight");
-    // Queueing work and polling never waits for the GPU: far below one batch's duration.
+    // Queueing work and polling never waits for the GPU: far below one batch's duration
+    // (100 ms, or a third of a batch where the machine is so loaded that a batch takes
+    // seconds and the OS alone can delay a frame by more than 100 ms).
     assert!(
-        worst < Duration::from_millis(100),
-        "step blocked the UI for {worst:?}"
+        worst < Duration::from_millis(100).max(batch / 3),
+        "step blocked the UI for {worst:?} (one batch: {batch:?})"
     );
 }
 

@@ -410,11 +410,7 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     if !(side_i * side_o > 0.0) && !bsdf_can_transmit(bsdf) {
         return zero;
     }
-    var off_n = -ng;
-    if side_i > 0.0 {
-        off_n = ng;
-    }
-    let origin = offset_ray_origin(hit.p, off_n);
+    let origin = offset_ray_origin_towards(hit.p, ng, side_i);
     var sdir: vec3<f32>;
     if has_target_n {
         let pl = hit.p + shadow_dir;
@@ -452,6 +448,24 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
         w = power_heuristic(pdf, bsdf_pdf(bsdf, wo, wi));
     }
     return f * abs(wi.z) * li * (w / pdf);
+}
+
+// A sampled event agrees with the geometric normal: reflection stays on wo's side,
+// transmission crosses it (side_o = ωo·ng, side_i = ωi·ng).
+fn event_is_consistent(event: u32, side_o: f32, side_i: f32) -> bool {
+    if event == EVENT_REFLECT {
+        return side_o * side_i > 0.0;
+    }
+    return side_o * side_i < 0.0;
+}
+
+// Ray origin at p, pushed off the surface to the side the new direction leaves on
+// (side_i = ωi·ng). Wächter & Binder 2019 offsets (`offset_ray_origin`).
+fn offset_ray_origin_towards(p: vec3<f32>, ng: vec3<f32>, side_i: f32) -> vec3<f32> {
+    if side_i > 0.0 {
+        return offset_ray_origin(p, ng);
+    }
+    return offset_ray_origin(p, -ng);
 }
 
 // A quiet NaN (the film firewall drops and counts it), built at run time.
@@ -604,14 +618,8 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             break;
         }
         let wi_w = frame_to_world(frame, s.wi);
-        let side_o = dot3(wo_w, ng);
         let side_i = dot3(wi_w, ng);
-        var consistent: bool;
-        if s.event == EVENT_REFLECT {
-            consistent = side_o * side_i > 0.0;
-        } else {
-            consistent = side_o * side_i < 0.0;
-        }
+        let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
         if !is_finite_v4(s.weight) {
             // A broken BSDF value: poison the sample so the firewall drops and counts it.
             return poison();
@@ -652,11 +660,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         }
         prev_pdf = s.pdf;
         prev_delta = s.is_delta;
-        var off_n = -ng;
-        if side_i > 0.0 {
-            off_n = ng;
-        }
-        o = offset_ray_origin(hit.p, off_n);
+        o = offset_ray_origin_towards(hit.p, ng, side_i);
         d = wi_w;
         depth++;
         debug_write(2u + DEBUG_STRIDE * min(depth - 1u, DEBUG_MAX_VERTICES - 1u), vec4<f32>(beta.xyz, f32(depth)));

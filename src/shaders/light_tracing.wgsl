@@ -250,11 +250,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     if !(max_element3(v) > 0.0) {
         return 0u;
     }
-    var off_n = -ng;
-    if side_i > 0.0 {
-        off_n = ng;
-    }
-    let origin = offset_ray_origin(hit.p, off_n);
+    let origin = offset_ray_origin_towards(hit.p, ng, side_i);
     if bvh_occluded(origin, params.cam_pos.xyz - origin, 1.0) {
         return 0u;
     }
@@ -431,14 +427,8 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
             break;
         }
         let wi_w = frame_to_world(frame, s.wi);
-        let side_o = dot3(wo_w, ng);
         let side_i = dot3(wi_w, ng);
-        var consistent: bool;
-        if s.event == EVENT_REFLECT {
-            consistent = side_o * side_i > 0.0;
-        } else {
-            consistent = side_o * side_i < 0.0;
-        }
+        let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
         if !is_finite_v4(s.weight) {
             rejected += 1u;
             break;
@@ -475,11 +465,7 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         prev_pdf = s.pdf;
         prev_delta = s.is_delta;
         cos_prev = abs(dot3(hit.ng, wi_w));
-        var off_n = -ng;
-        if side_i > 0.0 {
-            off_n = ng;
-        }
-        o = offset_ray_origin(hit.p, off_n);
+        o = offset_ray_origin_towards(hit.p, ng, side_i);
         d = wi_w;
         // Russian roulette on the importance throughput (as the camera walk, from rr_depth).
         if lw.m >= params.rr_depth {
