@@ -326,16 +326,21 @@ fn lt_pt_reduces_caustic_variance() {
     );
 }
 
-/// Dispersion needs hero wavelengths, which the light-tracing kernel does not carry: refused
-/// with a reason, and the renderer keeps path tracing.
+/// Dispersion: both walks carry hero wavelengths (the prism's rainbow is an L S S D E path that
+/// light tracing finds directly). Against the CPU's bidirectional renderer (same spectral
+/// model, independent code) and, with many more samples, the CPU path tracer.
 #[test]
-fn lt_pt_refuses_dispersive_scenes() {
-    let Some(ctx) = context("lt_pt_refuses_dispersive_scenes") else {
-        return;
-    };
-    let s = small("builtin:prism", 16, 16);
-    let mut g = GpuRenderer::with_context(ctx, s.clone(), GpuOptions::from_scene(&s)).unwrap();
-    let e = g.set_estimator(GpuEstimator::LtPt).unwrap_err();
-    assert!(format!("{e:#}").contains("dispersion"), "{e:#}");
-    assert_eq!(g.effective_estimator(), GpuEstimator::Path);
+fn lt_pt_with_dispersion() {
+    let s = small("builtin:prism", 48, 32);
+    assert!(s.features().dispersion);
+    converges_to(
+        "lt+pt prism vs bdpt",
+        s.clone(),
+        None,
+        8,
+        8,
+        Estimator::Bdpt,
+        1,
+    );
+    converges_to_path("lt+pt prism", s, None, 8, 8, 64);
 }

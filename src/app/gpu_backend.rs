@@ -566,8 +566,6 @@ impl GpuBackend {
     }
 
     /// Apply the wanted estimator (only when it changed: switching restarts accumulation).
-    /// A dispersive scene cannot run lt+pt (RGB only): the renderer path-traces while it is
-    /// dispersive (message), and resumes light tracing when dispersion is switched off.
     fn sync_estimator(&mut self) {
         let want = self.wanted_estimator();
         let Some(r) = self.renderer.as_mut() else {
@@ -577,7 +575,10 @@ impl GpuBackend {
             return;
         }
         if let Err(e) = r.set_estimator(want) {
-            self.message = Some(format!("{e:#}; path tracing while dispersion is on."));
+            self.message = Some(format!(
+                "{e:#}; rendering with {}.",
+                r.effective_estimator()
+            ));
         }
     }
 
@@ -979,9 +980,6 @@ impl Backend for GpuBackend {
         match self.options.map(|o| o.estimator) {
             Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
                 format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")
-            }
-            _ if running != self.wanted_estimator() => {
-                format!("GPU {gpu}, {running} (lt+pt is RGB-only: the scene has dispersion)")
             }
             _ => format!("GPU {gpu}, {running}"),
         }

@@ -50,7 +50,7 @@ pub enum GpuEstimator {
     /// Path tracing plus light tracing (one light subpath per camera path, connected to the
     /// camera and splatted with fixed-point atomics), all three strategies combined by MIS
     /// (src/shaders/light_tracing.wgsl). Converges caustics (LS+DE) that path tracing barely
-    /// finds. RGB only (no dispersion).
+    /// finds, dispersive ones included (hero wavelengths on both walks).
     LtPt,
 }
 
@@ -622,8 +622,7 @@ impl GpuRenderer {
     fn respecialize(&mut self) {
         let mut spec = Specialization::for_scene(&self.scene);
         spec.filter = self.filtered;
-        // Light tracing is RGB-only: a dispersive scene renders with the path tracer.
-        spec.light_tracing = self.estimator == GpuEstimator::LtPt && !spec.spectral;
+        spec.light_tracing = self.estimator == GpuEstimator::LtPt;
         if spec != self.spec {
             self.spec = spec;
             self.pipelines.get(&self.ctx, spec);
@@ -634,18 +633,11 @@ impl GpuRenderer {
         }
     }
 
-    /// Choose the estimator; accumulation restarts. `LtPt` on a scene with dispersion is an
-    /// error (with the reason), but the choice is kept: the kernels path-trace while the scene
-    /// is dispersive and light tracing resumes when it no longer is (`effective_estimator`).
+    /// Choose the estimator (compiles its pipelines on first use); accumulation restarts.
     pub fn set_estimator(&mut self, estimator: GpuEstimator) -> Result<()> {
         self.estimator = estimator;
         self.respecialize();
         self.reset();
-        ensure!(
-            estimator != GpuEstimator::LtPt || !self.scene.features().dispersion,
-            "GPU light tracing (lt+pt) is RGB-only and this scene has dispersion; use \
-             --estimator path, or --device cpu --estimator bdpt"
-        );
         Ok(())
     }
 
@@ -654,8 +646,7 @@ impl GpuRenderer {
         self.estimator
     }
 
-    /// The estimator the kernels run (path tracing when light tracing cannot apply, e.g. after
-    /// dispersion was switched on).
+    /// The estimator the kernels run.
     pub fn effective_estimator(&self) -> GpuEstimator {
         if self.spec.light_tracing {
             GpuEstimator::LtPt

@@ -450,6 +450,23 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     return f * abs(wi.z) * li * (w / pdf);
 }
 
+// Beer–Lambert transmittance T = exp(−σ_a t) over distance t inside material `mm`'s medium,
+// σ_a = −ln(c)/d (glTF KHR_materials_volume), in the path's colour lanes.
+fn medium_transmittance(mm: Material, t: f32, sp: Spectral) -> vec4<f32> {
+    if (mm.flags & MAT_ABSORBS) == 0u {
+        return vec4<f32>(1.0);
+    }
+    var sa: vec4<f32>;
+    if HAS_SPECTRAL && sp.on {
+        let c = max(spectral_c(sp, v3(mm.attenuation_color)), vec4<f32>(1e-6));
+        sa = -log(c) / mm.attenuation_distance;
+    } else {
+        sa = vec4<f32>(v3(mm.sigma_a), 0.0);
+    }
+    let tr = -sa * t;
+    return exp(tr);
+}
+
 // A sampled event agrees with the geometric normal: reflection stays on wo's side,
 // transmission crosses it (side_o = ωo·ng, side_i = ωi·ng).
 fn event_is_consistent(event: u32, side_o: f32, side_i: f32) -> bool {
@@ -511,19 +528,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         }
         let hit = integrator_surface(h);
         if HAS_ABSORPTION && medium != NO_MEDIUM {
-            let mm = materials[medium];
-            if (mm.flags & MAT_ABSORBS) != 0u {
-                // Beer–Lambert: T = exp(−σ_a t), σ_a = −ln(c)/d (glTF KHR_materials_volume).
-                var sa: vec4<f32>;
-                if HAS_SPECTRAL && sp.on {
-                    let c = max(spectral_c(sp, v3(mm.attenuation_color)), vec4<f32>(1e-6));
-                    sa = -log(c) / mm.attenuation_distance;
-                } else {
-                    sa = vec4<f32>(v3(mm.sigma_a), 0.0);
-                }
-                let tr = -sa * hit.t;
-                beta *= exp(tr);
-            }
+            beta *= medium_transmittance(materials[medium], hit.t, sp);
         }
         let mat = materials[hit.material];
         let front = dot3(d, hit.ng) < 0.0;

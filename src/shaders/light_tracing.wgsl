@@ -22,7 +22,9 @@
 //
 // Importance transport uses the adjoint BSDF (`MODE_IMPORTANCE`: no 1/η² on refraction) and the
 // shading-normal correction |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (Veach 1997, eq. 5.19).
-// RGB only: scenes with dispersion render `lt+pt` on the CPU's bdpt instead (the host refuses).
+// Dispersion: the light subpath samples its own hero wavelengths (Wilkie et al. 2014) and, like
+// the camera walk, keeps only the hero lane (×4) from the first dispersive vertex on; the
+// wavelength density is the same for both walks, so it cancels in the MIS ratios.
 
 @group(0) @binding(10) var<storage, read_write> splats: array<atomic<u32>>;
 
@@ -35,22 +37,34 @@ const U32_MAX_F: f32 = 4294967040.0;
 // Stream separation between camera and light subpaths of the same (pixel, sample).
 const LT_SEED_MIX: u32 = 0x9e3779b9u;
 
-// Add v (≥ 0, ≤ SPLAT_MAX per channel) to pixel `pixel` of the splat film.
+// Add v (|v| ≤ SPLAT_MAX per channel) to pixel `pixel` of the splat film. Each channel is a
+// signed 64-bit two's-complement sum (lo, hi): adding −x is adding 2⁶⁴ − x, i.e. lo' = −x_lo
+// with the carry out of lo into hi and hi' = ¬x_hi (+1 when x_lo = 0), all mod 2³². Spectral
+// (hero-wavelength) samples can be negative in RGB, hence the sign.
 fn splat_add(pixel: u32, v: vec3<f32>) {
     for (var c = 0u; c < 3u; c++) {
-        let x = v[c] * SPLAT_SCALE;
+        let x = abs(v[c]) * SPLAT_SCALE;
         if !(x > 0.0) {
             continue;
         }
-        let hi = floor(x / TWO_POW_32);
-        let lo = u32(min(x - hi * TWO_POW_32 + 0.5, U32_MAX_F));
+        let hi_f = floor(x / TWO_POW_32);
+        var lo = u32(min(x - hi_f * TWO_POW_32 + 0.5, U32_MAX_F));
+        var hi = u32(hi_f);
+        if v[c] < 0.0 {
+            // two's complement of (hi, lo)
+            hi = ~hi;
+            lo = ~lo + 1u;
+            if lo == 0u {
+                hi += 1u;
+            }
+        }
         let i = (pixel * 3u + c) * 2u;
         let old = atomicAdd(&splats[i], lo);
         if old + lo < old {
             atomicAdd(&splats[i + 1u], 1u);
         }
-        if hi > 0.0 {
-            atomicAdd(&splats[i + 1u], u32(hi));
+        if hi != 0u {
+            atomicAdd(&splats[i + 1u], hi);
         }
     }
 }
@@ -62,7 +76,7 @@ fn splat_take(pixel: u32) -> vec3<f32> {
         let i = (pixel * 3u + c) * 2u;
         let lo = atomicExchange(&splats[i], 0u);
         let hi = atomicExchange(&splats[i + 1u], 0u);
-        out[c] = (f32(hi) * TWO_POW_32 + f32(lo)) / SPLAT_SCALE;
+        out[c] = (f32(bitcast<i32>(hi)) * TWO_POW_32 + f32(lo)) / SPLAT_SCALE;
     }
     return out;
 }
@@ -190,8 +204,10 @@ fn lt_accepts(s: SymString, m: u32, cls: u32) -> bool {
 
 // State of a light subpath at its current vertex ym (m ≥ 1).
 struct LightWalk {
-    // Light-side throughput (importance), RGB.
-    beta: vec3<f32>,
+    // Light-side throughput (importance) in the path's colour lanes.
+    beta: vec4<f32>,
+    // Only the hero wavelength is carried (a dispersive vertex was crossed).
+    collapsed: bool,
     m: u32,
     // p_light(y0): pick/area (area light) or pick (punctual).
     p_light: f32,
@@ -214,7 +230,8 @@ struct LightWalk {
 
 // Connect light vertex ym (non-delta BSDF `bsdf` at `hit`) to the camera and splat its
 // MIS-weighted contribution. Returns 1 if the value was rejected by the firewall.
-fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf) -> u32 {
+// `dispersive`: ym's BSDF depends on the wavelength (the contribution keeps the hero lane).
+fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf, sp: Spectral, dispersive: bool) -> u32 {
     let to_cam = params.cam_pos.xyz - hit.p;
     let d2 = dot3(to_cam, to_cam);
     if !(d2 > 0.0) {
@@ -246,8 +263,11 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     let corr_cos = ratio(abs(dot3(wc, ng)) * abs(dot3(wo_w, ns)), abs(dot3(wo_w, ng)));
     let c = r.cos_theta;
     let we_g = corr_cos / (d2 * camera_a_plane() * c * c * c);
-    var v = lw.beta * f.xyz * we_g;
-    if !(max_element3(v) > 0.0) {
+    var v4 = lw.beta * f * we_g;
+    if !lw.collapsed && dispersive {
+        v4 = vec4<f32>(4.0 * v4.x, 0.0, 0.0, 0.0);
+    }
+    if !(max_element4(v4) > 0.0) {
         return 0u;
     }
     let origin = offset_ray_origin_towards(hit.p, ng, side_i);
@@ -274,8 +294,14 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     if lw.area_light {
         r_s0 = l * ratio(pc0, lw.p_light);
     }
+    var v = v4.xyz;
+    if HAS_SPECTRAL && sp.on {
+        v = spectrum_sample_to_rgb(sp.lambdas, v4);
+    }
     v *= mis_weight3(r_s0, r_s1);
-    if !is_finite_v3(v) || min(min(v.x, v.y), v.z) < 0.0 || max_element3(v) > SPLAT_MAX {
+    // The film firewall (sample_is_valid: spectral estimates may be negative in RGB), plus the
+    // fixed-point range.
+    if !sample_is_valid(v) || max_element3(abs(v)) > SPLAT_MAX {
         return 1u;
     }
     splat_add(r.pixel, v);
@@ -294,8 +320,12 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         return 0u;
     }
     let light = lights[pick.index];
-    let sp = Spectral(false, vec4<f32>(0.0));
+    var sp = Spectral(false, vec4<f32>(0.0));
+    if HAS_SPECTRAL {
+        sp = Spectral(true, sample_hero_wavelengths(sampler_next_1d(sampler)));
+    }
     var lw: LightWalk;
+    lw.collapsed = false;
     lw.m = 0u;
     lw.prod = 1.0;
     lw.pl_prev = 0.0;
@@ -339,7 +369,7 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         lw.area_light = true;
         lw.cos_emit = local.z;
         // β1 = Le cosθ / (p_light p_dir)
-        lw.beta = v3(m.emission) * (local.z / (lw.p_light * prev_pdf));
+        lw.beta = spectral_c(sp, v3(m.emission)) * (local.z / (lw.p_light * prev_pdf));
         o = offset_ray_origin(p, side);
     } else {
         if !HAS_PUNCTUAL || light.kind == LIGHT_DIRECTIONAL {
@@ -358,10 +388,10 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         lw.p_light = pick.prob;
         lw.area_light = false;
         lw.cos_emit = 1.0;
-        lw.beta = intensity / (lw.p_light * prev_pdf);
+        lw.beta = spectral_c(sp, intensity) / (lw.p_light * prev_pdf);
         o = v3(light.position);
     }
-    if !(max_element3(lw.beta) > 0.0) {
+    if !(max_element4(lw.beta) > 0.0) {
         return 0u;
     }
     let NO_MEDIUM = 0xffffffffu;
@@ -378,10 +408,7 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         let hit = integrator_surface(h);
         lw.m += 1u;
         if HAS_ABSORPTION && medium != NO_MEDIUM {
-            let mm = materials[medium];
-            if (mm.flags & MAT_ABSORBS) != 0u {
-                lw.beta *= exp(-v3(mm.sigma_a) * hit.t);
-            }
+            lw.beta *= medium_transmittance(materials[medium], hit.t, sp);
         }
         let mat = materials[hit.material];
         let front = dot3(d, hit.ng) < 0.0;
@@ -409,13 +436,18 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
                 break;
             }
         }
-        let bsdf = material_bsdf(mat, hit.uv, mat.eta, sp);
+        var eta = mat.eta;
+        let dispersive = HAS_SPECTRAL && sp.on && mat.abbe > 0.0 && transmissive;
+        if dispersive {
+            eta = material_ior_at(mat, sp.lambdas.x);
+        }
+        let bsdf = material_bsdf(mat, hit.uv, eta, sp);
         let frame = frame_from_normal(ns);
         let wo_w = -d;
         let wo = frame_to_local(frame, wo_w);
         // The full path x0 … xk has k = m + 1 segments.
         if !bsdf_is_delta(bsdf) {
-            rejected += lt_connect(lw, hit, ng, ns, frame, wo_w, wo, bsdf);
+            rejected += lt_connect(lw, hit, ng, ns, frame, wo_w, wo, bsdf, sp, dispersive);
         }
         if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
             break;
@@ -436,7 +468,12 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         if !consistent {
             break;
         }
-        lw.beta *= s.weight.xyz * shading_correction(wo_w, wi_w, ns, ng);
+        lw.beta *= s.weight * shading_correction(wo_w, wi_w, ns, ng);
+        if dispersive && !lw.collapsed {
+            // Only the hero wavelength follows this direction (Wilkie et al. 2014, §4.2).
+            lw.beta = vec4<f32>(4.0 * lw.beta.x, 0.0, 0.0, 0.0);
+            lw.collapsed = true;
+        }
         // Camera-side density of the previous vertex, sampled from ym towards it.
         var pc_back = 1.0;
         if lw.m == 1u {
@@ -469,12 +506,12 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         d = wi_w;
         // Russian roulette on the importance throughput (as the camera walk, from rr_depth).
         if lw.m >= params.rr_depth {
-            let q_rr = min(max_element3(lw.beta), 0.95);
+            let q_rr = min(max_element4(lw.beta), 0.95);
             if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
                 break;
             }
             lw.beta /= q_rr;
-        } else if max_element3(lw.beta) <= 0.0 {
+        } else if max_element4(lw.beta) <= 0.0 {
             break;
         }
     }
