@@ -132,3 +132,99 @@ pub fn gpu_context(test: &str) -> Option<refract::gpu::GpuContext> {
         }
     }
 }
+
+/// Mean of (R+G+B)/3 over each full 8×8 block of a `w`×`h` image (row-major blocks).
+pub fn block_means(img: &[Vec3], w: u32, h: u32) -> Vec<f64> {
+    let bw = w / 8;
+    let mut b = vec![0.0f64; ((w / 8) * (h / 8)) as usize];
+    for y in 0..(h / 8) * 8 {
+        for x in 0..bw * 8 {
+            let p = img[(y * w + x) as usize];
+            b[((y / 8) * bw + x / 8) as usize] += (p.x + p.y + p.z) as f64 / 3.0 / 64.0;
+        }
+    }
+    b
+}
+
+/// Mean over independent runs of block `b`, and the variance of that mean.
+pub fn run_stats(runs: &[Vec<f64>], b: usize) -> (f64, f64) {
+    let n = runs.len() as f64;
+    let m = runs.iter().map(|x| x[b]).sum::<f64>() / n;
+    let var = runs.iter().map(|x| (x[b] - m).powi(2)).sum::<f64>() / (n - 1.0);
+    (m, var / n)
+}
+
+/// Outcome of a block Z-test between two sets of independent runs.
+pub struct BlockZ {
+    /// Blocks whose means agree within 3 combined standard errors.
+    pub pass: usize,
+    pub blocks: usize,
+    /// z of the difference of the whole-image means.
+    pub z_image: f64,
+    /// Mean block value of each side.
+    pub mean_a: f64,
+    pub mean_b: f64,
+}
+
+impl BlockZ {
+    pub fn rate(&self) -> f64 {
+        self.pass as f64 / self.blocks as f64
+    }
+}
+
+/// Per-block Z-test of runs `a` against runs `b` (block means from `block_means`, variances
+/// from the spread between runs); a block with zero variance on both sides must match exactly.
+pub fn block_z_test(a: &[Vec<f64>], b: &[Vec<f64>]) -> BlockZ {
+    let blocks = a[0].len();
+    let (mut pass, mut ta, mut tb, mut vt) = (0, 0.0, 0.0, 0.0);
+    for i in 0..blocks {
+        let (ma, va) = run_stats(a, i);
+        let (mb, vb) = run_stats(b, i);
+        ta += ma;
+        tb += mb;
+        vt += va + vb;
+        let z = if va + vb > 0.0 {
+            (ma - mb) / (va + vb).sqrt()
+        } else if ma == mb {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        if z.abs() <= 3.0 {
+            pass += 1;
+        }
+    }
+    BlockZ {
+        pass,
+        blocks,
+        z_image: (ta - tb) / vt.sqrt().max(1e-12),
+        mean_a: ta / blocks as f64,
+        mean_b: tb / blocks as f64,
+    }
+}
+
+/// A 100 × 100 Lambert floor (albedo 0.5) at y = 0 lit by `light`, seen straight down from
+/// height 4 with vertical field of view `yfov`; 8×8 pixels, direct lighting only.
+pub fn floor_scene(light: refract::scene::PunctualLight, yfov: f32) -> Scene {
+    let mut m = Mesh::default();
+    quad(
+        &mut m,
+        Vec3::new(-50.0, 0.0, 50.0),
+        Vec3::X * 100.0,
+        Vec3::Z * -100.0,
+        0,
+    );
+    let cam = Camera::look_at(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, yfov);
+    let mut s = scene(
+        "floor",
+        m,
+        vec![Material::diffuse("floor", Vec3::splat(0.5))],
+        cam,
+        0.0,
+    );
+    s.punctual_lights = vec![light];
+    s.settings.width = 8;
+    s.settings.height = 8;
+    s.settings.max_depth = 2;
+    s
+}

@@ -595,18 +595,6 @@ fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Opt
     let mut opts = GpuOptions::from_scene(&scene);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
     g.set_filter(filter.as_ref());
-    let bw = w / 8;
-    let nb = ((w / 8) * (h / 8)) as usize;
-    let block_means = |img: &[Vec3]| -> Vec<f64> {
-        let mut b = vec![0.0f64; nb];
-        for y in 0..h {
-            for x in 0..w {
-                let p = img[(y * w + x) as usize];
-                b[((y / 8) * bw + x / 8) as usize] += (p.x + p.y + p.z) as f64 / 3.0 / 64.0;
-            }
-        }
-        b
-    };
     let (mut gs, mut cs) = (Vec::new(), Vec::new());
     // Spectral scenes: a single hero-wavelength estimate can have a negative RGB component
     // (out of the sRGB gamut); both films keep those and drop only non-finite samples, so the
@@ -622,7 +610,7 @@ fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Opt
             assert_eq!(img.dropped, 0);
         }
         gd += img.dropped;
-        gs.push(block_means(&img.mean));
+        gs.push(block_means(&img.mean, w, h));
     }
     let tg = t0.elapsed();
     let t0 = std::time::Instant::now();
@@ -632,7 +620,7 @@ fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Opt
             assert_eq!(dropped, 0);
         }
         cd += dropped;
-        cs.push(block_means(&img));
+        cs.push(block_means(&img, w, h));
     }
     let tc = t0.elapsed();
     if spectral {
@@ -645,33 +633,8 @@ fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Opt
         );
         assert!(((pg - pc) / sd).abs() <= 4.0, "drop rates differ");
     }
-    let stats = |v: &[Vec<f64>], b: usize| {
-        let n = v.len() as f64;
-        let m = v.iter().map(|x| x[b]).sum::<f64>() / n;
-        let var = v.iter().map(|x| (x[b] - m).powi(2)).sum::<f64>() / (n - 1.0);
-        (m, var / n)
-    };
-    let mut pass = 0;
-    let (mut gt, mut ct, mut vt) = (0.0, 0.0, 0.0);
-    for b in 0..nb {
-        let (mg, vg) = stats(&gs, b);
-        let (mc, vc) = stats(&cs, b);
-        gt += mg;
-        ct += mc;
-        vt += vg + vc;
-        let z = if vg + vc > 0.0 {
-            (mg - mc) / (vg + vc).sqrt()
-        } else if mg == mc {
-            0.0
-        } else {
-            f64::INFINITY
-        };
-        if z.abs() <= 3.0 {
-            pass += 1;
-        }
-    }
-    let zt = (gt - ct) / vt.sqrt().max(1e-12);
-    let rate = pass as f64 / nb as f64;
+    let t = block_z_test(&gs, &cs);
+    let (pass, nb, zt, rate) = (t.pass, t.blocks, t.z_image, t.rate());
     eprintln!(
         "{name}: {pass}/{nb} blocks within 3σ ({:.1}%), whole-image z = {zt:.2}; GPU {:.2}s CPU {:.2}s for {k}×{spp} spp",
         rate * 100.0,

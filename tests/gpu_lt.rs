@@ -11,7 +11,7 @@ use refract::cpu::{Estimator, RenderOptions, Renderer};
 use refract::film::Film;
 use refract::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
 use refract::paths::PathFilter;
-use refract::scene::{Camera, Material, Mesh, PunctualLight, Scene};
+use refract::scene::{PunctualLight, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
     gpu_context(test)
@@ -22,19 +22,6 @@ fn small(spec: &str, w: u32, h: u32) -> Scene {
     s.settings.width = w;
     s.settings.height = h;
     s
-}
-
-/// Luminance-ish mean of each 8×8 block.
-fn block_means(img: &[Vec3], w: u32, h: u32) -> Vec<f64> {
-    let bw = w / 8;
-    let mut b = vec![0.0f64; ((w / 8) * (h / 8)) as usize];
-    for y in 0..(h / 8) * 8 {
-        for x in 0..bw * 8 {
-            let p = img[(y * w + x) as usize];
-            b[((y / 8) * bw + x / 8) as usize] += (p.x + p.y + p.z) as f64 / 3.0 / 64.0;
-        }
-    }
-    b
 }
 
 fn cpu_image(
@@ -80,14 +67,6 @@ fn gpu_runs(
     (out, dropped)
 }
 
-/// Per-block mean and variance of the mean over runs.
-fn stats(runs: &[Vec<f64>], b: usize) -> (f64, f64) {
-    let n = runs.len() as f64;
-    let m = runs.iter().map(|x| x[b]).sum::<f64>() / n;
-    let var = runs.iter().map(|x| (x[b] - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, var / n)
-}
-
 /// Block Z-test of GPU `lt+pt` (k runs of `spp`) against the CPU path tracer (k runs of
 /// `ref_mult` × `spp`; caustic-heavy scenes need many more path-traced samples before their
 /// heavy-tailed noise is estimated reliably).
@@ -130,32 +109,13 @@ fn converges_to(
         })
         .collect();
     let tc = t0.elapsed();
-    let nb = gs[0].len();
-    let (mut pass, mut gt, mut ct, mut vt) = (0, 0.0, 0.0, 0.0);
-    for b in 0..nb {
-        let (mg, vg) = stats(&gs, b);
-        let (mc, vc) = stats(&cs, b);
-        gt += mg;
-        ct += mc;
-        vt += vg + vc;
-        let z = if vg + vc > 0.0 {
-            (mg - mc) / (vg + vc).sqrt()
-        } else if (mg - mc).abs() <= 1e-9 {
-            0.0
-        } else {
-            f64::INFINITY
-        };
-        if z.abs() <= 3.0 {
-            pass += 1;
-        }
-    }
-    let zt = (gt - ct) / vt.sqrt().max(1e-12);
-    let rate = pass as f64 / nb as f64;
+    let t = block_z_test(&gs, &cs);
+    let (pass, nb, zt, rate) = (t.pass, t.blocks, t.z_image, t.rate());
     eprintln!(
         "{name}: {pass}/{nb} blocks within 3σ ({:.1}%), whole-image z = {zt:.2}, means {:.5} (lt+pt) vs {:.5} (CPU {reference}); GPU {:.2} s for {k}×{spp} spp, CPU {:.2} s for {k}×{} spp",
         rate * 100.0,
-        gt / nb as f64,
-        ct / nb as f64,
+        t.mean_a,
+        t.mean_b,
         tg.as_secs_f64(),
         tc.as_secs_f64(),
         ref_mult * spp
@@ -269,26 +229,9 @@ fn lt_pt_punctual_lights() {
             cos_outer: 0.7f32.cos(),
         },
     ] {
-        let mut m = Mesh::default();
-        quad(
-            &mut m,
-            Vec3::new(-5.0, 0.0, 5.0),
-            Vec3::X * 10.0,
-            Vec3::Z * -10.0,
-            0,
-        );
-        let cam = Camera::look_at(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, 1.2);
-        let mut s = scene(
-            "floor",
-            m,
-            vec![Material::diffuse("floor", Vec3::splat(0.5))],
-            cam,
-            0.0,
-        );
-        s.punctual_lights = vec![light];
+        let mut s = floor_scene(light, 1.2);
         s.settings.width = 32;
         s.settings.height = 32;
-        s.settings.max_depth = 2;
         converges_to_path(&format!("lt+pt {light:?}"), s, None, 8, 4, 4);
     }
 }
@@ -312,8 +255,8 @@ fn lt_pt_reduces_caustic_variance() {
     let lb: Vec<Vec<f64>> = lt.iter().map(|i| block_means(i, w, h)).collect();
     let (mut vp, mut vl) = (0.0, 0.0);
     for b in 0..pb[0].len() {
-        vp += stats(&pb, b).1;
-        vl += stats(&lb, b).1;
+        vp += run_stats(&pb, b).1;
+        vl += run_stats(&lb, b).1;
     }
     eprintln!(
         "{name}: summed block variance path {vp:.3e}, lt+pt {vl:.3e}, ratio {:.1}",

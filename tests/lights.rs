@@ -7,31 +7,7 @@ mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
 use refract::cpu::{Estimator, RenderOptions, Renderer};
-use refract::scene::{Camera, Material, Mesh, PunctualLight, Scene};
-
-fn floor_scene(light: PunctualLight, yfov: f32) -> Scene {
-    let mut m = Mesh::default();
-    quad(
-        &mut m,
-        Vec3::new(-50.0, 0.0, 50.0),
-        Vec3::X * 100.0,
-        Vec3::Z * -100.0,
-        0,
-    );
-    let cam = Camera::look_at(Vec3::new(0.0, 4.0, 0.0), Vec3::ZERO, Vec3::Z, yfov);
-    let mut s = scene(
-        "floor",
-        m,
-        vec![Material::diffuse("floor", Vec3::splat(0.5))],
-        cam,
-        0.0,
-    );
-    s.punctual_lights = vec![light];
-    s.settings.width = 8;
-    s.settings.height = 8;
-    s.settings.max_depth = 2;
-    s
-}
+use refract::scene::PunctualLight;
 
 fn mean_sem(img: &[Vec3]) -> (f64, f64) {
     let n = img.len() as f64;

@@ -467,6 +467,26 @@ fn medium_transmittance(mm: Material, t: f32, sp: Spectral) -> vec4<f32> {
     return exp(tr);
 }
 
+struct Oriented {
+    ok: bool,
+    ng: vec3<f32>,
+    ns: vec3<f32>,
+}
+
+// Orient normals: opaque double-sided materials shade both sides alike; one-sided opaque back
+// faces are black (ok = false: the walk ends); dielectrics keep the outward normal (eta
+// convention). Shared by the camera and the light walk.
+fn orient_normals(mat: Material, hit: SurfaceHit, front: bool) -> Oriented {
+    let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
+    if transmissive || front {
+        return Oriented(true, hit.ng, hit.ns);
+    }
+    if (mat.flags & MAT_DOUBLE_SIDED) != 0u {
+        return Oriented(true, -hit.ng, -hit.ns);
+    }
+    return Oriented(false, hit.ng, hit.ns);
+}
+
 // A sampled event agrees with the geometric normal: reflection stays on wo's side,
 // transmission crosses it (side_o = ωo·ng, side_i = ωi·ng).
 fn event_is_consistent(event: u32, side_o: f32, side_i: f32) -> bool {
@@ -574,19 +594,13 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             break;
         }
 
-        // Orient normals: opaque double-sided materials shade both sides alike; one-sided
-        // opaque back faces are black; dielectrics keep the outward normal (eta convention).
         let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
-        var ng = hit.ng;
-        var ns = hit.ns;
-        if !(transmissive || front) {
-            if (mat.flags & MAT_DOUBLE_SIDED) != 0u {
-                ng = -hit.ng;
-                ns = -hit.ns;
-            } else {
-                break;
-            }
+        let on = orient_normals(mat, hit, front);
+        if !on.ok {
+            break;
         }
+        let ng = on.ng;
+        let ns = on.ns;
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
             break; // emitters are black surfaces otherwise
         }

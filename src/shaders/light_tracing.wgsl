@@ -426,16 +426,12 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
             break; // emitters are black surfaces otherwise (as in the path tracer)
         }
         let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
-        var ng = hit.ng;
-        var ns = hit.ns;
-        if !(transmissive || front) {
-            if (mat.flags & MAT_DOUBLE_SIDED) != 0u {
-                ng = -hit.ng;
-                ns = -hit.ns;
-            } else {
-                break;
-            }
+        let on = orient_normals(mat, hit, front);
+        if !on.ok {
+            break;
         }
+        let ng = on.ng;
+        let ns = on.ns;
         var eta = mat.eta;
         let dispersive = HAS_SPECTRAL && sp.on && mat.abbe > 0.0 && transmissive;
         if dispersive {
