@@ -1,9 +1,16 @@
 //! The CPU reference renderer (rayon over rows): path tracing with next-event estimation and
-//! multiple importance sampling.
+//! multiple importance sampling, bidirectional path tracing and light tracing. Every walk
+//! shares the per-vertex step (`interaction`, `path_state`, `medium`, `spectral`) and reaches
+//! lights only through `scene::light::Light`.
 
 pub mod bdpt;
 pub mod integrator;
+pub mod interaction;
+pub mod medium;
+pub mod path_state;
 pub mod render;
+pub mod spectral;
 
-pub use integrator::{Integrator, SurfaceHit};
+pub use integrator::Integrator;
+pub use interaction::SurfaceHit;
 pub use render::{Estimator, RenderOptions, RenderStats, Renderer};

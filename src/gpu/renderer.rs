@@ -243,7 +243,7 @@ impl GpuRenderer {
         let verts = upload::pack_vertices(scene);
         let (texels, tex_slots) = upload::pack_textures(scene);
         let mats = upload::pack_materials(scene, &tex_slots);
-        let (lights, light_count) = upload::pack_lights(scene, bvh, light_set);
+        let (lights, light_count) = upload::pack_lights(bvh, light_set);
         let pixels = opts.width as u64 * opts.height as u64;
         let accum_bytes = pixels * 16;
         let splat_bytes = pixels * SPLAT_BYTES_PER_PIXEL;
@@ -665,7 +665,7 @@ impl GpuRenderer {
             0,
             upload::checked_bytes("triangles", &tris)?,
         );
-        let (lights, count) = upload::pack_lights(&self.scene, &self.bvh, &self.light_set);
+        let (lights, count) = upload::pack_lights(&self.bvh, &self.light_set);
         let bytes = upload::checked_bytes("lights", &lights)?;
         if bytes.len() as u64 <= self.buffers.lights.size() {
             self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);

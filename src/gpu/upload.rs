@@ -4,9 +4,9 @@
 
 use super::layout::{self, BvhNode, Light, Material, Triangle, Vertex};
 use crate::bsdf::{Bsdf, MicrofacetDistribution};
-use crate::scene::light::{LightRef, LightSet};
+use crate::scene::light::{Light as SceneLight, LightSet};
 use crate::scene::material::Wrap;
-use crate::scene::{MaterialKind, PunctualLight, Scene};
+use crate::scene::{MaterialKind, Scene};
 use anyhow::{Result, bail, ensure};
 use glam::{Vec2, Vec3};
 use obvhs::{BvhBuildParams, triangle::Triangle as ObvhsTriangle};
@@ -346,7 +346,7 @@ pub fn pack_materials(scene: &Scene, tex: &[(u32, u32)]) -> Vec<Material> {
 
 /// The light distribution with its CDF. Returns (entries, light count); the array has at
 /// least one (unused) entry.
-pub fn pack_lights(scene: &Scene, bvh: &GpuBvh, lights: &LightSet) -> (Vec<Light>, u32) {
+pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet) -> (Vec<Light>, u32) {
     let mut out: Vec<Light> = lights
         .lights
         .iter()
@@ -357,42 +357,30 @@ pub fn pack_lights(scene: &Scene, bvh: &GpuBvh, lights: &LightSet) -> (Vec<Light
                 ..Default::default()
             };
             match *l {
-                LightRef::Triangle(t) => {
+                SceneLight::Triangle(t) => {
                     g.kind = layout::LIGHT_TRIANGLE;
-                    g.index = bvh.slot_of_tri.get(t as usize).copied().unwrap_or(0);
+                    g.index = bvh.slot_of_tri.get(t.tri as usize).copied().unwrap_or(0);
                 }
-                LightRef::Punctual(i) => match scene.punctual_lights[i as usize] {
-                    PunctualLight::Point {
-                        position,
-                        intensity,
-                    } => {
-                        g.kind = layout::LIGHT_POINT;
-                        g.position = position.to_array();
-                        g.intensity = intensity.to_array();
-                    }
-                    PunctualLight::Spot {
-                        position,
-                        direction,
-                        intensity,
-                        cos_inner,
-                        cos_outer,
-                    } => {
-                        g.kind = layout::LIGHT_SPOT;
-                        g.position = position.to_array();
-                        g.direction = direction.to_array();
-                        g.intensity = intensity.to_array();
-                        g.cos_inner = cos_inner;
-                        g.cos_outer = cos_outer;
-                    }
-                    PunctualLight::Directional {
-                        direction,
-                        irradiance,
-                    } => {
-                        g.kind = layout::LIGHT_DIRECTIONAL;
-                        g.direction = direction.to_array();
-                        g.intensity = irradiance.to_array();
-                    }
-                },
+                SceneLight::Point(p) => {
+                    g.kind = layout::LIGHT_POINT;
+                    g.position = p.position.to_array();
+                    g.intensity = p.intensity.to_array();
+                }
+                SceneLight::Spot(s) => {
+                    g.kind = layout::LIGHT_SPOT;
+                    g.position = s.position.to_array();
+                    g.direction = s.direction.to_array();
+                    g.intensity = s.intensity.to_array();
+                    g.cos_inner = s.cos_inner;
+                    g.cos_outer = s.cos_outer;
+                }
+                SceneLight::Directional(d) => {
+                    g.kind = layout::LIGHT_DIRECTIONAL;
+                    g.direction = d.direction.to_array();
+                    g.intensity = d.irradiance.to_array();
+                }
+                // Not in the distribution: escaping rays read the environment uniform.
+                SceneLight::Environment(_) => {}
             }
             g
         })

@@ -1,0 +1,257 @@
+//! Connection strategies: (s, t ≥ 2) between a light and a camera subpath vertex, and
+//! t = 1, light-subpath vertices splatted to the film (Veach 1997 §10.2).
+
+use super::vertex::{Kind, Vertex, to_area};
+use super::{Bdpt, BdptMode};
+use crate::bsdf::TransportMode;
+use crate::cpu::interaction::offset_ray_origin_towards;
+use crate::cpu::medium::medium_transmittance;
+use crate::cpu::path_state::shading_correction;
+use crate::cpu::spectral::{Spectral, finish_collapsed};
+use crate::math::{Color, Frame};
+use crate::paths::Symbol;
+use glam::Vec3;
+
+/// Per-class values of one end of a connection (`None`: the light itself, no class).
+type Classes = [(Option<Symbol>, Color); 2];
+
+impl Bdpt<'_> {
+    /// A full path's estimate: a dispersive vertex on either subpath collapses it.
+    pub(super) fn finish(c: Color, collapse: bool) -> Color {
+        finish_collapsed(c, collapse)
+    }
+
+    /// BSDF value at surface vertex `v` for light arriving along `w_in`, leaving along `w_out`
+    /// (both pointing away), per Heckbert class; with the adjoint correction in importance mode.
+    fn f(
+        &self,
+        v: &Vertex,
+        w_to_prev: Vec3,
+        w_to_next: Vec3,
+        mode: TransportMode,
+    ) -> [(Symbol, Color); 2] {
+        let Some(b) = v.bsdf else {
+            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
+        };
+        let frame = Frame::from_normal(v.ns);
+        let (so, si) = (w_to_prev.dot(v.ng), w_to_next.dot(v.ng));
+        if so * si <= 0.0 && !b.can_transmit() {
+            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
+        }
+        let wo = frame.to_local(w_to_prev);
+        let wi = frame.to_local(w_to_next);
+        let corr = if mode == TransportMode::Importance {
+            shading_correction(w_to_prev, w_to_next, v.ns, v.ng)
+        } else {
+            1.0
+        };
+        let lv = b.eval_lobes(wo, wi, mode);
+        [(Symbol::D, lv.d * corr), (Symbol::G, lv.g * corr)]
+    }
+
+    /// The light end of a connection towards `w` (unit, away from `y`): emission for s = 1,
+    /// the adjoint BSDF per class otherwise.
+    fn light_end(&self, y: &Vertex, s: usize, w: Vec3, sp: &Spectral) -> Classes {
+        if s == 1 {
+            let le = y.light().map_or(Vec3::ZERO, |(l, _)| l.le(y.ng, w));
+            [(None, sp.c(le)), (None, Color::ZERO)]
+        } else {
+            let f = self.f(y, y.w_prev, w, TransportMode::Importance);
+            [(Some(f[0].0), f[0].1), (Some(f[1].0), f[1].1)]
+        }
+    }
+
+    /// Does the full light→eye symbol string pass the filter?
+    pub(super) fn accepted(
+        &self,
+        light: &[Vertex],
+        cy: Option<Symbol>,
+        cz: Option<Symbol>,
+        cam: &[Vertex],
+    ) -> bool {
+        let Some(f) = self.filter else {
+            return true;
+        };
+        let mut q = f.step(f.start(), Symbol::L);
+        for v in light.iter().skip(1) {
+            q = f.step(q, v.class);
+        }
+        for c in [cy, cz].into_iter().flatten() {
+            q = f.step(q, c);
+        }
+        for v in cam.iter().skip(1).rev() {
+            q = f.step(q, v.class);
+        }
+        f.is_accepting(f.step(q, Symbol::E))
+    }
+
+    /// Mutual visibility of two finite vertices, both ends offset by the same rule.
+    fn visible(&self, a: &Vertex, b: &Vertex) -> bool {
+        let d = b.p - a.p;
+        let oa = if a.on_surface() {
+            offset_ray_origin_towards(a.p, a.ng, a.ng.dot(d))
+        } else {
+            a.p
+        };
+        let ob = if b.on_surface() {
+            offset_ray_origin_towards(b.p, b.ng, b.ng.dot(-d))
+        } else {
+            b.p
+        };
+        !self.pt.bvh.occluded(oa, ob - oa, 1.0)
+    }
+
+    /// Beer–Lambert along the connection of length √d2 leaving `v` along `w`.
+    fn connection_transmittance(
+        &self,
+        v: &Vertex,
+        w: Vec3,
+        d2: f32,
+        sp: &Spectral,
+    ) -> Option<Color> {
+        let m = v.medium_towards(self.pt.scene, w);
+        medium_transmittance(self.pt.scene, m, d2.sqrt(), sp)
+    }
+
+    /// t = 1: connect light vertex y = light[s-1] to the camera.
+    pub(super) fn connect_camera(
+        &self,
+        light: &[Vertex],
+        cam: &[Vertex],
+        sp: &Spectral,
+    ) -> Option<(u32, u32, Color)> {
+        let s = light.len();
+        let yv = light[s - 1];
+        if !yv.connectible() || yv.is_infinite_light() {
+            return None;
+        }
+        let c0 = cam[0];
+        let to_cam = c0.p - yv.p;
+        let d2 = to_cam.length_squared();
+        if d2 <= 0.0 {
+            return None;
+        }
+        let w = to_cam / d2.sqrt();
+        let (px, py, cos_c) = self.cam.raster(-w)?;
+        let mut contrib = Color::ZERO;
+        for (cy, fv) in self.light_end(&yv, s, w, sp) {
+            if fv.max_element() <= 0.0 || !self.accepted(&light[..s - 1], cy, None, &cam[..1]) {
+                continue;
+            }
+            contrib += fv;
+        }
+        if contrib.max_element() <= 0.0 {
+            return None;
+        }
+        let cos_y = if yv.on_surface() {
+            yv.ns.dot(w).abs()
+        } else {
+            1.0
+        };
+        // We·G with a pinhole: |cos_y| / (d² A_plane cos³θ) (PBR 3rd ed. §16.1.1).
+        let we_g = cos_y / (d2 * self.cam.a_plane * cos_c * cos_c * cos_c);
+        let mut v = yv.beta * contrib * we_g;
+        if v.max_element() <= 0.0 || !self.visible(&yv, &c0) {
+            return None;
+        }
+        if let Some(tr) = self.connection_transmittance(&yv, w, d2, sp) {
+            v *= tr;
+        }
+        if self.mode == BdptMode::Full {
+            // Camera density of generating y (area), for the MIS ratio.
+            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), &c0, &yv);
+            v *= self.mis_weight(light, cam, 1, Some(pdf_cam_y));
+        }
+        Some((px, py, Self::finish(v, yv.collapsed)))
+    }
+
+    /// Strategy (s = 0, t ≥ 2): the camera subpath hit an emitter.
+    fn connect_emitter(&self, cam: &[Vertex], sp: &Spectral) -> Color {
+        let t = cam.len();
+        let z = cam[t - 1];
+        if z.kind != Kind::Surface {
+            return Color::ZERO;
+        }
+        let Some((light, _)) = self.pt.lights.area_light(z.tri) else {
+            return Color::ZERO;
+        };
+        let le = sp.c(light.le(z.ng, z.w_prev));
+        // The emitter vertex itself is the L: feed the camera classes before it.
+        if le.max_element() <= 0.0 || !self.accepted(&[], None, None, &cam[..t - 1]) {
+            return Color::ZERO;
+        }
+        let v = z.beta * le;
+        let w = if self.mode == BdptMode::Full {
+            self.mis_weight(&[], cam, t, None)
+        } else {
+            1.0
+        };
+        Self::finish(v * w, z.collapsed)
+    }
+
+    /// Strategy (s, t ≥ 2).
+    pub(super) fn connect(&self, light: &[Vertex], cam: &[Vertex], sp: &Spectral) -> Color {
+        let (s, t) = (light.len(), cam.len());
+        if s == 0 {
+            return self.connect_emitter(cam, sp);
+        }
+        let z = cam[t - 1];
+        let y = light[s - 1];
+        if z.kind != Kind::Surface || !z.connectible() || z.bsdf.is_none() || !y.connectible() {
+            return Color::ZERO;
+        }
+        let infinite = y.is_infinite_light();
+        let (w_zy, d2) = if infinite {
+            (-y.ng, 1.0)
+        } else {
+            let d = y.p - z.p;
+            let d2 = d.length_squared();
+            if d2 <= 0.0 {
+                return Color::ZERO;
+            }
+            (d / d2.sqrt(), d2)
+        };
+        let fz = self.f(&z, z.w_prev, w_zy, TransportMode::Radiance);
+        let mut sum = Color::ZERO;
+        for (cy, fyv) in self.light_end(&y, s, -w_zy, sp) {
+            for (cz, fzv) in fz {
+                if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
+                    continue;
+                }
+                if self.accepted(&light[..s - 1], cy, Some(cz), &cam[..t - 1]) {
+                    sum += fyv * fzv;
+                }
+            }
+        }
+        if sum.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        let cos_z = z.ns.dot(w_zy).abs();
+        let cos_y = if y.on_surface() {
+            y.ns.dot(w_zy).abs()
+        } else {
+            1.0
+        };
+        let mut v = y.beta * sum * z.beta * (cos_z * cos_y / d2);
+        if v.max_element() <= 0.0 {
+            return Color::ZERO;
+        }
+        let vis = if infinite {
+            let o = offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy));
+            !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
+        } else {
+            self.visible(&z, &y)
+        };
+        if !vis {
+            return Color::ZERO;
+        }
+        if !infinite && let Some(tr) = self.connection_transmittance(&z, w_zy, d2, sp) {
+            v *= tr;
+        }
+        let collapse = y.collapsed || z.collapsed;
+        if infinite || self.mode != BdptMode::Full {
+            return Self::finish(v, collapse);
+        }
+        Self::finish(v * self.mis_weight(light, cam, t, None), collapse)
+    }
+}

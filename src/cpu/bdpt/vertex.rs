@@ -1,0 +1,158 @@
+//! Subpath vertices of the bidirectional estimators and the density conversions between
+//! them (Veach 1997, ch. 10; PBR 3rd ed. §16.3 `Vertex`).
+
+use crate::bsdf::Bsdf;
+use crate::cpu::interaction::Interaction;
+use crate::cpu::medium::{Medium, medium_after_transmit};
+use crate::cpu::path_state::PathState;
+use crate::math::Color;
+use crate::paths::Symbol;
+use crate::scene::Scene;
+use crate::scene::light::Light;
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Kind {
+    Camera,
+    /// Light subpath origin: the light and its selection probability.
+    Light {
+        light: Light,
+        pick: f32,
+    },
+    Surface,
+}
+
+/// One vertex of a camera or light subpath.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Vertex {
+    pub kind: Kind,
+    pub p: Vec3,
+    /// Geometric and shading normal, oriented to the side the subpath arrived from for opaque
+    /// double-sided materials (outward for dielectrics); zero for camera/point lights; the
+    /// emission direction for infinite lights.
+    pub ng: Vec3,
+    pub ns: Vec3,
+    pub material: u32,
+    pub bsdf: Option<Bsdf>,
+    /// Throughput up to and including this vertex (RGB in lanes xyz).
+    pub beta: Color,
+    /// Area density of generating this vertex from its predecessor on its own subpath.
+    pub pdf_fwd: f32,
+    /// Area density of generating it from the other direction (filled in by the walk).
+    pub pdf_rev: f32,
+    /// The BSDF sample taken at this vertex was a delta lobe (cannot be connected).
+    pub delta: bool,
+    /// Heckbert class of the scattering event sampled at this vertex.
+    pub class: Symbol,
+    /// Direction towards the predecessor on its subpath (world).
+    pub w_prev: Vec3,
+    /// Scene triangle of a surface vertex.
+    pub tri: u32,
+    /// Spectral mode: a dispersive event on this subpath (up to here) left only the hero
+    /// wavelength alive (lanes 1–3 are zero; the ×4 is applied once per full path).
+    pub collapsed: bool,
+    /// The medium the segment arriving here travelled in.
+    pub medium: Medium,
+}
+
+impl Vertex {
+    /// A vertex with everything but its kind, position and throughput zeroed.
+    pub fn new(kind: Kind, p: Vec3, beta: Color, pdf_fwd: f32, class: Symbol) -> Vertex {
+        Vertex {
+            kind,
+            p,
+            ng: Vec3::ZERO,
+            ns: Vec3::ZERO,
+            material: 0,
+            bsdf: None,
+            beta,
+            pdf_fwd,
+            pdf_rev: 0.0,
+            delta: false,
+            class,
+            w_prev: Vec3::ZERO,
+            tri: 0,
+            collapsed: false,
+            medium: None,
+        }
+    }
+
+    /// The vertex of a walk arriving at `it` with state `st`.
+    pub fn surface(it: &Interaction, st: &PathState) -> Vertex {
+        Vertex {
+            ng: it.ng,
+            ns: it.ns,
+            material: it.hit.material,
+            bsdf: Some(it.bsdf),
+            w_prev: it.wo_w,
+            tri: it.hit.tri,
+            collapsed: st.collapsed,
+            medium: st.medium,
+            ..Vertex::new(Kind::Surface, it.hit.p, st.beta, 0.0, Symbol::D)
+        }
+    }
+
+    /// The light of a light-subpath origin.
+    pub fn light(&self) -> Option<(&Light, f32)> {
+        match &self.kind {
+            Kind::Light { light, pick } => Some((light, *pick)),
+            _ => None,
+        }
+    }
+
+    /// A light-subpath origin at a delta position (point, spot).
+    pub fn is_delta_light(&self) -> bool {
+        self.light().is_some_and(|(l, _)| l.is_delta_position())
+    }
+
+    /// A light-subpath origin at infinity (reached along −`ng`).
+    pub fn is_infinite_light(&self) -> bool {
+        self.light().is_some_and(|(l, _)| l.is_infinite())
+    }
+
+    /// Has a surface (area measure, cosine factors).
+    pub fn on_surface(&self) -> bool {
+        match self.kind {
+            Kind::Surface => true,
+            Kind::Light { light, .. } => !light.is_delta_position() && !light.is_infinite(),
+            Kind::Camera => false,
+        }
+    }
+
+    pub fn connectible(&self) -> bool {
+        match self.kind {
+            Kind::Surface => !self.delta && self.bsdf.is_some_and(|b| !b.is_delta()),
+            _ => true,
+        }
+    }
+
+    /// The medium a segment leaving this vertex along `w` travels in.
+    pub fn medium_towards(&self, scene: &Scene, w: Vec3) -> Medium {
+        if self.kind != Kind::Surface || w.dot(self.ng) * self.w_prev.dot(self.ng) > 0.0 {
+            self.medium
+        } else {
+            medium_after_transmit(scene, self.medium, self.material, w, self.ng)
+        }
+    }
+}
+
+/// Area density from a solid-angle density at `from` towards `to` (Veach 1997, eq. 8.10).
+#[inline]
+pub(super) fn to_area(pdf_w: f32, from: &Vertex, to: &Vertex) -> f32 {
+    let d = to.p - from.p;
+    let d2 = d.length_squared();
+    if d2 <= 0.0 {
+        return 0.0;
+    }
+    let mut pdf = pdf_w / d2;
+    if to.on_surface() {
+        pdf *= (to.ng.dot(d) / d2.sqrt()).abs();
+    }
+    pdf
+}
+
+/// Ratio helper: delta densities are stored as 0 and count as 1 (Veach 1997, §10.3.5).
+#[inline]
+pub(super) fn remap0(x: f32) -> f32 {
+    if x != 0.0 { x } else { 1.0 }
+}

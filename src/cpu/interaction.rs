@@ -1,0 +1,199 @@
+//! The surface-interaction record and the per-vertex work every CPU walk shares (path
+//! tracing, both subpaths of BDPT, light tracing): normal orientation, the BSDF at the
+//! path's wavelength, event consistency and ray spawning with the offset rule. The WGSL
+//! twins are `orient_normals`, `event_is_consistent` and `offset_ray_origin_towards`.
+
+use super::spectral::Spectral;
+use crate::bsdf::{Bsdf, BsdfSample, BxDF, Event, TransportMode};
+use crate::bvh::offset_ray_origin;
+use crate::math::Frame;
+use crate::scene::{Material, Scene};
+use glam::{Vec2, Vec3};
+
+/// Everything known about a ray/surface intersection.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub p: Vec3,
+    /// Unit geometric normal of the CCW triangle (front face side).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated), on the same side as `ng`.
+    pub ns: Vec3,
+    pub uv: Vec2,
+    pub tri: u32,
+    pub material: u32,
+    pub t: f32,
+}
+
+/// Reconstruct the surface record of a BVH hit.
+#[inline]
+pub fn surface(scene: &Scene, hit: &crate::bvh::Hit) -> SurfaceHit {
+    let mesh = &scene.mesh;
+    let t = hit.tri as usize;
+    let [i0, i1, i2] = mesh.indices[t];
+    let (i0, i1, i2) = (i0 as usize, i1 as usize, i2 as usize);
+    let (p0, p1, p2) = (mesh.positions[i0], mesh.positions[i1], mesh.positions[i2]);
+    let b0 = 1.0 - hit.b1 - hit.b2;
+    // Barycentric hit point (more accurate than o + t·d; PBR 4th ed. §6.8.4).
+    let p = p0 * b0 + p1 * hit.b1 + p2 * hit.b2;
+    let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+    let mut ns = (mesh.normals[i0] * b0 + mesh.normals[i1] * hit.b1 + mesh.normals[i2] * hit.b2)
+        .normalize_or_zero();
+    if ns == Vec3::ZERO || !ns.is_finite() {
+        ns = ng;
+    } else if ns.dot(ng) < 0.0 {
+        ns = -ns;
+    }
+    let uv = mesh.uvs[i0] * b0 + mesh.uvs[i1] * hit.b1 + mesh.uvs[i2] * hit.b2;
+    SurfaceHit {
+        p,
+        ng,
+        ns,
+        uv,
+        tri: hit.tri,
+        material: mesh.tri_material[t],
+        t: hit.t,
+    }
+}
+
+/// Orient the normals for shading: opaque double-sided materials shade both sides alike,
+/// one-sided opaque back faces are black (`None`), dielectrics keep the outward normal (the
+/// eta convention of DESIGN.md). `front`: the ray arrived on the side `hit.ng` points to.
+#[inline]
+pub fn orient_normals(mat: &Material, hit: &SurfaceHit, front: bool) -> Option<(Vec3, Vec3)> {
+    if mat.is_transmissive() || front {
+        Some((hit.ng, hit.ns))
+    } else if mat.double_sided {
+        Some((-hit.ng, -hit.ns))
+    } else {
+        None
+    }
+}
+
+/// Reflection must stay on the geometric side of ωo, transmission must cross it (a shading
+/// normal can propose either wrongly; Veach 1997 §5.3).
+#[inline]
+pub fn event_is_consistent(event: Event, side_o: f32, side_i: f32) -> bool {
+    match event {
+        Event::Reflect => side_o * side_i > 0.0,
+        Event::Transmit => side_o * side_i < 0.0,
+    }
+}
+
+/// A ray origin at `p` pushed off the surface to the side of `ng` that `side_i` (= ω·ng)
+/// selects (Wächter & Binder 2019, via `offset_ray_origin`).
+#[inline]
+pub fn offset_ray_origin_towards(p: Vec3, ng: Vec3, side_i: f32) -> Vec3 {
+    offset_ray_origin(p, if side_i > 0.0 { ng } else { -ng })
+}
+
+/// What a BSDF sample at an interaction leads to.
+pub enum Bounce {
+    /// Continue along `wi` (world).
+    Continue { s: BsdfSample, wi: Vec3 },
+    /// No valid direction (no sample, or one inconsistent with the geometric normal).
+    Absorbed,
+    /// The BSDF returned a non-finite weight: the sample must be dropped and counted.
+    Poisoned,
+}
+
+/// A path vertex on a surface, ready to scatter.
+#[derive(Clone, Copy, Debug)]
+pub struct Interaction {
+    pub hit: SurfaceHit,
+    /// Oriented geometric and shading normals (see `orient_normals`).
+    pub ng: Vec3,
+    pub ns: Vec3,
+    pub frame: Frame,
+    /// Direction towards the previous vertex (world, unit) and in the shading frame.
+    pub wo_w: Vec3,
+    pub wo: Vec3,
+    pub bsdf: Bsdf,
+    /// The BSDF depends on the wavelength (dispersive glass in a spectral path).
+    pub dispersive: bool,
+}
+
+impl Interaction {
+    /// The interaction of a ray travelling along `d` with `hit`; `None` when the path ends
+    /// there (one-sided back face, or an emitter, which is black otherwise).
+    pub fn new(scene: &Scene, hit: &SurfaceHit, d: Vec3, sp: &Spectral) -> Option<Interaction> {
+        let mat = &scene.materials[hit.material as usize];
+        let front = d.dot(hit.ng) < 0.0;
+        let (ng, ns) = orient_normals(mat, hit, front)?;
+        if mat.is_emissive() && mat.base_color == Vec3::ZERO {
+            return None;
+        }
+        let transmissive = mat.is_transmissive();
+        let dispersive = sp.lambdas.is_some() && mat.abbe.is_some() && transmissive;
+        let eta = match sp.lambdas {
+            Some(l) if dispersive => mat.ior_at(l[0]),
+            _ => mat.ior,
+        };
+        let mut bsdf = mat.bsdf(&scene.textures, hit.uv, eta);
+        if sp.lambdas.is_some() {
+            bsdf = bsdf.map_colors(|c| sp.c(c.truncate()));
+        }
+        let frame = Frame::from_normal(ns);
+        let wo_w = -d;
+        Some(Interaction {
+            hit: *hit,
+            ng,
+            ns,
+            frame,
+            wo_w,
+            wo: frame.to_local(wo_w),
+            bsdf,
+            dispersive,
+        })
+    }
+
+    /// Sample the BSDF and check the event against the geometric normal.
+    #[inline]
+    pub fn sample(&self, uc: f32, u2: Vec2, mode: TransportMode) -> Bounce {
+        let Some(s) = self.bsdf.sample(self.wo, uc, u2, mode) else {
+            return Bounce::Absorbed;
+        };
+        let wi = self.frame.to_world(s.wi);
+        let consistent = event_is_consistent(s.event, self.wo_w.dot(self.ng), wi.dot(self.ng));
+        if !s.weight.is_finite() {
+            return Bounce::Poisoned;
+        }
+        if !consistent {
+            return Bounce::Absorbed;
+        }
+        Bounce::Continue { s, wi }
+    }
+
+    /// Origin of a ray leaving along `w` (world), offset to the side `w` goes to.
+    #[inline]
+    pub fn spawn(&self, w: Vec3) -> Vec3 {
+        offset_ray_origin_towards(self.hit.p, self.ng, w.dot(self.ng))
+    }
+
+    /// Can light pass from `wo_w` to `w` here (same side, or a BSDF that transmits)?
+    #[inline]
+    pub fn geometric_ok(&self, w: Vec3) -> bool {
+        let (so, si) = (self.wo_w.dot(self.ng), w.dot(self.ng));
+        si != 0.0 && (si * so > 0.0 || self.bsdf.can_transmit())
+    }
+}
+
+impl Interaction {
+    /// The shadow ray of a light sample: (origin, direction, t_max). Both ends use the offset
+    /// rule; the target is rebuilt as p + (p_light − p), the arithmetic the walks have always
+    /// used. Infinite lights: along ωi without end.
+    #[inline]
+    pub fn shadow_ray(&self, ls: &crate::scene::light::LiSample) -> (Vec3, Vec3, f32) {
+        let origin = self.spawn(ls.wi);
+        if ls.infinite {
+            return (origin, ls.wi, f32::INFINITY);
+        }
+        let pl = self.hit.p + (ls.p_light - self.hit.p);
+        let nl = ls.n_light;
+        let target = if nl == Vec3::ZERO {
+            pl
+        } else {
+            offset_ray_origin(pl, if nl.dot(-ls.wi) > 0.0 { nl } else { -nl })
+        };
+        (origin, target - origin, 1.0)
+    }
+}

@@ -1,0 +1,173 @@
+//! The scene's lights and the discrete distribution next-event estimation and light tracing
+//! pick them from: proportional to (approximate) emitted power (pbrt-v4 `PowerLightSampler`).
+
+use super::{DirectionalLight, Light, PointLight, SpotLight, TriangleLight, UniformEnvironment};
+use crate::scene::{PunctualLight, Scene};
+use glam::Vec3;
+
+/// The lights of a scene with their selection CDF.
+#[derive(Clone, Debug)]
+pub struct LightSet {
+    /// Area and punctual lights, in the order of the CDF.
+    pub lights: Vec<Light>,
+    /// Inclusive CDF, last entry 1.
+    pub cdf: Vec<f32>,
+    /// Selection probability of each scene triangle (0 for non-emitters).
+    pub tri_pick_prob: Vec<f32>,
+    /// Index into `lights` of each scene triangle's area light (`u32::MAX`: none).
+    tri_light: Vec<u32>,
+    /// The environment (uniform radiance of escaping rays; not in the distribution).
+    pub environment: Light,
+}
+
+impl Default for LightSet {
+    fn default() -> Self {
+        LightSet {
+            lights: Vec::new(),
+            cdf: Vec::new(),
+            tri_pick_prob: Vec::new(),
+            tri_light: Vec::new(),
+            environment: Light::Environment(UniformEnvironment {
+                radiance: Vec3::ZERO,
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }),
+        }
+    }
+}
+
+/// Luminance of linear Rec.709 RGB (ITU-R BT.709 weights).
+#[inline]
+pub fn luminance(c: Vec3) -> f32 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// The scene's lights: emissive triangles first, then `KHR_lights_punctual` lights.
+fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
+    let mut lights = Vec::new();
+    for t in scene.emissive_triangles() {
+        let mi = scene.mesh.tri_material[t as usize];
+        let m = &scene.materials[mi as usize];
+        let v = scene.mesh.tri(t as usize);
+        lights.push(Light::Triangle(TriangleLight::new(
+            t,
+            mi,
+            v,
+            m.emission,
+            m.double_sided,
+        )));
+    }
+    for l in &scene.punctual_lights {
+        lights.push(match *l {
+            PunctualLight::Point {
+                position,
+                intensity,
+            } => Light::Point(PointLight {
+                position,
+                intensity,
+            }),
+            PunctualLight::Spot {
+                position,
+                direction,
+                intensity,
+                cos_inner,
+                cos_outer,
+            } => Light::Spot(SpotLight {
+                position,
+                direction,
+                intensity,
+                cos_inner,
+                cos_outer,
+            }),
+            PunctualLight::Directional {
+                direction,
+                irradiance,
+            } => Light::Directional(DirectionalLight {
+                direction,
+                irradiance,
+                center,
+                radius,
+            }),
+        });
+    }
+    lights
+}
+
+impl LightSet {
+    /// Build the lights and their distribution: area lights by power π·L·A (two-sided:
+    /// 2π·L·A), point lights by 4π·I, spots by their cone solid angle, directional by
+    /// irradiance × the scene's bounding-disk area.
+    pub fn build(scene: &Scene) -> LightSet {
+        let (lo, hi) = scene.bounds();
+        let center = 0.5 * (lo + hi);
+        let radius = 0.5 * (hi - lo).length().max(1e-3);
+        let lights = scene_lights(scene, center, radius);
+        let weights: Vec<f32> = lights
+            .iter()
+            .map(|l| match l {
+                Light::Triangle(t) => t.power(),
+                other => other.power().max(1e-9),
+            })
+            .collect();
+        let total: f64 = weights.iter().map(|&w| w as f64).sum();
+        let mut cdf = Vec::with_capacity(weights.len());
+        let mut acc = 0.0f64;
+        for w in &weights {
+            acc += *w as f64;
+            cdf.push((acc / total) as f32);
+        }
+        if let Some(last) = cdf.last_mut() {
+            *last = 1.0;
+        }
+        let n_tris = scene.mesh.triangle_count();
+        let mut tri_pick_prob = vec![0.0f32; n_tris];
+        let mut tri_light = vec![u32::MAX; n_tris];
+        for (i, (l, w)) in lights.iter().zip(&weights).enumerate() {
+            if let Light::Triangle(t) = l {
+                tri_pick_prob[t.tri as usize] = (*w as f64 / total) as f32;
+                tri_light[t.tri as usize] = i as u32;
+            }
+        }
+        LightSet {
+            lights,
+            cdf,
+            tri_pick_prob,
+            tri_light,
+            environment: Light::Environment(UniformEnvironment {
+                radiance: scene.environment,
+                center,
+                radius,
+            }),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lights.is_empty()
+    }
+
+    /// Pick a light with `u` ∈ [0,1): (light, probability).
+    #[inline]
+    pub fn pick(&self, u: f32) -> Option<(&Light, f32)> {
+        if self.lights.is_empty() {
+            return None;
+        }
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.lights.len() - 1);
+        let prev = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let p = self.cdf[i] - prev;
+        if p <= 0.0 {
+            return None;
+        }
+        Some((&self.lights[i], p))
+    }
+
+    /// The area light on scene triangle `tri` and its selection probability, if it emits.
+    #[inline]
+    pub fn area_light(&self, tri: u32) -> Option<(&Light, f32)> {
+        let i = *self.tri_light.get(tri as usize)?;
+        let l = self.lights.get(i as usize)?;
+        Some((l, self.tri_pick_prob[tri as usize]))
+    }
+}

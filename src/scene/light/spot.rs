@@ -1,0 +1,98 @@
+//! Spot light with the glTF KHR_lights_punctual smooth cone falloff (PBR 4th ed. §12.1.1
+//! `SpotLight` structure, glTF's falloff curve).
+
+use super::{LeSample, LiSample};
+use crate::math::{Frame, sampling};
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotLight {
+    pub position: Vec3,
+    /// Where the spot points (unit).
+    pub direction: Vec3,
+    /// Radiant intensity on the axis (RGB).
+    pub intensity: Vec3,
+    pub cos_inner: f32,
+    pub cos_outer: f32,
+}
+
+/// glTF spot-light angular falloff (KHR_lights_punctual spec, "Spot"): smooth, squared
+/// linear ramp of cosθ between the outer and inner cone.
+#[inline]
+pub fn spot_falloff(cos_theta: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    let scale = 1.0 / (cos_inner - cos_outer).max(1e-3);
+    let offset = -cos_outer * scale;
+    let a = (cos_theta * scale + offset).clamp(0.0, 1.0);
+    a * a
+}
+
+impl SpotLight {
+    /// Delta position: L = I·falloff/d², pdf = selection probability.
+    #[inline]
+    pub fn sample_li(&self, p: Vec3, pick: f32) -> Option<LiSample> {
+        let to = self.position - p;
+        let d2 = to.length_squared();
+        if d2 <= 0.0 {
+            return None;
+        }
+        let wi = to / d2.sqrt();
+        let fall = spot_falloff((-wi).dot(self.direction), self.cos_inner, self.cos_outer);
+        if fall <= 0.0 {
+            return None;
+        }
+        Some(LiSample {
+            l: self.intensity * fall / d2,
+            wi,
+            pdf: pick,
+            p_light: self.position,
+            n_light: Vec3::ZERO,
+            is_delta: true,
+            infinite: false,
+        })
+    }
+
+    /// Intensity towards `w` (unit, away from the light).
+    #[inline]
+    pub fn le(&self, w: Vec3) -> Vec3 {
+        self.intensity * spot_falloff(w.dot(self.direction), self.cos_inner, self.cos_outer)
+    }
+
+    /// Solid-angle density of `sample_le`'s uniform cone.
+    #[inline]
+    pub fn pdf_dir(&self, w: Vec3) -> f32 {
+        if w.dot(self.direction) >= self.cos_outer {
+            self.cone_pdf()
+        } else {
+            0.0
+        }
+    }
+
+    #[inline]
+    fn cone_pdf(&self) -> f32 {
+        1.0 / (2.0 * PI * (1.0 - self.cos_outer).max(1e-7))
+    }
+
+    /// Uniform direction in the outer cone (PBR 4th ed. §A.5.4), weighted by the falloff.
+    #[inline]
+    pub fn sample_le(&self, u_dir: Vec2, pick: f32) -> LeSample {
+        let local = sampling::uniform_cone(u_dir, self.cos_outer);
+        LeSample {
+            p: self.position,
+            n: Vec3::ZERO,
+            dir: Frame::from_normal(self.direction).to_world(local),
+            l: self.intensity * spot_falloff(local.z, self.cos_inner, self.cos_outer),
+            pdf_pos: pick,
+            pdf_dir: self.cone_pdf(),
+            delta_pos: true,
+            infinite: false,
+        }
+    }
+
+    /// Power 2π(1 − ½(cosθ_inner + cosθ_outer))·I (luminance; pbrt-v4 `SpotLight::Phi`).
+    pub fn power(&self) -> f32 {
+        2.0 * PI
+            * (1.0 - 0.5 * (self.cos_inner + self.cos_outer))
+            * super::luminance(self.intensity)
+    }
+}
