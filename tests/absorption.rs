@@ -24,7 +24,11 @@ fn absorbing_cornell(absorb: bool) -> Scene {
     s.settings.width = 48;
     s.settings.height = 48;
     let mut n = 0;
-    for m in s.materials.iter_mut().filter(|m| m.kind == MaterialKind::Glass) {
+    for m in s
+        .materials
+        .iter_mut()
+        .filter(|m| m.kind == MaterialKind::Glass)
+    {
         if absorb {
             m.attenuation_color = Vec3::new(0.25, 0.55, 0.9);
             m.attenuation_distance = 0.25;
@@ -36,7 +40,13 @@ fn absorbing_cornell(absorb: bool) -> Scene {
 }
 
 /// Block means of `RUNS` independent CPU renders (seeds `seed0`…) of `spp` each.
-fn cpu_runs(scene: &Scene, est: Estimator, spp: u32, filter: Option<&str>, seed0: u32) -> Vec<Vec<f64>> {
+fn cpu_runs(
+    scene: &Scene,
+    est: Estimator,
+    spp: u32,
+    filter: Option<&str>,
+    seed0: u32,
+) -> Vec<Vec<f64>> {
     let r = Renderer::new(scene.clone()).expect("valid scene");
     let filter = filter.map(|f| PathFilter::parse(f).expect("valid regex"));
     (0..RUNS)
@@ -64,8 +74,16 @@ fn assert_agree(name: &str, a: &[Vec<f64>], b: &[Vec<f64>]) {
         t.mean_a,
         t.mean_b
     );
-    assert!(t.rate() >= 0.9, "{name}: only {:.1}% of blocks within 3σ", t.rate() * 100.0);
-    assert!(t.z_image.abs() <= 4.0, "{name}: image means differ by {:.2}σ", t.z_image);
+    assert!(
+        t.rate() >= 0.9,
+        "{name}: only {:.1}% of blocks within 3σ",
+        t.rate() * 100.0
+    );
+    assert!(
+        t.z_image.abs() <= 4.0,
+        "{name}: image means differ by {:.2}σ",
+        t.z_image
+    );
 }
 
 #[test]
@@ -83,8 +101,15 @@ fn bdpt_and_light_tracing_absorb_like_path_tracing() {
     // ignored the medium would fail the comparisons above.
     let clear = cpu_runs(&absorbing_cornell(false), Estimator::Bdpt, 16, None, 400);
     let t = block_z_test(&clear, &bdpt);
-    eprintln!("control: clear vs absorbing glass (bdpt): whole-image z = {:.2}", t.z_image);
-    assert!(t.z_image > 8.0, "absorption is not visible: z = {:.2}", t.z_image);
+    eprintln!(
+        "control: clear vs absorbing glass (bdpt): whole-image z = {:.2}",
+        t.z_image
+    );
+    assert!(
+        t.z_image > 8.0,
+        "absorption is not visible: z = {:.2}",
+        t.z_image
+    );
 }
 
 #[test]
@@ -108,6 +133,10 @@ fn gpu_estimators_absorb_like_cpu_path_tracing() {
                 block_means(&img.mean, 48, 48)
             })
             .collect();
-        assert_agree(&format!("absorbing glass: GPU {est} vs CPU path"), &runs, &cpu);
+        assert_agree(
+            &format!("absorbing glass: GPU {est} vs CPU path"),
+            &runs,
+            &cpu,
+        );
     }
 }

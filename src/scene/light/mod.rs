@@ -20,6 +20,9 @@ mod set;
 mod spot;
 mod triangle;
 
+#[cfg(test)]
+mod tests;
+
 pub use directional::DirectionalLight;
 pub use environment::UniformEnvironment;
 pub use point::PointLight;
