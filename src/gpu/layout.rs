@@ -75,12 +75,12 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// A material resolved for the GPU (`bsdf` = one of the `BSDF_*` kinds of bsdf.wgsl).
+    /// A material resolved for the GPU (`bsdf` = one of the [`BSDF_LAMBERT`]… kinds).
     pub struct Material {
         pub base_color: [f32; 3],
         pub bsdf: u32,
         pub emission: [f32; 3],
-        /// `MAT_*` flags of scene.wgsl.
+        /// `MAT_*` flags ([`MAT_EMISSIVE`]…).
         pub flags: u32,
         /// Beer–Lambert σ_a (`scene::Material::sigma_a`).
         pub sigma_a: [f32; 3],
@@ -97,7 +97,7 @@ gpu_struct! {
         /// Raw metallic and roughness factors (metal-rough multiplies the texture in).
         pub metallic: f32,
         pub roughness: f32,
-        /// `DIST_*` of microfacet.wgsl.
+        /// `DIST_*` ([`DIST_GGX`], [`DIST_BECKMANN`]).
         pub dist: u32,
         /// Abbe number V_d, 0 = not dispersive.
         pub abbe: f32,
@@ -268,7 +268,7 @@ pub const DFA_NUM_STATES: u32 = DFA_TRANSITIONS + 4;
 /// `vec4<u32>` rows of the path-filter uniform (`PathFilterTable`).
 pub const DFA_VEC4S: u32 = (FILTER_WORDS / 4) as u32;
 
-/// No texture reference (scene.wgsl `NO_TEXTURE`).
+/// No texture reference.
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// Wrap modes of a texture reference (`scene::material::Wrap`).
 pub const WRAP_REPEAT: u32 = Wrap::Repeat as u32;
