@@ -51,7 +51,10 @@ fn layout_matches_wgsl() {
 fn prelude_constants_match_rust() {
     use refract::gpu::pipeline::SHADER_FILES;
     use refract::gpu::prelude::WGSL_CONSTANTS;
-    for (kernel, src) in [("integrator", integrator_source()), ("probe", probe_source())] {
+    for (kernel, src) in [
+        ("integrator", integrator_source()),
+        ("probe", probe_source()),
+    ] {
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         for &(name, value) in WGSL_CONSTANTS {
             let c = module
@@ -71,10 +74,15 @@ fn prelude_constants_match_rust() {
         for line in text.lines() {
             let decl = line.trim_start();
             for &(name, _) in WGSL_CONSTANTS {
-                let defines = ["const ", "override ", "var ", "let "]
-                    .iter()
-                    .any(|k| decl.strip_prefix(k).and_then(|r| r.strip_prefix(name)).is_some_and(|r| r.starts_with([':', ' ', '='])));
-                assert!(!defines, "{file} defines the prelude constant {name}: {line}");
+                let defines = ["const ", "override ", "var ", "let "].iter().any(|k| {
+                    decl.strip_prefix(k)
+                        .and_then(|r| r.strip_prefix(name))
+                        .is_some_and(|r| r.starts_with([':', ' ', '=']))
+                });
+                assert!(
+                    !defines,
+                    "{file} defines the prelude constant {name}: {line}"
+                );
             }
         }
     }
