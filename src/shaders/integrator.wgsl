@@ -333,14 +333,13 @@ fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Ma
 }
 
 // The IOR the path sees at `mat`: a dispersive material refracts the hero wavelength, and
-// from then on only lane 0 is carried (×4: it now carries the whole estimate).
+// from then on only the hero lane is carried (`spectral_collapse`).
 fn integrator_eta(ps: ptr<function, PathState>, mat: Material) -> f32 {
     var eta = mat.eta;
     if material_is_dispersive(mat, ps.sp) {
         eta = material_ior_at(mat, ps.sp.lambdas.x);
         if !ps.collapsed {
-            let b = ps.beta;
-            ps.beta = vec4<f32>(4.0 * b.x, 0.0, 0.0, 0.0);
+            ps.beta = spectral_collapse(ps.beta);
             ps.collapsed = true;
         }
     }
@@ -407,21 +406,6 @@ fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Materi
     return STEP_CONTINUE;
 }
 
-// Russian roulette (Mitsuba 3 `path`: q = min(max(β)·η², 0.95) from rr_depth); false = the
-// path ends.
-fn integrator_russian_roulette(ps: ptr<function, PathState>, sampler: ptr<function, Sampler>) -> bool {
-    if ps.depth >= params.rr_depth {
-        let q_rr = min(max_element4(ps.beta) * ps.eta_scale, 0.95);
-        if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
-            return false;
-        }
-        ps.beta /= q_rr;
-    } else if max_element4(ps.beta) <= 0.0 {
-        return false;
-    }
-    return true;
-}
-
 // Radiance along the camera ray (origin, dir) — one path sample, RGB. Twin of `Integrator::li`.
 fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampler>) -> vec3<f32> {
     var ps = path_state_new(origin, dir, sampler);
@@ -476,9 +460,14 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if step == STEP_POISON {
             return poison();
         }
-        if step == STEP_BREAK || !integrator_russian_roulette(&ps, sampler) {
+        if step == STEP_BREAK {
             break;
         }
+        let q_rr = russian_roulette(ps.beta, ps.eta_scale, ps.depth, sampler);
+        if q_rr <= 0.0 {
+            break;
+        }
+        ps.beta /= q_rr;
     }
     return spectral_to_rgb(ps.sp, ps.l);
 }

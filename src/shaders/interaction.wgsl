@@ -1,7 +1,7 @@
 // interaction.wgsl — the per-vertex step shared by every GPU walk (the camera walk in
 // integrator.wgsl and the light walk in light_tracing.wgsl): normal orientation, the
 // consistency of a sampled event with the geometric normal, spawning rays off the surface,
-// and Beer–Lambert transmittance of the medium a segment crossed.
+// the medium stack with Beer–Lambert transmittance, and Russian roulette.
 
 // Absorption inside solid glass (a slider on it, so keyed by the kind).
 override HAS_ABSORPTION: bool = true;
@@ -100,4 +100,21 @@ fn spawn_ray_to_light(p: vec3<f32>, ng: vec3<f32>, side_i: f32, ls: LightLiSampl
         tn = ls.n_light;
     }
     return Ray(origin, offset_ray_origin(pl, tn) - origin, 1.0);
+}
+
+// Russian roulette (Mitsuba 3 `path`): from depth `rr_depth` the path survives with
+// probability q = min(max(β)·η², 0.95) (one dimension); before it, a path with β = 0 ends.
+// Returns the factor to divide β by (1 before rr_depth); 0 = the path ends.
+fn russian_roulette(beta: vec4<f32>, eta_scale: f32, depth: u32, sampler: ptr<function, Sampler>) -> f32 {
+    if depth >= params.rr_depth {
+        let q = min(max_element4(beta) * eta_scale, 0.95);
+        if q <= 0.0 || sampler_next_1d(sampler) >= q {
+            return 0.0;
+        }
+        return q;
+    }
+    if max_element4(beta) <= 0.0 {
+        return 0.0;
+    }
+    return 1.0;
 }

@@ -270,7 +270,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     let we_g = corr_cos / (d2 * camera_a_plane() * c * c * c);
     var v4 = lw.beta * f * we_g;
     if !lw.collapsed && dispersive {
-        v4 = vec4<f32>(4.0 * v4.x, 0.0, 0.0, 0.0);
+        v4 = spectral_collapse(v4);
     }
     if !(max_element4(v4) > 0.0) {
         return 0u;
@@ -334,9 +334,8 @@ fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Materi
     }
     lw.beta *= s.weight * shading_correction(wo_w, wi_w, on.ns, ng);
     if dispersive && !lw.collapsed {
-        // Only the hero wavelength follows this direction (Wilkie et al. 2014, §4.2).
-        let b = lw.beta;
-        lw.beta = vec4<f32>(4.0 * b.x, 0.0, 0.0, 0.0);
+        // Only the hero wavelength follows this direction.
+        lw.beta = spectral_collapse(lw.beta);
         lw.collapsed = true;
     }
     // Camera-side density of the previous vertex, sampled from ym towards it.
@@ -366,21 +365,6 @@ fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Materi
     lw.o = offset_ray_origin_towards(hit.p, ng, side_i);
     lw.d = wi_w;
     return STEP_CONTINUE;
-}
-
-// Russian roulette on the importance throughput (as the camera walk, from rr_depth); false =
-// the subpath ends.
-fn light_walk_russian_roulette(lw: ptr<function, LightWalk>, sampler: ptr<function, Sampler>) -> bool {
-    if lw.m >= params.rr_depth {
-        let q_rr = min(max_element4(lw.beta), 0.95);
-        if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
-            return false;
-        }
-        lw.beta /= q_rr;
-    } else if max_element4(lw.beta) <= 0.0 {
-        return false;
-    }
-    return true;
 }
 
 // Trace one light subpath and connect its vertices to the camera; returns rejected samples.
@@ -446,9 +430,16 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
             rejected += 1u;
             break;
         }
-        if step == STEP_BREAK || !light_walk_russian_roulette(&lw, sampler) {
+        if step == STEP_BREAK {
             break;
         }
+        // Russian roulette on the importance throughput (no η² factor: importance does not
+        // compress on refraction).
+        let q_rr = russian_roulette(lw.beta, 1.0, lw.m, sampler);
+        if q_rr <= 0.0 {
+            break;
+        }
+        lw.beta /= q_rr;
     }
     return rejected;
 }

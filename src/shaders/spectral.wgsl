@@ -34,3 +34,9 @@ fn spectral_to_rgb(sp: Spectral, c: vec4<f32>) -> vec3<f32> {
     }
     return c.xyz;
 }
+
+// Keep only the hero wavelength (lane 0, ×4: it now carries the whole estimate) once a
+// wavelength-dependent direction was sampled. Wilkie et al. 2014, §4.2.
+fn spectral_collapse(c: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(4.0 * c.x, 0.0, 0.0, 0.0);
+}
