@@ -45,6 +45,49 @@ fn layout_matches_wgsl() {
     check_layout::<ProbeOut>(&probe).unwrap();
 }
 
+/// Every generated prelude constant reaches both kernels with its Rust value (naga's module
+/// constants), and no .wgsl file defines one itself: changing one side alone fails here.
+#[test]
+fn prelude_constants_match_rust() {
+    use refract::gpu::pipeline::SHADER_FILES;
+    use refract::gpu::prelude::WGSL_CONSTANTS;
+    for (kernel, src) in [
+        ("integrator", integrator_source()),
+        ("probe", probe_source()),
+    ] {
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        for &(name, value) in WGSL_CONSTANTS {
+            let c = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .map(|(_, c)| c)
+                .unwrap_or_else(|| panic!("{kernel}: no WGSL constant {name}"));
+            let init = &module.global_expressions[c.init];
+            assert!(
+                matches!(init, naga::Expression::Literal(naga::Literal::U32(v)) if *v == value),
+                "{kernel}: {name} is {init:?} in WGSL, {value} in Rust"
+            );
+        }
+    }
+    for (file, text) in SHADER_FILES {
+        for line in text.lines() {
+            let decl = line.trim_start();
+            for &(name, _) in WGSL_CONSTANTS {
+                let defines = ["const ", "override ", "var ", "let "].iter().any(|k| {
+                    decl.strip_prefix(k)
+                        .and_then(|r| r.strip_prefix(name))
+                        .is_some_and(|r| r.starts_with([':', ' ', '=']))
+                });
+                assert!(
+                    !defines,
+                    "{file} defines the prelude constant {name}: {line}"
+                );
+            }
+        }
+    }
+}
+
 /// The BVH2 repack keeps triangles in `primitive_indices` order and every scene triangle
 /// appears exactly once.
 #[test]

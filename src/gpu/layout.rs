@@ -1,7 +1,12 @@
 //! GPU buffer layouts: `#[repr(C)]` + `bytemuck::Pod` twins of the WGSL structs in
 //! `src/shaders/*.wgsl`. No `vec3` in storage buffers: three-component values are `[f32; 3]`
 //! (`array<f32, 3>` in WGSL). `tests/gpu.rs` checks every struct's size and field offsets
-//! against the WGSL via naga reflection ([`wgsl_struct_layout`]).
+//! against the WGSL via naga reflection ([`wgsl_struct_layout`]). The enum and flag constants
+//! below are the only definition of their values: `gpu::prelude` emits them into the WGSL.
+
+use crate::bsdf::{Event, Lobe, TransportMode};
+use crate::paths::{DfaTable, MAX_STATES, NUM_SYMBOLS, Symbol};
+use crate::scene::material::Wrap;
 
 /// Size and field offsets of a GPU struct, for the layout check.
 pub trait GpuLayout: bytemuck::Pod {
@@ -70,12 +75,12 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// A material resolved for the GPU (`bsdf` = one of the `BSDF_*` kinds of bsdf.wgsl).
+    /// A material resolved for the GPU (`bsdf` = one of the [`BSDF_LAMBERT`]… kinds).
     pub struct Material {
         pub base_color: [f32; 3],
         pub bsdf: u32,
         pub emission: [f32; 3],
-        /// `MAT_*` flags of scene.wgsl.
+        /// `MAT_*` flags ([`MAT_EMISSIVE`]…).
         pub flags: u32,
         /// Beer–Lambert σ_a (`scene::Material::sigma_a`).
         pub sigma_a: [f32; 3],
@@ -92,7 +97,7 @@ gpu_struct! {
         /// Raw metallic and roughness factors (metal-rough multiplies the texture in).
         pub metallic: f32,
         pub roughness: f32,
-        /// `DIST_*` of microfacet.wgsl.
+        /// `DIST_*` ([`DIST_GGX`], [`DIST_BECKMANN`]).
         pub dist: u32,
         /// Abbe number V_d, 0 = not dispersive.
         pub abbe: f32,
@@ -216,7 +221,10 @@ gpu_struct! {
     }
 }
 
-/// BSDF kinds (the `BSDF_*` constants of bsdf.wgsl).
+// Constants shared with the WGSL. Each one is emitted into the WGSL prelude by
+// `gpu::prelude` (the shaders never define them themselves; tests/gpu.rs checks both).
+
+/// BSDF kinds (`Bsdf.kind` in bsdf.wgsl; one per `bsdf::Bsdf` variant, see `upload::bsdf_kind`).
 pub const BSDF_LAMBERT: u32 = 0;
 pub const BSDF_MIRROR: u32 = 1;
 pub const BSDF_SMOOTH_DIELECTRIC: u32 = 2;
@@ -225,36 +233,75 @@ pub const BSDF_ROUGH_CONDUCTOR: u32 = 4;
 pub const BSDF_METAL_ROUGH: u32 = 5;
 pub const BSDF_THIN_DIELECTRIC: u32 = 6;
 
-/// Microfacet distributions (the `DIST_*` constants of microfacet.wgsl).
+/// Microfacet distributions (`bsdf::MicrofacetDistribution`, see `upload::dist_code`).
 pub const DIST_GGX: u32 = 0;
 pub const DIST_BECKMANN: u32 = 1;
 
-/// Transport modes (`MODE_*` of common.wgsl).
-pub const MODE_RADIANCE: u32 = 0;
-pub const MODE_IMPORTANCE: u32 = 1;
+/// Transport modes (`bsdf::TransportMode`).
+pub const MODE_RADIANCE: u32 = TransportMode::Radiance as u32;
+pub const MODE_IMPORTANCE: u32 = TransportMode::Importance as u32;
 
-/// No texture reference (scene.wgsl `NO_TEXTURE`).
+/// Sampled events (`bsdf::Event`).
+pub const EVENT_REFLECT: u32 = Event::Reflect as u32;
+pub const EVENT_TRANSMIT: u32 = Event::Transmit as u32;
+
+/// Heckbert lobes (`bsdf::Lobe`); a lobe's path symbol is `LOBE_* + 1` (`SYM_*`).
+pub const LOBE_D: u32 = Lobe::D as u32;
+pub const LOBE_G: u32 = Lobe::G as u32;
+pub const LOBE_S: u32 = Lobe::S as u32;
+
+/// Path symbols (`paths::Symbol`, the DFA columns).
+pub const SYM_L: u32 = Symbol::L as u32;
+pub const SYM_D: u32 = Symbol::D as u32;
+pub const SYM_G: u32 = Symbol::G as u32;
+pub const SYM_S: u32 = Symbol::S as u32;
+pub const SYM_E: u32 = Symbol::E as u32;
+
+/// Word offsets of the path-filter table (`paths::DfaTable::words`, "Table layout").
+pub const DFA_NUM_SYMBOLS: u32 = NUM_SYMBOLS as u32;
+pub const DFA_TRANSITIONS: u32 = (MAX_STATES * NUM_SYMBOLS) as u32;
+pub const DFA_ACCEPTING: u32 = DFA_TRANSITIONS;
+pub const DFA_LIVE: u32 = DFA_TRANSITIONS + 1;
+pub const DFA_START: u32 = DFA_TRANSITIONS + 2;
+pub const DFA_DEAD: u32 = DFA_TRANSITIONS + 3;
+pub const DFA_NUM_STATES: u32 = DFA_TRANSITIONS + 4;
+/// `vec4<u32>` rows of the path-filter uniform (`PathFilterTable`).
+pub const DFA_VEC4S: u32 = (FILTER_WORDS / 4) as u32;
+
+/// No texture reference.
 pub const NO_TEXTURE: u32 = u32::MAX;
-/// Texture-reference header flags (scene.wgsl `TEX_*`): wrap_s | wrap_t << 2 | linear | valid.
+/// Wrap modes of a texture reference (`scene::material::Wrap`).
+pub const WRAP_REPEAT: u32 = Wrap::Repeat as u32;
+pub const WRAP_MIRRORED_REPEAT: u32 = Wrap::MirroredRepeat as u32;
+pub const WRAP_CLAMP_TO_EDGE: u32 = Wrap::ClampToEdge as u32;
+/// Texture-reference header flags: wrap_s | wrap_t << 2 | linear | valid.
 pub const TEX_LINEAR: u32 = 16;
 pub const TEX_VALID: u32 = 32;
 
-/// Words of the path-filter uniform (`PathFilterTable`, `DfaTable::WORDS` padded to 16 bytes).
-pub const FILTER_WORDS: usize = 168;
+/// Words of the path-filter uniform (`PathFilterTable`, `DfaTable::WORDS`, a multiple of 4).
+pub const FILTER_WORDS: usize = DfaTable::WORDS;
 
-/// Material flags (the `MAT_*` constants of scene.wgsl).
+/// Material flags (`Material.flags`, see `upload::pack_material`).
 pub const MAT_EMISSIVE: u32 = 1;
 pub const MAT_DOUBLE_SIDED: u32 = 2;
+/// The path crosses the surface (dielectrics keep the outward normal).
 pub const MAT_TRANSMISSIVE: u32 = 4;
+/// Solid glass: the path enters its medium (Beer–Lambert absorption applies inside).
 pub const MAT_SOLID: u32 = 8;
+/// Emitter that is black otherwise (the path ends there).
 pub const MAT_BLACK_EMITTER: u32 = 16;
 pub const MAT_ABSORBS: u32 = 32;
 
-/// Light kinds (the `LIGHT_*` constants of scene.wgsl).
+/// Light kinds (`Light.kind`, the variants of light.wgsl).
 pub const LIGHT_TRIANGLE: u32 = 0;
 pub const LIGHT_POINT: u32 = 1;
 pub const LIGHT_SPOT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
+/// The uniform environment (not in the light distribution yet).
+pub const LIGHT_ENVIRONMENT: u32 = 4;
+
+/// Deepest BVH2 the WGSL traversal stack handles (`upload::MAX_BVH_DEPTH`).
+pub const BVH_STACK_SIZE: u32 = super::upload::MAX_BVH_DEPTH;
 
 /// Debug records: 1 (camera dir) + 3 per vertex × 16 vertices + 1 (final sample).
 pub const DEBUG_MAX_VERTICES: usize = 16;

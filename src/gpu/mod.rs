@@ -6,11 +6,13 @@
 //! - [`layout`]: `#[repr(C)]` Pod twins of the WGSL structs, naga layout reflection.
 //! - [`upload`]: scene → GPU arrays (BVH2 repack in leaf order, materials, light CDF).
 //! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
+//! - [`prelude`]: the WGSL constants generated from their Rust definitions.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
 
 pub mod context;
 pub mod layout;
 pub mod pipeline;
+pub mod prelude;
 pub mod renderer;
 pub mod upload;
 

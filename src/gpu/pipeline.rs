@@ -16,31 +16,99 @@ use std::collections::HashMap;
 const COMMON: &str = include_str!("../shaders/common.wgsl");
 const RNG: &str = include_str!("../shaders/rng.wgsl");
 const SPECTRUM: &str = include_str!("../shaders/spectrum.wgsl");
-const MICROFACET: &str = include_str!("../shaders/microfacet.wgsl");
+// The BSDFs: one file per src/bsdf/*.rs, the dispatch (mod.rs) first.
 const BSDF: &str = include_str!("../shaders/bsdf.wgsl");
+const FRESNEL: &str = include_str!("../shaders/fresnel.wgsl");
+const MICROFACET: &str = include_str!("../shaders/microfacet.wgsl");
+const DIFFUSE: &str = include_str!("../shaders/diffuse.wgsl");
+const CONDUCTOR: &str = include_str!("../shaders/conductor.wgsl");
+const DIELECTRIC: &str = include_str!("../shaders/dielectric.wgsl");
+const THIN: &str = include_str!("../shaders/thin.wgsl");
+const GLOSSY: &str = include_str!("../shaders/glossy.wgsl");
+const ROUGH_DIELECTRIC: &str = include_str!("../shaders/rough_dielectric.wgsl");
+const METAL_ROUGH: &str = include_str!("../shaders/metal_rough.wgsl");
 const SCENE: &str = include_str!("../shaders/scene.wgsl");
+const LIGHT: &str = include_str!("../shaders/light.wgsl");
+const SPECTRAL: &str = include_str!("../shaders/spectral.wgsl");
+const MATERIAL: &str = include_str!("../shaders/material.wgsl");
+const PATH_FILTER: &str = include_str!("../shaders/path_filter.wgsl");
+const INTERACTION: &str = include_str!("../shaders/interaction.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
 const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
 
-/// The integrator kernel's full WGSL source.
-pub fn integrator_source() -> String {
-    [
-        COMMON,
-        RNG,
-        SPECTRUM,
-        MICROFACET,
-        BSDF,
-        SCENE,
-        INTEGRATOR,
-        LIGHT_TRACING,
-    ]
-    .join("\n")
+/// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
+const MATHS: &[&str] = &[
+    COMMON,
+    RNG,
+    SPECTRUM,
+    BSDF,
+    FRESNEL,
+    MICROFACET,
+    DIFFUSE,
+    CONDUCTOR,
+    DIELECTRIC,
+    THIN,
+    GLOSSY,
+    ROUGH_DIELECTRIC,
+    METAL_ROUGH,
+];
+
+/// Every kernel source file by name (tests check that none defines a prelude constant).
+pub const SHADER_FILES: &[(&str, &str)] = &[
+    ("common.wgsl", COMMON),
+    ("rng.wgsl", RNG),
+    ("spectrum.wgsl", SPECTRUM),
+    ("bsdf.wgsl", BSDF),
+    ("fresnel.wgsl", FRESNEL),
+    ("microfacet.wgsl", MICROFACET),
+    ("diffuse.wgsl", DIFFUSE),
+    ("conductor.wgsl", CONDUCTOR),
+    ("dielectric.wgsl", DIELECTRIC),
+    ("thin.wgsl", THIN),
+    ("glossy.wgsl", GLOSSY),
+    ("rough_dielectric.wgsl", ROUGH_DIELECTRIC),
+    ("metal_rough.wgsl", METAL_ROUGH),
+    ("scene.wgsl", SCENE),
+    ("light.wgsl", LIGHT),
+    ("spectral.wgsl", SPECTRAL),
+    ("material.wgsl", MATERIAL),
+    ("path_filter.wgsl", PATH_FILTER),
+    ("interaction.wgsl", INTERACTION),
+    ("integrator.wgsl", INTEGRATOR),
+    ("light_tracing.wgsl", LIGHT_TRACING),
+    ("probe.wgsl", PROBE),
+];
+
+/// The generated prelude, then `parts`.
+fn assemble(parts: &[&str]) -> String {
+    let mut s = super::prelude::wgsl_prelude();
+    for p in parts {
+        s.push('\n');
+        s.push_str(p);
+    }
+    s
 }
 
-/// The probe kernel's full WGSL source (maths only, no scene).
+/// The integrator kernel's full WGSL source: prelude, maths, scene, lights, the per-vertex
+/// step, then the two walks.
+pub fn integrator_source() -> String {
+    let kernel = [
+        SCENE,
+        LIGHT,
+        SPECTRAL,
+        MATERIAL,
+        PATH_FILTER,
+        INTERACTION,
+        INTEGRATOR,
+        LIGHT_TRACING,
+    ];
+    assemble(&[MATHS, &kernel].concat())
+}
+
+/// The probe kernel's full WGSL source (prelude and maths only, no scene).
 pub fn probe_source() -> String {
-    [COMMON, RNG, SPECTRUM, MICROFACET, BSDF, PROBE].join("\n")
+    assemble(&[MATHS, &[PROBE]].concat())
 }
 
 /// Which parts of the kernel a scene needs (the pipeline cache key).

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 /// Largest storage buffer we create (DESIGN: ≤ 128 MiB per buffer).
 pub const MAX_BUFFER_BYTES: u64 = 128 << 20;
 
-/// Deepest BVH2 the WGSL traversal stack handles (`STACK_SIZE` in scene.wgsl).
+/// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
 pub const MAX_BVH_DEPTH: u32 = 64;
 
 /// The BVH2 in GPU form.
@@ -240,9 +240,9 @@ pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<(u32, u32)>) {
     }
     let mut out = vec![[0.0f32; 4]; total.max(1)];
     let wrap = |w: Wrap| match w {
-        Wrap::Repeat => 0u32,
-        Wrap::MirroredRepeat => 1,
-        Wrap::ClampToEdge => 2,
+        Wrap::Repeat => layout::WRAP_REPEAT,
+        Wrap::MirroredRepeat => layout::WRAP_MIRRORED_REPEAT,
+        Wrap::ClampToEdge => layout::WRAP_CLAMP_TO_EDGE,
     };
     for (i, r) in refs.iter().enumerate() {
         let mut head = [0u32; 4];

@@ -120,57 +120,6 @@ fn camera_raster(w: vec3<f32>) -> Raster {
     return Raster(true, py * params.width + px, -lz / sqrt(lx * lx + ly * ly + lz * lz));
 }
 
-// Solid-angle density with which an area light emits towards a direction at cosθ to its normal
-// (cosine-weighted, half on each side when double-sided).
-fn emission_pdf_dir(m: Material, cos_l: f32) -> f32 {
-    var two = 1.0;
-    if (m.flags & MAT_DOUBLE_SIDED) != 0u {
-        two = 0.5;
-    }
-    return two * cos_l * FRAC_1_PI;
-}
-
-// Solid-angle density of a punctual light's emitted direction (point: sphere, spot: cone).
-fn punctual_pdf_dir(light: Light) -> f32 {
-    if light.kind == LIGHT_SPOT {
-        return 1.0 / (2.0 * PI * max(1.0 - light.cos_outer, 1e-7));
-    }
-    return 0.25 * FRAC_1_PI;
-}
-
-// Uniform direction on the sphere. PBR 4th ed. §A.5.2.
-fn uniform_sphere(u: vec2<f32>) -> vec3<f32> {
-    let z = 1.0 - 2.0 * u.x;
-    let r = sqrt(max(1.0 - z * z, 0.0));
-    let phi = 2.0 * PI * u.y;
-    return vec3<f32>(r * cos(phi), r * sin(phi), z);
-}
-
-// Uniform direction in a cone around +z with cosθ ≥ cos_max. PBR 4th ed. §A.5.4.
-fn uniform_cone(u: vec2<f32>, cos_max: f32) -> vec3<f32> {
-    let cos_t = (1.0 - u.x) + u.x * cos_max;
-    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    let phi = 2.0 * PI * u.y;
-    return vec3<f32>(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
-}
-
-// a / b, 0 when b is not positive (a density that cannot occur).
-fn ratio(a: f32, b: f32) -> f32 {
-    if b > 0.0 {
-        return a / b;
-    }
-    return 0.0;
-}
-
-// Power-heuristic weight of a strategy given the density ratios of the two others to it.
-fn mis_weight3(r_a: f32, r_b: f32) -> f32 {
-    let s = 1.0 + r_a * r_a + r_b * r_b;
-    if !is_finite_f32(s) {
-        return 0.0; // another strategy is infinitely more likely (or a ratio is NaN)
-    }
-    return 1.0 / s;
-}
-
 // Veach 1997, eq. 5.19: |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (twin of `bdpt::shading_correction`).
 fn shading_correction(wo: vec3<f32>, wi: vec3<f32>, ns: vec3<f32>, ng: vec3<f32>) -> f32 {
     let num = abs(dot3(wo, ns)) * abs(dot3(wi, ng));
@@ -195,7 +144,7 @@ fn sym_get(s: SymString, j: u32) -> u32 {
 
 // Does E · class(ym) · class(y_{m-1}) … class(y1) · L pass the filter (read eye→light)?
 fn lt_accepts(s: SymString, m: u32, cls: u32) -> bool {
-    var q = dfa_table_step(dfa_table_step(dfa_word(DFA_TRANSITIONS + 2u), SYM_E), cls);
+    var q = dfa_table_step(dfa_table_step(dfa_table_start(), SYM_E), cls);
     for (var j = m - 1u; j >= 1u; j--) {
         q = dfa_table_step(q, sym_get(s, j));
     }
@@ -226,6 +175,62 @@ struct LightWalk {
     pc_y0: f32,
     y1_delta: bool,
     syms: SymString,
+    // The ray leaving ym (y0 before the first hit), the solid-angle pdf and delta-ness of the
+    // sample that produced it, and |ng(ym)·d| at its start.
+    o: vec3<f32>,
+    d: vec3<f32>,
+    prev_pdf: f32,
+    prev_delta: bool,
+    cos_out: f32,
+    // Absorbing medium the ray travels in (material index); NO_MEDIUM = none.
+    medium: u32,
+}
+
+// The light subpath leaving the emitted ray `le`: β1 = Le cosθ / (p_light p_dir) (area
+// lights), I / (p_light p_dir) (punctual). Veach 1997 §10.2; PBR 3rd ed. §16.3.1 (`GenerateLightSubpath`).
+fn light_walk_new(le: LightLeSample, sp: Spectral) -> LightWalk {
+    var lw: LightWalk;
+    lw.collapsed = false;
+    lw.m = 0u;
+    lw.prod = 1.0;
+    lw.pl_prev = 0.0;
+    lw.pl_cur = 0.0;
+    lw.pc_y0 = 0.0;
+    lw.y1_delta = false;
+    lw.syms = SymString(array<u32, 4>(0u, 0u, 0u, 0u));
+    lw.p_light = le.pdf_pos;
+    lw.area_light = !le.delta_pos;
+    lw.cos_emit = le.cos_n;
+    if le.delta_pos {
+        lw.beta = spectral_c(sp, le.l) / (lw.p_light * le.pdf_dir);
+    } else {
+        lw.beta = spectral_c(sp, le.l) * (le.cos_n / (lw.p_light * le.pdf_dir));
+    }
+    lw.o = light_le_sample_origin(le);
+    lw.d = le.dir;
+    lw.prev_pdf = le.pdf_dir;
+    lw.prev_delta = false;
+    lw.cos_out = lw.cos_emit;
+    lw.medium = NO_MEDIUM;
+    return lw;
+}
+
+// Arrival at ym = `hit`: Beer–Lambert over the segment, and the light-side density of ym
+// (1 after a delta vertex).
+fn light_walk_arrive(lw: ptr<function, LightWalk>, hit: SurfaceHit, sp: Spectral) {
+    lw.m += 1u;
+    if HAS_ABSORPTION && lw.medium != NO_MEDIUM {
+        lw.beta *= medium_transmittance(materials[lw.medium], hit.t, sp);
+    }
+    let t2 = hit.t * hit.t;
+    lw.pl_prev = lw.pl_cur;
+    if lw.prev_delta {
+        lw.pl_cur = 1.0;
+    } else {
+        lw.pl_cur = lw.prev_pdf * abs(dot3(hit.ng, lw.d)) / t2;
+    }
+    lw.cos_prev = lw.cos_out;
+    lw.t2 = t2;
 }
 
 // Connect light vertex ym (non-delta BSDF `bsdf` at `hit`) to the camera and splat its
@@ -265,7 +270,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     let we_g = corr_cos / (d2 * camera_a_plane() * c * c * c);
     var v4 = lw.beta * f * we_g;
     if !lw.collapsed && dispersive {
-        v4 = vec4<f32>(4.0 * v4.x, 0.0, 0.0, 0.0);
+        v4 = spectral_collapse(v4);
     }
     if !(max_element4(v4) > 0.0) {
         return 0u;
@@ -308,7 +313,63 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     return 0u;
 }
 
+// Continue the light subpath by sampling the adjoint BSDF at ym = `hit` (MODE_IMPORTANCE,
+// with the shading-normal correction of Veach 1997 eq. 5.19): throughput, the camera-side
+// density of y_{m-1}, the Heckbert symbol, medium and the next ray. STEP_* as the camera walk.
+fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Material, on: Oriented, frame: Frame, wo: vec3<f32>, bsdf: Bsdf, dispersive: bool, uc: f32, u2: vec2<f32>) -> u32 {
+    let ng = on.ng;
+    let wo_w = -lw.d;
+    let s = bsdf_sample(bsdf, wo, uc, u2, MODE_IMPORTANCE);
+    if !s.valid {
+        return STEP_BREAK;
+    }
+    let wi_w = frame_to_world(frame, s.wi);
+    let side_i = dot3(wi_w, ng);
+    let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
+    if !is_finite_v4(s.weight) {
+        return STEP_POISON;
+    }
+    if !consistent {
+        return STEP_BREAK;
+    }
+    lw.beta *= s.weight * shading_correction(wo_w, wi_w, on.ns, ng);
+    if dispersive && !lw.collapsed {
+        // Only the hero wavelength follows this direction.
+        lw.beta = spectral_collapse(lw.beta);
+        lw.collapsed = true;
+    }
+    // Camera-side density of the previous vertex, sampled from ym towards it.
+    var pc_back = 1.0;
+    if lw.m == 1u {
+        if !s.is_delta {
+            pc_back = bsdf_pdf(bsdf, s.wi, wo) * lw.cos_emit / lw.t2;
+        }
+        lw.pc_y0 = pc_back;
+        lw.y1_delta = s.is_delta;
+    } else {
+        if !s.is_delta {
+            pc_back = bsdf_pdf(bsdf, s.wi, wo) * lw.cos_prev / lw.t2;
+        }
+        lw.prod *= ratio(pc_back, lw.pl_prev);
+    }
+    if lw.m <= LT_MAX_SYMBOLS {
+        let j = lw.m - 1u;
+        lw.syms.w[j / 16u] |= (s.lobe + 1u) << (2u * (j % 16u));
+    }
+    if s.event == EVENT_TRANSMIT {
+        lw.medium = medium_after_transmit(lw.medium, mat, hit.material, wi_w, hit.ng);
+    }
+    lw.prev_pdf = s.pdf;
+    lw.prev_delta = s.is_delta;
+    lw.cos_out = abs(dot3(hit.ng, wi_w));
+    lw.o = offset_ray_origin_towards(hit.p, ng, side_i);
+    lw.d = wi_w;
+    return STEP_CONTINUE;
+}
+
 // Trace one light subpath and connect its vertices to the camera; returns rejected samples.
+// Random dimensions: light pick (1), u_pos (2), u_dir (2), hero wavelengths (1, spectral),
+// the emitting side (1, double-sided area lights); per vertex uc, u2 (2); Russian roulette (1).
 fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
     if params.light_count == 0u {
         return 0u;
@@ -319,197 +380,66 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
     if pick.prob <= 0.0 {
         return 0u;
     }
-    let light = lights[pick.index];
-    var sp = Spectral(false, vec4<f32>(0.0));
-    if HAS_SPECTRAL {
-        sp = Spectral(true, sample_hero_wavelengths(sampler_next_1d(sampler)));
+    let sp = spectral_new(sampler);
+    let le = light_sample_le(pick.light, u_pos, u_dir, sampler, pick.prob);
+    if !le.valid {
+        return 0u;
     }
-    var lw: LightWalk;
-    lw.collapsed = false;
-    lw.m = 0u;
-    lw.prod = 1.0;
-    lw.pl_prev = 0.0;
-    lw.pl_cur = 0.0;
-    lw.pc_y0 = 0.0;
-    lw.y1_delta = false;
-    lw.syms = SymString(array<u32, 4>(0u, 0u, 0u, 0u));
-    var o: vec3<f32>;
-    var d: vec3<f32>;
-    var prev_pdf: f32;
-    if light.kind == LIGHT_TRIANGLE {
-        if !HAS_LIGHTS {
-            return 0u;
-        }
-        let tri = triangles[light.index];
-        let a = v3(tri.p0);
-        let b = v3(tri.p1);
-        let c = v3(tri.p2);
-        let bc = uniform_triangle(u_pos);
-        let p = a * (1.0 - bc.x - bc.y) + b * bc.x + c * bc.y;
-        let nn = cross3(b - a, c - a);
-        let len = sqrt(dot3(nn, nn));
-        if !(len > 0.0) {
-            return 0u;
-        }
-        let nl = nn / len;
-        let area = 0.5 * len;
-        let m = materials[tri.material];
-        var side = nl;
-        if (m.flags & MAT_DOUBLE_SIDED) != 0u && sampler_next_1d(sampler) < 0.5 {
-            side = -nl;
-        }
-        var local = cosine_hemisphere(u_dir);
-        if local.z <= 0.0 {
-            return 0u;
-        }
-        local.z = max(local.z, 1e-7);
-        d = frame_to_world(frame_from_normal(side), local);
-        prev_pdf = emission_pdf_dir(m, local.z);
-        lw.p_light = pick.prob / area;
-        lw.area_light = true;
-        lw.cos_emit = local.z;
-        // β1 = Le cosθ / (p_light p_dir)
-        lw.beta = spectral_c(sp, v3(m.emission)) * (local.z / (lw.p_light * prev_pdf));
-        o = offset_ray_origin(p, side);
-    } else {
-        if !HAS_PUNCTUAL || light.kind == LIGHT_DIRECTIONAL {
-            // Directional lights are reached by next-event estimation only (weight 1 there).
-            return 0u;
-        }
-        var intensity = v3(light.intensity);
-        if light.kind == LIGHT_SPOT {
-            let local = uniform_cone(u_dir, light.cos_outer);
-            d = frame_to_world(frame_from_normal(v3(light.direction)), local);
-            intensity *= spot_falloff(local.z, light.cos_inner, light.cos_outer);
-        } else {
-            d = uniform_sphere(u_dir);
-        }
-        prev_pdf = punctual_pdf_dir(light);
-        lw.p_light = pick.prob;
-        lw.area_light = false;
-        lw.cos_emit = 1.0;
-        lw.beta = spectral_c(sp, intensity) / (lw.p_light * prev_pdf);
-        o = v3(light.position);
-    }
+    var lw = light_walk_new(le, sp);
     if !(max_element4(lw.beta) > 0.0) {
         return 0u;
     }
-    let NO_MEDIUM = 0xffffffffu;
-    var medium = NO_MEDIUM;
-    var prev_delta = false;
-    var cos_prev = lw.cos_emit;
     var rejected = 0u;
     loop {
-        let h = bvh_intersect(o, d, F32_MAX);
+        let h = bvh_intersect(lw.o, lw.d, F32_MAX);
         segments++;
         if !h.found {
             break;
         }
         let hit = integrator_surface(h);
-        lw.m += 1u;
-        if HAS_ABSORPTION && medium != NO_MEDIUM {
-            lw.beta *= medium_transmittance(materials[medium], hit.t, sp);
-        }
+        light_walk_arrive(&lw, hit, sp);
         let mat = materials[hit.material];
-        let front = dot3(d, hit.ng) < 0.0;
-        let t2 = hit.t * hit.t;
-        // Light-side density of ym (1 after a delta vertex).
-        lw.pl_prev = lw.pl_cur;
-        if prev_delta {
-            lw.pl_cur = 1.0;
-        } else {
-            lw.pl_cur = prev_pdf * abs(dot3(hit.ng, d)) / t2;
-        }
-        lw.cos_prev = cos_prev;
-        lw.t2 = t2;
+        let front = dot3(lw.d, hit.ng) < 0.0;
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
             break; // emitters are black surfaces otherwise (as in the path tracer)
         }
-        let transmissive = (mat.flags & MAT_TRANSMISSIVE) != 0u;
         let on = orient_normals(mat, hit, front);
         if !on.ok {
             break;
         }
-        let ng = on.ng;
-        let ns = on.ns;
         var eta = mat.eta;
-        let dispersive = HAS_SPECTRAL && sp.on && mat.abbe > 0.0 && transmissive;
+        let dispersive = material_is_dispersive(mat, sp);
         if dispersive {
             eta = material_ior_at(mat, sp.lambdas.x);
         }
         let bsdf = material_bsdf(mat, hit.uv, eta, sp);
-        let frame = frame_from_normal(ns);
-        let wo_w = -d;
+        let frame = frame_from_normal(on.ns);
+        let wo_w = -lw.d;
         let wo = frame_to_local(frame, wo_w);
         // The full path x0 … xk has k = m + 1 segments.
         if !bsdf_is_delta(bsdf) {
-            rejected += lt_connect(lw, hit, ng, ns, frame, wo_w, wo, bsdf, sp, dispersive);
+            rejected += lt_connect(lw, hit, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
         }
         if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
             break;
         }
         let uc = sampler_next_1d(sampler);
         let u2 = sampler_next_2d(sampler);
-        let s = bsdf_sample(bsdf, wo, uc, u2, MODE_IMPORTANCE);
-        if !s.valid {
-            break;
-        }
-        let wi_w = frame_to_world(frame, s.wi);
-        let side_i = dot3(wi_w, ng);
-        let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
-        if !is_finite_v4(s.weight) {
+        let step = light_walk_scatter(&lw, hit, mat, on, frame, wo, bsdf, dispersive, uc, u2);
+        if step == STEP_POISON {
             rejected += 1u;
             break;
         }
-        if !consistent {
+        if step == STEP_BREAK {
             break;
         }
-        lw.beta *= s.weight * shading_correction(wo_w, wi_w, ns, ng);
-        if dispersive && !lw.collapsed {
-            // Only the hero wavelength follows this direction (Wilkie et al. 2014, §4.2).
-            lw.beta = vec4<f32>(4.0 * lw.beta.x, 0.0, 0.0, 0.0);
-            lw.collapsed = true;
-        }
-        // Camera-side density of the previous vertex, sampled from ym towards it.
-        var pc_back = 1.0;
-        if lw.m == 1u {
-            if !s.is_delta {
-                pc_back = bsdf_pdf(bsdf, s.wi, wo) * lw.cos_emit / t2;
-            }
-            lw.pc_y0 = pc_back;
-            lw.y1_delta = s.is_delta;
-        } else {
-            if !s.is_delta {
-                pc_back = bsdf_pdf(bsdf, s.wi, wo) * cos_prev / t2;
-            }
-            lw.prod *= ratio(pc_back, lw.pl_prev);
-        }
-        if lw.m <= LT_MAX_SYMBOLS {
-            let j = lw.m - 1u;
-            lw.syms.w[j / 16u] |= (s.lobe + 1u) << (2u * (j % 16u));
-        }
-        if s.event == EVENT_TRANSMIT && (mat.flags & MAT_SOLID) != 0u {
-            if dot3(wi_w, hit.ng) < 0.0 {
-                medium = hit.material;
-            } else {
-                medium = NO_MEDIUM;
-            }
-        }
-        prev_pdf = s.pdf;
-        prev_delta = s.is_delta;
-        cos_prev = abs(dot3(hit.ng, wi_w));
-        o = offset_ray_origin_towards(hit.p, ng, side_i);
-        d = wi_w;
-        // Russian roulette on the importance throughput (as the camera walk, from rr_depth).
-        if lw.m >= params.rr_depth {
-            let q_rr = min(max_element4(lw.beta), 0.95);
-            if q_rr <= 0.0 || sampler_next_1d(sampler) >= q_rr {
-                break;
-            }
-            lw.beta /= q_rr;
-        } else if max_element4(lw.beta) <= 0.0 {
+        // Russian roulette on the importance throughput (no η² factor: importance does not
+        // compress on refraction).
+        let q_rr = russian_roulette(lw.beta, 1.0, lw.m, sampler);
+        if q_rr <= 0.0 {
             break;
         }
+        lw.beta /= q_rr;
     }
     return rejected;
 }

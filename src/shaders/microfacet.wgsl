@@ -8,10 +8,6 @@
 override HAS_GGX: bool = true;
 override HAS_BECKMANN: bool = true;
 
-// MicrofacetDistribution (bsdf::MicrofacetDistribution).
-const DIST_GGX: u32 = 0u;
-const DIST_BECKMANN: u32 = 1u;
-
 // 1/√π.
 const INV_SQRT_PI: f32 = 0.5641896;
 

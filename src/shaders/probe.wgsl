@@ -94,7 +94,10 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     o.refracted = a3(rr.wt);
     let color = vec4<f32>(PROBE_COLOR, 0.0);
     // Specular colour Color::ONE (w = 1) as in `MetalRough::new`.
-    let b = Bsdf(c.kind, color, c.eta, c.alpha, c.dist, c.metallic, c.eta, 1.0, vec4<f32>(1.0));
+    var b = bsdf_new(c.kind, color, c.eta, c.alpha, c.dist);
+    b.metallic = c.metallic;
+    b.ior = c.eta;
+    b.specular_color = vec4<f32>(1.0);
     o.eval = a4(bsdf_eval(b, wo, wi, c.mode));
     o.pdf = bsdf_pdf(b, wo, wi);
     let lv = bsdf_eval_lobes(b, wo, wi, c.mode);

@@ -34,16 +34,6 @@ struct Vertex {
     _pad: u32,
 }
 
-// Material flags.
-const MAT_EMISSIVE: u32 = 1u;
-const MAT_DOUBLE_SIDED: u32 = 2u;
-const MAT_TRANSMISSIVE: u32 = 4u;
-// Solid glass: the path enters its medium (Beer–Lambert absorption applies inside).
-const MAT_SOLID: u32 = 8u;
-// Emitter that is black otherwise (the path ends there).
-const MAT_BLACK_EMITTER: u32 = 16u;
-const MAT_ABSORBS: u32 = 32u;
-
 struct Material {
     base_color: array<f32, 3>,
     bsdf: u32,
@@ -73,11 +63,7 @@ struct Material {
     _pad: u32,
 }
 
-const LIGHT_TRIANGLE: u32 = 0u;
-const LIGHT_POINT: u32 = 1u;
-const LIGHT_SPOT: u32 = 2u;
-const LIGHT_DIRECTIONAL: u32 = 3u;
-
+// One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.
 struct Light {
     position: array<f32, 3>,
     kind: u32,
@@ -208,7 +194,6 @@ fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax:
 }
 
 // gpu::upload checks that the tree is no deeper than this.
-const STACK_SIZE: u32 = 64u;
 
 // Closest hit (any_hit = false) or first hit (any_hit = true) along org + t·dir, t ∈ (0, tmax).
 fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
@@ -224,7 +209,7 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
             inv_d[k] = 1.0 / dir[k];
         }
     }
-    var stack: array<u32, STACK_SIZE>;
+    var stack: array<u32, BVH_STACK_SIZE>;
     var sp = 0u;
     var node = 0u;
     let root = nodes[0];
@@ -259,7 +244,7 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
                     near = l + 1u;
                     far = l;
                 }
-                if sp < STACK_SIZE {
+                if sp < BVH_STACK_SIZE {
                     stack[sp] = far;
                     sp++;
                 }
@@ -296,14 +281,6 @@ fn bvh_occluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
 // Textures (scene::material::sample_texture)
 
 override HAS_TEXTURES: bool = true;
-
-const NO_TEXTURE: u32 = 0xffffffffu;
-// Wrap modes (scene::material::Wrap) and header flags of a texture reference.
-const WRAP_REPEAT: u32 = 0u;
-const WRAP_MIRRORED_REPEAT: u32 = 1u;
-const WRAP_CLAMP_TO_EDGE: u32 = 2u;
-const TEX_LINEAR: u32 = 16u;
-const TEX_VALID: u32 = 32u;
 
 // `wrap_index` of scene::material (i64 there; i32 here: |uv · size| < 2³¹).
 fn wrap_index(i: i32, n: u32, w: u32) -> u32 {

@@ -1,0 +1,57 @@
+// glossy.wgsl — the rough conductor / glossy mirror (twin of src/bsdf/glossy.rs):
+// f = R D(m) G2(wo, wi) / (4 cosθo cosθi), m = normalize(wo + wi) (Walter et al. 2007 eq. 20
+// with F ≡ R; Heitz 2014 height-correlated G2).
+
+// Scalar D G2/(4 cos cos) and pdf, shared by eval/pdf/sample so they agree exactly.
+fn rough_conductor_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> EvalPdf {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return EvalPdf(0.0, 0.0);
+    }
+    let h = wo + wi;
+    let len2 = dot3(h, h);
+    if len2 <= 0.0 {
+        return EvalPdf(0.0, 0.0);
+    }
+    let m = h / sqrt(len2);
+    let dot_o = dot3(wo, m);
+    if dot_o <= 0.0 {
+        return EvalPdf(0.0, 0.0);
+    }
+    let mf = microfacet_new(b.dist, b.alpha);
+    let d = microfacet_d(mf, m);
+    // Walter 2007 eq. 20 (F = 1 here; the reflectance multiplies outside).
+    let f = d * microfacet_g2(mf, wo, wi) / (4.0 * wo.z * wi.z);
+    // Visible-normal pdf × reflection Jacobian 1/(4 wo·m), Walter 2007 eq. 14.
+    let pdf = microfacet_pdf_visible(mf, wo, m) / (4.0 * dot_o);
+    return EvalPdf(f, pdf);
+}
+
+fn rough_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    return b.color * rough_conductor_eval_pdf(b, wo, wi).f;
+}
+
+fn rough_conductor_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    return rough_conductor_eval_pdf(b, wo, wi).pdf;
+}
+
+// Visible-normal sampling + mirror reflection about m (Heitz 2018); the weight is
+// R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
+fn rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
+    if wo.z <= 0.0 || !is_finite_v3(wo) {
+        return bsdf_sample_none();
+    }
+    let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
+    if dot3(wo, m) <= 0.0 {
+        return bsdf_sample_none();
+    }
+    let wi = reflect(wo, m);
+    if wi.z <= 0.0 {
+        return bsdf_sample_none();
+    }
+    let ep = rough_conductor_eval_pdf(b, wo, wi);
+    if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
+        return bsdf_sample_none();
+    }
+    let f = b.color * ep.f;
+    return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
+}

@@ -1,0 +1,42 @@
+// material.wgsl — a scene material at a hit: twin of `scene::Material::bsdf` (src/scene/material.rs).
+
+// Index of refraction at wavelength `lambda_nm` (Abbe-number dispersion). Twin of `Material::ior_at`.
+fn material_ior_at(m: Material, lambda_nm: f32) -> f32 {
+    if m.abbe > 0.0 {
+        return cauchy_from_abbe(m.eta, m.abbe, lambda_nm);
+    }
+    return m.eta;
+}
+
+// Does the material's refraction depend on the wavelength (a dispersive transmissive
+// material in a spectral path)? Only the hero wavelength can then follow a sampled direction.
+fn material_is_dispersive(m: Material, sp: Spectral) -> bool {
+    return HAS_SPECTRAL && sp.on && m.abbe > 0.0 && (m.flags & MAT_TRANSMISSIVE) != 0u;
+}
+
+// The BSDF at a hit: base colour × texture, metal-rough metallic/roughness × texture,
+// `eta` already chosen for the path's wavelength, colours mapped to the path's lanes.
+// Twin of `scene::Material::bsdf` (+ `metal_rough_at`, `base_color_at`) and `Bsdf::map_colors`.
+fn material_bsdf(m: Material, uv: vec2<f32>, eta: f32, sp: Spectral) -> Bsdf {
+    var base = v3(m.base_color);
+    if HAS_TEXTURES && m.base_tex != NO_TEXTURE {
+        base = base * sample_texture(m.base_tex, uv).xyz;
+    }
+    var b = bsdf_new(m.bsdf, spectral_c(sp, base), eta, m.alpha, m.dist);
+    if HAS_METAL_ROUGH && m.bsdf == BSDF_METAL_ROUGH {
+        var metallic = m.metallic;
+        var roughness = m.roughness;
+        if HAS_TEXTURES && m.mr_tex != NO_TEXTURE {
+            let t = sample_texture(m.mr_tex, uv);
+            metallic *= t.z;
+            roughness *= t.y;
+        }
+        b.alpha = max(roughness_to_alpha(roughness), SMOOTH_ALPHA);
+        b.metallic = clamp(metallic, 0.0, 1.0);
+        // Metal-rough uses the material's own IOR (not the wavelength's).
+        b.ior = m.eta;
+        b.specular_factor = m.specular_factor;
+        b.specular_color = spectral_c(sp, v3(m.specular_color));
+    }
+    return b;
+}
