@@ -1106,7 +1106,8 @@ fn shading_correction(wo: Vec3, wi: Vec3, ns: Vec3, ng: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cpu::{RenderOptions, Renderer};
+    use crate::cpu::Renderer;
+    use crate::render::RenderOptions;
     use crate::scene::{MaterialKind, Scene};
 
     /// MIS check (Veach 1997, §9.2): for a fixed full path x0 (on the light) … xk (camera) of

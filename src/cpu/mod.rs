@@ -6,4 +6,4 @@ pub mod integrator;
 pub mod render;
 
 pub use integrator::{Integrator, SurfaceHit};
-pub use render::{Estimator, RenderOptions, RenderStats, Renderer};
+pub use render::Renderer;
