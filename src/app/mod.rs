@@ -1,6 +1,7 @@
 //! The interactive viewer (eframe/egui): a side panel of physics controls, the progressively
 //! refined image in the central viewport and a status bar. Rendering runs behind the
-//! [`backend::Backend`] trait and never blocks the UI thread.
+//! [`backend::Backend`] trait and never blocks the UI thread. Controls never change the scene
+//! themselves: they push an [`Edit`], and [`ViewerApp::apply`] (src/app/edit.rs) applies it.
 //!
 //! [`ViewerApp::show`] draws the whole UI into any `egui::Ui`, so the same code runs in the
 //! window ([`run`]) and in the `egui_kittest` tests without a window.
@@ -152,7 +153,6 @@ impl ViewerApp {
         app.report_warnings(&warnings);
         app.backend.set_scene(&app.scene);
         app.options_follow();
-        app.backend.set_spp_target(app.settings.render.spp_target);
         Ok(app)
     }
 

@@ -135,3 +135,44 @@ impl clap::builder::TypedValueParser for EstimatorParser {
         ))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `auto` picks light + path tracing for glass lit by a small light (caustics), path
+    /// tracing otherwise; `lt+pt` survives a settings round trip under its own name.
+    #[test]
+    fn auto_estimator_picks_by_scene_features() {
+        let caustic = Scene::load("builtin:caustic").unwrap();
+        let furnace = Scene::load("builtin:furnace").unwrap();
+        assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::LtPt);
+        assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
+        let text = serde_json::to_string(&Estimator::LtPt).unwrap();
+        assert_eq!(text, "\"lt+pt\"");
+        let back: Estimator = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, Estimator::LtPt);
+    }
+
+    /// Every spelling parses to its estimator and prints back under the serde name.
+    #[test]
+    fn names_round_trip() {
+        for (s, e) in [
+            ("auto", Estimator::Auto),
+            ("path", Estimator::Path),
+            ("pt", Estimator::Path),
+            ("bdpt", Estimator::Bdpt),
+            ("lt", Estimator::Lt),
+            ("lt+pt", Estimator::LtPt),
+            ("LTPT", Estimator::LtPt),
+        ] {
+            assert_eq!(s.parse::<Estimator>(), Ok(e), "{s}");
+            let json = serde_json::to_string(&e).unwrap();
+            assert_eq!(json, format!("\"{e}\""));
+        }
+        let back: Estimator = serde_json::from_str("\"ltpt\"").unwrap();
+        assert_eq!(back, Estimator::LtPt);
+        let furnace = Scene::load("builtin:furnace").unwrap();
+        assert_eq!(Estimator::Bdpt.resolve_why(&furnace), (Estimator::Bdpt, ""));
+    }
+}

@@ -11,9 +11,8 @@
 use super::{Estimator, RenderOptions};
 use crate::film::ToneMap;
 use crate::paths::PathFilter;
-use crate::scene::Material;
-use crate::scene::Scene;
 use crate::scene::edits::{CameraEdit, LightEdit, MaterialEdit, apply_materials};
+use crate::scene::{Material, Scene};
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -265,19 +264,5 @@ mod tests {
         let back: ViewerSettings = serde_json::from_str(&text).unwrap();
         assert_eq!(s, back);
         assert_eq!(back.apply(&base).0.materials[4].ior, 1.333);
-    }
-
-    /// `auto` picks light + path tracing for glass lit by a small light (caustics), path
-    /// tracing otherwise; `lt+pt` survives a settings round trip under its own name.
-    #[test]
-    fn auto_estimator_picks_by_scene_features() {
-        let caustic = Scene::load("builtin:caustic").unwrap();
-        let furnace = Scene::load("builtin:furnace").unwrap();
-        assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::LtPt);
-        assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
-        let text = serde_json::to_string(&Estimator::LtPt).unwrap();
-        assert_eq!(text, "\"lt+pt\"");
-        let back: Estimator = serde_json::from_str(&text).unwrap();
-        assert_eq!(back, Estimator::LtPt);
     }
 }
