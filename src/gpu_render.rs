@@ -3,32 +3,21 @@
 
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
-use refract::film::{self, ToneMap};
+use refract::film;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
-use refract::render::{Device, Estimator, RenderOptions};
+use refract::render::{Device, RenderOptions};
 use refract::scene::Scene;
-
-/// Values of the render command resolved from flags and the settings sidecar.
-pub struct Job<'a> {
-    pub spp: u32,
-    pub tone: ToneMap,
-    pub exposure: f32,
-    pub seed: u32,
-    pub filter: &'a refract::paths::PathFilter,
-    /// `--estimator`, resolved for the scene (never `auto`).
-    pub estimator: Estimator,
-}
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
-pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
+pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Result<bool> {
     let (spp, tone) = (job.spp, job.tone);
     let forced = match args.device {
         Device::Cpu => return Ok(false),
         Device::Gpu => true,
         Device::Auto => false,
     };
-    let filter = job.filter;
+    let filter = &job.filter;
     let estimator = match gpu_estimator(job.estimator, scene) {
         Ok(e) => e,
         Err(e) if forced => return Err(e),

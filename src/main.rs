@@ -185,8 +185,28 @@ fn parse_tonemap(s: &str) -> Result<ToneMap> {
     })
 }
 
+/// Values of the render command resolved from flags and the settings sidecar.
+struct Job {
+    spp: u32,
+    tone: ToneMap,
+    exposure: f32,
+    seed: u32,
+    filter: refract::paths::PathFilter,
+    /// `--estimator`, resolved for the scene (never `auto`).
+    estimator: Estimator,
+}
+
 fn render(args: &RenderArgs) -> Result<()> {
     film::check_output_path(&args.out)?;
+    let (scene, job) = prepare(args)?;
+    if gpu_render::render(args, &scene, &job)? {
+        return Ok(());
+    }
+    render_cpu(args, scene, &job)
+}
+
+/// The scene to render (sidecar edits and flags applied) and the job's other values.
+fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     let sidecar = args
         .settings
         .as_deref()
@@ -274,17 +294,26 @@ fn render(args: &RenderArgs) -> Result<()> {
     if args.estimator == Estimator::Auto {
         eprintln!("estimator auto: {estimator} ({why})");
     }
-    let job = gpu_render::Job {
+    let job = Job {
         spp,
         tone,
         exposure,
         seed,
-        filter: &filter,
+        filter,
         estimator,
     };
-    if gpu_render::render(args, &scene, &job)? {
-        return Ok(());
-    }
+    Ok((scene, job))
+}
+
+fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
+    let &Job {
+        spp,
+        tone,
+        exposure,
+        seed,
+        estimator,
+        ..
+    } = job;
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads {
         pool = pool.num_threads(t);
@@ -293,7 +322,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.seed = seed;
-    opts.set_filter(Some(&filter));
+    opts.set_filter(Some(&job.filter));
     opts.estimator = estimator;
     if estimator == Estimator::LtPt {
         eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");

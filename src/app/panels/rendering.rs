@@ -3,6 +3,9 @@
 
 use crate::app::{Edit, ViewerApp};
 use crate::film::ToneMap;
+use crate::render::Estimator;
+use crate::render::settings::RenderEdit;
+use crate::scene::Scene;
 use eframe::egui::{self, Color32, Slider, SliderClamping};
 
 /// Path filter presets (read light → eye) with what they show.
@@ -37,9 +40,38 @@ pub const PATH_PRESETS: &[(&str, &str, &str)] = &[
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut render = app.settings.render.clone();
-    let scene_depth = app.scene.settings.max_depth;
+    depth_and_estimator(ui, &mut render, &app.scene);
+    path_filter(app, ui);
+    ui.separator();
+    display(app, ui);
+    ui.separator();
+    accumulation(app, ui, &mut render);
+    if render != app.settings.render {
+        app.push(Edit::Render(render));
+    }
+    ui.separator();
+    ui.horizontal(|ui| {
+        if ui
+            .button("Screenshot")
+            .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
+            .clicked()
+        {
+            let _ = app.save_screenshot();
+        }
+        if ui
+            .button("Reset to defaults")
+            .on_hover_text("Forget every edit and setting: the scene as loaded, default render options.")
+            .clicked()
+        {
+            app.push(Edit::ResetAll);
+        }
+    });
+}
+
+/// Max depth and the estimator (edits `r`).
+fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
+    let scene_depth = scene.settings.max_depth;
     {
-        let r = &mut render;
         let mut depth = r.max_depth.unwrap_or(scene_depth).clamp(1, 64);
         if ui
             .add(Slider::new(&mut depth, 1..=64).text("Max depth").clamping(SliderClamping::Always))
@@ -51,10 +83,8 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     }
 
     {
-        use crate::render::Estimator;
-        let r = &mut render;
         // What `auto` picks and why (computed only when it is selected: it walks the mesh).
-        let auto = (r.estimator == Estimator::Auto).then(|| r.estimator.resolve_why(&app.scene));
+        let auto = (r.estimator == Estimator::Auto).then(|| r.estimator.resolve_why(scene));
         egui::ComboBox::from_label("Estimator")
             .selected_text(match auto {
                 Some((resolved, _)) => format!("auto ({resolved})"),
@@ -84,7 +114,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 }
             });
     }
+}
 
+/// The Heckbert path filter: an invalid expression is highlighted and the last valid one keeps
+/// rendering.
+fn path_filter(app: &mut ViewerApp, ui: &mut egui::Ui) {
     // Path filter: an invalid expression is highlighted and the last valid one keeps rendering.
     let label = ui.label("Path filter (Heckbert, light to eye)");
     let mut text = app.filter_text.clone();
@@ -116,8 +150,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
         }
     });
+}
 
-    ui.separator();
+/// Exposure and tone map (the samples stay).
+fn display(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut display = app.settings.display;
     let d = &mut display;
     ui.add(
@@ -148,8 +184,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if display != app.settings.display {
         app.push(Edit::Display(display));
     }
+}
 
-    ui.separator();
+/// Pause, restart, spp target, render scale and seed (edits `r`).
+fn accumulation(app: &mut ViewerApp, ui: &mut egui::Ui, r: &mut RenderEdit) {
     ui.horizontal(|ui| {
         let label = if app.paused { "Resume" } else { "Pause" };
         if ui
@@ -169,7 +207,6 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         }
     });
     {
-        let r = &mut render;
         ui.add(
             egui::DragValue::new(&mut r.spp_target)
                 .range(0..=1_000_000)
@@ -198,26 +235,4 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.add(egui::DragValue::new(&mut r.seed).prefix("seed "))
             .on_hover_text("Seed of the random numbers: another seed gives independent noise with the same mean.");
     }
-
-    if render != app.settings.render {
-        app.push(Edit::Render(render));
-    }
-
-    ui.separator();
-    ui.horizontal(|ui| {
-        if ui
-            .button("Screenshot")
-            .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
-            .clicked()
-        {
-            let _ = app.save_screenshot();
-        }
-        if ui
-            .button("Reset to defaults")
-            .on_hover_text("Forget every edit and setting: the scene as loaded, default render options.")
-            .clicked()
-        {
-            app.push(Edit::ResetAll);
-        }
-    });
 }
