@@ -87,7 +87,7 @@ struct ViewArgs {
     exit_after: Option<Duration>,
     /// Renderer: auto (GPU on a hardware adapter, else CPU), cpu, or gpu (also on a software
     /// adapter such as lavapipe).
-    #[arg(long, value_enum, default_value_t = Device::Auto)]
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
 }
 
@@ -145,7 +145,7 @@ struct RenderArgs {
     #[arg(long)]
     quiet: bool,
     /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
-    #[arg(long, value_enum, default_value_t = Device::Auto)]
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
 }
 
