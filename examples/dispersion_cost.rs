@@ -2,7 +2,8 @@
 //! wavelength spectral transport) and non-dispersive (RGB transport, no spectral code runs).
 //! Usage: cargo run --release --example dispersion_cost -- [scene] [spp]
 
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
+use refract::render::RenderOptions;
 use refract::scene::Scene;
 
 fn main() -> anyhow::Result<()> {
@@ -26,7 +27,7 @@ fn main() -> anyhow::Result<()> {
         println!(
             "{spec} dispersive={dispersive} spectral={}: {:.3} M samples/s",
             r.spectral,
-            stats.samples_per_sec(256 * 256) / 1e6
+            stats.samples_per_sec() / 1e6
         );
     }
     Ok(())

@@ -3,8 +3,9 @@
 //! Usage: cargo run --release --example roughness_types -- [spp]
 
 use refract::bsdf::MicrofacetDistribution;
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::{ToneMap, save_image};
+use refract::render::RenderOptions;
 use refract::scene::{MaterialKind, Scene};
 
 fn main() -> anyhow::Result<()> {

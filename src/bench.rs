@@ -4,8 +4,9 @@
 //! Error metrics: relative MSE mean((x − ref)² / (ref² + 1e-2)) over pixels and channels,
 //! RMSE, and the luminance ratio; the halves' disagreement gives the reference's noise floor.
 
-use crate::cpu::{Estimator, RenderOptions, Renderer};
+use crate::cpu::Renderer;
 use crate::film::{self, Film};
+use crate::render::{Estimator, RenderOptions};
 use crate::scene::Scene;
 use anyhow::{Context, Result};
 use glam::Vec3;
@@ -193,9 +194,15 @@ pub fn bench_scene_cpu(
         .map(crate::paths::PathFilter::parse)
         .transpose()
         .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
-    Renderer::set_filter(&mut opts, filter.as_ref());
-    let ro = o.clone();
-    let (a, b) = reference(&r, spec, &opts, &ro)?;
+    opts.set_filter(filter.as_ref());
+    // `auto` means the estimator the scene's features pick.
+    let mut ro = o.clone();
+    ro.ref_estimator = ro.ref_estimator.resolve(&r.scene);
+    for e in &mut ro.estimators {
+        *e = e.resolve(&r.scene);
+    }
+    let o = &ro;
+    let (a, b) = reference(&r, spec, &opts, o)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
     // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
     let ref_noise = rel_mse(&a, &b) / 4.0;
@@ -203,8 +210,7 @@ pub fn bench_scene_cpu(
     let mut sums = Vec::new();
     for &est in o.estimators.iter().filter(|_| o.gpu) {
         let ge = match est {
-            Estimator::Path => crate::gpu::GpuEstimator::Path,
-            Estimator::LtPt => crate::gpu::GpuEstimator::LtPt,
+            Estimator::Path | Estimator::LtPt => est,
             e => {
                 eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
                 continue;
@@ -234,7 +240,7 @@ pub fn bench_scene_cpu(
             continue;
         }
         eprintln!("  measuring {est:?} …");
-        let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, ro.ref_spp);
+        let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, o.ref_spp);
         points.extend(p);
         sums.push(s);
     }
@@ -249,11 +255,11 @@ fn measure_gpu(
     spec: &str,
     o: &BenchOptions,
     filter: Option<&crate::paths::PathFilter>,
-    estimator: crate::gpu::GpuEstimator,
+    estimator: Estimator,
     reference: &[Vec3],
     ref_noise: f64,
 ) -> Result<(Vec<BenchPoint>, BenchSummary)> {
-    let mut go = crate::gpu::GpuOptions::from_scene(scene);
+    let mut go = RenderOptions::from_scene(scene);
     go.seed = RUN_SEED;
     let mut r = crate::gpu::GpuRenderer::new(scene.clone(), go)?;
     r.set_filter(filter);

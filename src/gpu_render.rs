@@ -1,40 +1,27 @@
 //! `refract render --device gpu|auto`: the GPU path of the render command (kept out of
 //! main.rs so the CLI stays small).
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
-use refract::film::{self, ToneMap};
-use refract::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
+use refract::film;
+use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
+use refract::render::{Device, RenderOptions};
 use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
-/// Values of the render command resolved from flags and the settings sidecar.
-pub struct Job<'a> {
-    pub spp: u32,
-    pub tone: ToneMap,
-    pub exposure: f32,
-    pub seed: u32,
-    pub filter: &'a refract::paths::PathFilter,
-}
-
-pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
+pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Result<bool> {
     let (spp, tone) = (job.spp, job.tone);
-    let forced = match args.device.to_ascii_lowercase().as_str() {
-        "cpu" => return Ok(false),
-        "gpu" => true,
-        "auto" => false,
-        d => bail!("unknown device '{d}' (use cpu, gpu or auto)"),
+    let forced = match args.device {
+        Device::Cpu => return Ok(false),
+        Device::Gpu => true,
+        Device::Auto => false,
     };
-    let filter = job.filter;
-    use refract::cpu::Estimator;
-    let estimator = match args.estimator {
-        Estimator::Path => GpuEstimator::Path,
-        Estimator::LtPt => GpuEstimator::LtPt,
-        e if forced => {
-            bail!("the GPU renderer implements path and lt+pt (estimator '{e}' needs --device cpu)")
-        }
-        _ => return Ok(false),
+    let filter = &job.filter;
+    let estimator = match gpu_estimator(job.estimator, scene) {
+        Ok(e) => e,
+        Err(e) if forced => return Err(e),
+        Err(_) => return Ok(false),
     };
     let ctx = match GpuContext::new() {
         Ok(c) => c,
@@ -57,8 +44,10 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
             ctx.describe()
         );
     }
-    let mut opts = GpuOptions::from_scene(scene);
+    let mut opts = RenderOptions::from_scene(scene);
     opts.seed = job.seed;
+    opts.set_filter(Some(filter));
+    opts.estimator = estimator;
     let name = ctx.describe();
     let mut r = match GpuRenderer::with_context(ctx, scene.clone(), opts) {
         Ok(r) => r,
@@ -68,14 +57,6 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &Job) -> Result<bool
         }
         Err(e) => return Err(e),
     };
-    r.set_filter(Some(filter));
-    if let Err(e) = r.set_estimator(estimator) {
-        if !forced {
-            eprintln!("{e:#}; rendering on the CPU");
-            return Ok(false);
-        }
-        return Err(e);
-    }
     let (bvh_time, depth, nodes) = r.bvh_info();
     eprintln!(
         "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}, estimator {}{}{}",

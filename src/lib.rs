@@ -1,7 +1,8 @@
 //! refract: a physically based light-transport renderer for teaching how light meets
 //! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
-//! `scene`, `bvh`, `film`, then the renderers (`cpu`, `gpu`), then the viewer (`app`), the
-//! benchmark and the CLI.
+//! `scene`, `bvh`, `paths`, `film`, then the render vocabulary (`render`: options, estimator,
+//! stats, device, settings sidecar), then the renderers (`cpu`, `gpu`, which never import
+//! each other), then the viewer (`app`), the benchmark and the CLI.
 
 pub mod app;
 pub mod bench;
@@ -12,4 +13,5 @@ pub mod film;
 pub mod gpu;
 pub mod math;
 pub mod paths;
+pub mod render;
 pub mod scene;

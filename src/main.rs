@@ -3,9 +3,10 @@
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use refract::app::settings::{DEFAULT_SCENE, ViewerSettings};
-use refract::cpu::{Estimator, RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::{self, ToneMap};
+use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
+use refract::render::{Device, Estimator, RenderOptions};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -55,10 +56,11 @@ struct BenchArgs {
     #[arg(long, default_value = "target/bench-cache")]
     cache: PathBuf,
     /// Estimators to measure: path, bdpt, lt (CPU), lt+pt (GPU).
-    #[arg(long, num_args = 1.., default_values_t = [Estimator::Path, Estimator::Bdpt])]
+    #[arg(long, num_args = 1.., default_values_t = [Estimator::Path, Estimator::Bdpt],
+        value_parser = Estimator::parser())]
     estimators: Vec<Estimator>,
     /// Estimator of the cached reference (bdpt converges much faster on caustics).
-    #[arg(long, default_value = "bdpt")]
+    #[arg(long, default_value = "bdpt", value_parser = Estimator::parser())]
     ref_estimator: Estimator,
     /// Renderer to measure: cpu, gpu (path and lt+pt) or all.
     #[arg(long, default_value = "cpu")]
@@ -85,8 +87,8 @@ struct ViewArgs {
     exit_after: Option<Duration>,
     /// Renderer: auto (GPU on a hardware adapter, else CPU), cpu, or gpu (also on a software
     /// adapter such as lavapipe).
-    #[arg(long, default_value = "auto")]
-    device: refract::app::DeviceChoice,
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
+    device: Device,
 }
 
 #[derive(clap::Args, Clone)]
@@ -136,15 +138,15 @@ struct RenderArgs {
     paths: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
     /// strategies), lt (pure light tracing), lt+pt (GPU: light tracing and path tracing
-    /// combined by MIS; the CPU runs bdpt for it).
-    #[arg(long, default_value = "path")]
+    /// combined by MIS; the CPU runs bdpt for it), auto (picked by the scene's features).
+    #[arg(long, default_value = "path", value_parser = Estimator::parser())]
     estimator: Estimator,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
     /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
-    #[arg(long, default_value = "auto")]
-    device: String,
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
+    device: Device,
 }
 
 fn parse_duration(s: &str) -> std::result::Result<Duration, String> {
@@ -183,8 +185,28 @@ fn parse_tonemap(s: &str) -> Result<ToneMap> {
     })
 }
 
+/// Values of the render command resolved from flags and the settings sidecar.
+struct Job {
+    spp: u32,
+    tone: ToneMap,
+    exposure: f32,
+    seed: u32,
+    filter: refract::paths::PathFilter,
+    /// `--estimator`, resolved for the scene (never `auto`).
+    estimator: Estimator,
+}
+
 fn render(args: &RenderArgs) -> Result<()> {
     film::check_output_path(&args.out)?;
+    let (scene, job) = prepare(args)?;
+    if gpu_render::render(args, &scene, &job)? {
+        return Ok(());
+    }
+    render_cpu(args, scene, &job)
+}
+
+/// The scene to render (sidecar edits and flags applied) and the job's other values.
+fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     let sidecar = args
         .settings
         .as_deref()
@@ -268,16 +290,30 @@ fn render(args: &RenderArgs) -> Result<()> {
         .unwrap_or_default();
     let filter = refract::paths::PathFilter::parse(&paths)
         .map_err(|e| anyhow::anyhow!("invalid --paths '{paths}': {e}"))?;
-    let job = gpu_render::Job {
+    let (estimator, why) = args.estimator.resolve_why(&scene);
+    if args.estimator == Estimator::Auto {
+        eprintln!("estimator auto: {estimator} ({why})");
+    }
+    let job = Job {
         spp,
         tone,
         exposure,
         seed,
-        filter: &filter,
+        filter,
+        estimator,
     };
-    if gpu_render::render(args, &scene, &job)? {
-        return Ok(());
-    }
+    Ok((scene, job))
+}
+
+fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
+    let &Job {
+        spp,
+        tone,
+        exposure,
+        seed,
+        estimator,
+        ..
+    } = job;
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = args.threads {
         pool = pool.num_threads(t);
@@ -286,9 +322,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.seed = seed;
-    Renderer::set_filter(&mut opts, Some(&filter));
-    opts.estimator = args.estimator;
-    if args.estimator == Estimator::LtPt {
+    opts.set_filter(Some(&job.filter));
+    opts.estimator = estimator;
+    if estimator == Estimator::LtPt {
         eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
     }
 
@@ -314,7 +350,6 @@ fn render(args: &RenderArgs) -> Result<()> {
     let (film, stats) =
         pool.install(|| renderer.render(&opts, spp, args.time_budget, |d| bar.set_position(d)));
     bar.finish_and_clear();
-    let pixels = opts.width as u64 * opts.height as u64;
     film::save_image(
         &args.out,
         opts.width,
@@ -328,7 +363,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         args.out.display(),
         stats.spp,
         stats.elapsed.as_secs_f64(),
-        stats.samples_per_sec(pixels) / 1e6,
+        stats.samples_per_sec() / 1e6,
         stats.dropped
     );
     Ok(())
@@ -349,12 +384,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
             bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
         }
     }
-    let (cpu, gpu) = match args.device.to_ascii_lowercase().as_str() {
-        "cpu" => (true, false),
-        "gpu" => (false, true),
-        "all" => (true, true),
-        d => bail!("unknown device '{d}' (use cpu, gpu or all)"),
-    };
+    let (cpu, gpu) = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
     if let Some(p) = &args.paths {
         refract::paths::PathFilter::parse(p).map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
     }

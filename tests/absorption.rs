@@ -10,10 +10,11 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{Estimator, RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::Film;
-use refract::gpu::{GpuEstimator, GpuOptions, GpuRenderer};
+use refract::gpu::GpuRenderer;
 use refract::paths::PathFilter;
+use refract::render::{Estimator, RenderOptions};
 use refract::scene::{MaterialKind, Scene};
 
 const RUNS: u32 = 8;
@@ -54,7 +55,7 @@ fn cpu_runs(
             let mut opts = RenderOptions::from_scene(&r.scene);
             opts.seed = seed0 + i;
             opts.estimator = est;
-            Renderer::set_filter(&mut opts, filter.as_ref());
+            opts.set_filter(filter.as_ref());
             let mut film = Film::new(opts.width, opts.height);
             r.render_pass(&opts, &mut film, 0, spp);
             assert_eq!(film.dropped, 0, "{est}: the firewall dropped samples");
@@ -119,13 +120,13 @@ fn gpu_estimators_absorb_like_cpu_path_tracing() {
     };
     let scene = absorbing_cornell(true);
     let cpu = cpu_runs(&scene, Estimator::Path, 64, None, 0);
-    let mut g = GpuRenderer::with_context(ctx, scene.clone(), GpuOptions::from_scene(&scene))
+    let mut g = GpuRenderer::with_context(ctx, scene.clone(), RenderOptions::from_scene(&scene))
         .expect("GPU renderer");
-    for est in [GpuEstimator::Path, GpuEstimator::LtPt] {
+    for est in [Estimator::Path, Estimator::LtPt] {
         g.set_estimator(est).expect("estimator");
         let runs: Vec<Vec<f64>> = (0..RUNS)
             .map(|i| {
-                let mut opts = GpuOptions::from_scene(&scene);
+                let mut opts = RenderOptions::from_scene(&scene);
                 opts.seed = 1000 + i;
                 g.set_options(opts).expect("options");
                 let img = g.render(16).expect("render");

@@ -5,8 +5,9 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{Estimator, RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::paths::PathFilter;
+use refract::render::{Estimator, RenderOptions};
 use refract::scene::{Camera, Material, Mesh, Scene};
 
 fn render(r: &Renderer, est: Estimator, spp: u32, seed: u32, w: u32, h: u32) -> Vec<Vec3> {
@@ -190,7 +191,7 @@ fn bdpt_filter_classes_partition_the_image() {
         o.seed = 9;
         o.estimator = Estimator::Bdpt;
         let f = PathFilter::parse(re).expect("regex");
-        Renderer::set_filter(&mut o, Some(&f));
+        o.set_filter(Some(&f));
         r.render(&o, 8, None, |_| {}).0.image()
     };
     let all = run("");

@@ -13,18 +13,19 @@ use refract::bsdf::{
     Bsdf, BxDF, Event, Lambert, Lobe, MetalRough, Microfacet, MicrofacetDistribution, Mirror,
     RoughConductor, RoughDielectric, SmoothDielectric, ThinDielectric, TransportMode,
 };
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::Film;
 use refract::gpu::layout::{self, *};
 use refract::gpu::pipeline::{integrator_source, probe_source, run_probe};
-use refract::gpu::{GpuContext, GpuOptions, GpuRenderer, upload};
+use refract::gpu::{GpuContext, GpuRenderer, upload};
 use refract::math::rng::{Sampler, pcg_hash};
 use refract::math::spectrum::{
     cauchy_from_abbe, rgb_to_spectrum4, sample_hero_wavelengths, spectrum_sample_to_rgb,
 };
 use refract::paths::PathFilter;
+use refract::render::RenderOptions;
 use refract::scene::material::{Texture, TextureRef, Wrap};
-use refract::scene::{Camera, Material, Mesh, Scene};
+use refract::scene::{Camera, Features, Material, Mesh, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
     gpu_context(test)
@@ -517,7 +518,7 @@ fn cpu_image_filtered(
     let r = Renderer::new(scene.clone()).unwrap();
     let mut opts = RenderOptions::from_scene(&r.scene);
     opts.seed = seed;
-    Renderer::set_filter(&mut opts, filter);
+    opts.set_filter(filter);
     let mut film = Film::new(opts.width, opts.height);
     r.render_pass(&opts, &mut film, first, spp);
     (film.image(), film.dropped)
@@ -534,7 +535,7 @@ fn path_parity_same_seed() {
     let mut scene = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut scene, 64, 64);
     let seed = 7;
-    let mut opts = GpuOptions::from_scene(&scene);
+    let mut opts = RenderOptions::from_scene(&scene);
     opts.seed = seed;
     opts.batch_spp = Some(1);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
@@ -635,14 +636,14 @@ fn image_parity_filtered(name: &str, scene: Scene, k: u32, spp: u32, filter: Opt
     };
     let filter = filter.map(|f| PathFilter::parse(f).unwrap());
     let (w, h) = (scene.settings.width, scene.settings.height);
-    let mut opts = GpuOptions::from_scene(&scene);
+    let mut opts = RenderOptions::from_scene(&scene);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
     g.set_filter(filter.as_ref());
     let (mut gs, mut cs) = (Vec::new(), Vec::new());
     // Spectral scenes: a single hero-wavelength estimate can have a negative RGB component
     // (out of the sRGB gamut); both films keep those and drop only non-finite samples, so the
     // drop counts are compared (both 0 in practice).
-    let spectral = scene.features().dispersion;
+    let spectral = scene.features().contains(Features::DISPERSION);
     let (mut gd, mut cd) = (0u64, 0u64);
     let t0 = std::time::Instant::now();
     for i in 0..k {
@@ -827,7 +828,7 @@ fn textured_scene() -> Scene {
 fn image_parity_textures() {
     let mut s = textured_scene();
     small(&mut s, 48, 32);
-    assert!(s.features().textures);
+    assert!(s.features().contains(Features::TEXTURES));
     image_parity("image_parity_textures", s, 8, 8);
 }
 
@@ -850,7 +851,7 @@ fn filter_class_sum_identity() {
     };
     let mut s = Scene::load("builtin:materials").unwrap();
     small(&mut s, 48, 32);
-    let mut opts = GpuOptions::from_scene(&s);
+    let mut opts = RenderOptions::from_scene(&s);
     opts.seed = 3;
     let mut g = GpuRenderer::with_context(ctx, s, opts).unwrap();
     let full = g.render(4).unwrap().mean;
@@ -889,7 +890,7 @@ fn filter_class_sum_identity() {
 fn image_parity_prism() {
     let mut s = Scene::load("builtin:prism").unwrap();
     small(&mut s, 48, 32);
-    assert!(s.features().dispersion);
+    assert!(s.features().contains(Features::DISPERSION));
     image_parity("image_parity_prism", s, 8, 8);
 }
 
@@ -921,7 +922,7 @@ fn gpu_white_furnace() {
     let mut s = scene("furnace-flat", m, mats, cam, 1.0);
     small(&mut s, 64, 24);
     s.settings.max_depth = 1000;
-    let opts = GpuOptions::from_scene(&s);
+    let opts = RenderOptions::from_scene(&s);
     let mut g = GpuRenderer::with_context(ctx, s, opts).unwrap();
     let img = g.render(64).unwrap();
     assert_eq!(img.dropped, 0);
@@ -967,7 +968,7 @@ fn reset_after_parameter_change() {
         0.0,
     );
     small(&mut s, 16, 16);
-    let opts = GpuOptions::from_scene(&s);
+    let opts = RenderOptions::from_scene(&s);
     let mut g = GpuRenderer::with_context(ctx, s, opts).unwrap();
     let a = g.render(8).unwrap();
     assert!(
@@ -989,7 +990,7 @@ fn reset_after_parameter_change() {
     assert_eq!(g.pipelines_compiled(), compiled);
     let mut cg = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut cg, 16, 16);
-    let o = GpuOptions::from_scene(&cg);
+    let o = RenderOptions::from_scene(&cg);
     g.set_scene(cg.clone(), o).unwrap();
     let c1 = g.pipelines_compiled();
     let mut glass = cg.materials[4].clone();

@@ -7,11 +7,12 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{Estimator, RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::Film;
-use refract::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
+use refract::gpu::{GpuContext, GpuRenderer};
 use refract::paths::PathFilter;
-use refract::scene::{PunctualLight, Scene};
+use refract::render::{Estimator, RenderOptions};
+use refract::scene::{Features, PunctualLight, Scene};
 
 fn context(test: &str) -> Option<GpuContext> {
     gpu_context(test)
@@ -35,7 +36,7 @@ fn cpu_image(
     let mut opts = RenderOptions::from_scene(&r.scene);
     opts.seed = seed;
     opts.estimator = est;
-    Renderer::set_filter(&mut opts, filter);
+    opts.set_filter(filter);
     let mut film = Film::new(opts.width, opts.height);
     r.render_pass(&opts, &mut film, 0, spp);
     film.image()
@@ -45,12 +46,12 @@ fn cpu_image(
 fn gpu_runs(
     ctx: GpuContext,
     scene: &Scene,
-    estimator: GpuEstimator,
+    estimator: Estimator,
     filter: Option<&PathFilter>,
     k: u32,
     spp: u32,
 ) -> (Vec<Vec<Vec3>>, u64) {
-    let mut opts = GpuOptions::from_scene(scene);
+    let mut opts = RenderOptions::from_scene(scene);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
     g.set_filter(filter);
     g.set_estimator(estimator).unwrap();
@@ -97,7 +98,7 @@ fn converges_to(
     let filter = filter.map(|f| PathFilter::parse(f).unwrap());
     let (w, h) = (scene.settings.width, scene.settings.height);
     let t0 = std::time::Instant::now();
-    let (g, dropped) = gpu_runs(ctx, &scene, GpuEstimator::LtPt, filter.as_ref(), k, spp);
+    let (g, dropped) = gpu_runs(ctx, &scene, Estimator::LtPt, filter.as_ref(), k, spp);
     let tg = t0.elapsed();
     assert_eq!(dropped, 0, "{name}: the firewall dropped samples");
     let gs: Vec<Vec<f64>> = g.iter().map(|i| block_means(i, w, h)).collect();
@@ -249,8 +250,8 @@ fn lt_pt_reduces_caustic_variance() {
     let f = PathFilter::parse("LS+DE").unwrap();
     let (w, h) = (64, 48);
     let ctx2 = GpuContext::from_adapter(ctx.adapter.clone()).unwrap();
-    let (pt, _) = gpu_runs(ctx, &s, GpuEstimator::Path, Some(&f), 8, 8);
-    let (lt, _) = gpu_runs(ctx2, &s, GpuEstimator::LtPt, Some(&f), 8, 8);
+    let (pt, _) = gpu_runs(ctx, &s, Estimator::Path, Some(&f), 8, 8);
+    let (lt, _) = gpu_runs(ctx2, &s, Estimator::LtPt, Some(&f), 8, 8);
     let pb: Vec<Vec<f64>> = pt.iter().map(|i| block_means(i, w, h)).collect();
     let lb: Vec<Vec<f64>> = lt.iter().map(|i| block_means(i, w, h)).collect();
     let (mut vp, mut vl) = (0.0, 0.0);
@@ -275,7 +276,7 @@ fn lt_pt_reduces_caustic_variance() {
 #[test]
 fn lt_pt_with_dispersion() {
     let s = small("builtin:prism", 48, 32);
-    assert!(s.features().dispersion);
+    assert!(s.features().contains(Features::DISPERSION));
     converges_to(
         "lt+pt prism vs bdpt",
         s.clone(),

@@ -6,7 +6,8 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{Estimator, RenderOptions, Renderer};
+use refract::cpu::Renderer;
+use refract::render::{Estimator, RenderOptions};
 use refract::scene::PunctualLight;
 
 fn mean_sem(img: &[Vec3]) -> (f64, f64) {

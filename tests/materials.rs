@@ -6,9 +6,10 @@ mod common_scenes;
 use common_scenes::*;
 use glam::{Affine2, Vec2, Vec3, Vec4};
 use refract::bsdf::{BxDF, SmoothDielectric, TransportMode};
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::math::Frame;
 use refract::math::spectrum::cauchy_from_abbe;
+use refract::render::RenderOptions;
 use refract::scene::{Camera, Material, MaterialKind, Mesh, Texture, TextureRef, Wrap};
 
 fn mean_sem(px: &[Vec3], ch: usize) -> (f64, f64) {

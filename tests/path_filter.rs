@@ -2,8 +2,9 @@
 //! LDE is direct diffuse lighting, LS+DE only where caustics land.
 
 use glam::Vec3;
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::paths::PathFilter;
+use refract::render::RenderOptions;
 use refract::scene::Scene;
 
 fn setup() -> (Renderer, RenderOptions) {

@@ -4,7 +4,8 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
+use refract::render::RenderOptions;
 use refract::scene::{Camera, Material, Mesh, Scene};
 
 fn render(scene: Scene, spp: u32) -> (Vec<Vec3>, u64) {

@@ -6,8 +6,9 @@
 mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
-use refract::cpu::{RenderOptions, Renderer};
+use refract::cpu::Renderer;
 use refract::film::Film;
+use refract::render::RenderOptions;
 use refract::scene::{Camera, Material, Mesh, Scene};
 
 fn render_opts(scene: Scene, spp: u32, seed: u32) -> (Vec<Vec3>, u64) {

@@ -6,7 +6,7 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use refract::app::ViewerApp;
-use refract::app::settings::DEFAULT_SCENE;
+use refract::render::settings::DEFAULT_SCENE;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -220,7 +220,7 @@ fn screenshot_writes_three_files_and_rerenders_headless() {
     }
     let json = dir.join(names.iter().find(|n| n.ends_with(".json")).unwrap());
     let exr = json.with_extension("exr");
-    let sidecar = refract::app::settings::ViewerSettings::load(&json).unwrap();
+    let sidecar = refract::render::settings::ViewerSettings::load(&json).unwrap();
     assert_eq!(sidecar.capture.as_ref().unwrap().spp, 16);
     assert_eq!(sidecar.materials[0].ior, 1.8);
 

@@ -13,10 +13,10 @@ use eframe::wgpu;
 use refract::app::ViewerApp;
 use refract::app::backend::{Backend, DisplayParams};
 use refract::app::gpu_backend::GpuBackend;
-use refract::app::settings::{DEFAULT_SCENE, ViewerSettings};
-use refract::cpu::RenderOptions;
 use refract::film::{self, ToneMap};
 use refract::gpu::GpuContext;
+use refract::render::RenderOptions;
+use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
 use refract::scene::Scene;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -307,16 +307,15 @@ fn kittest_viewer_on_the_gpu_backend() {
 /// specialisation) and back.
 #[test]
 fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
-    use refract::app::settings::EstimatorChoice;
-    use refract::cpu::Estimator;
+    use refract::render::Estimator;
     let Some(mut b) = backend("gpu_backend_runs_lt_pt_with_and_without_dispersion") else {
         return;
     };
     let scene = Scene::load("builtin:caustic").unwrap();
-    assert_eq!(EstimatorChoice::Auto.resolve(&scene), Estimator::LtPt);
+    assert_eq!(Estimator::Auto.resolve(&scene), Estimator::LtPt);
     b.set_scene(&scene);
     let mut o = small_options(&scene, 48, 32);
-    o.estimator = EstimatorChoice::Auto.resolve(&scene);
+    o.estimator = Estimator::Auto.resolve(&scene);
     b.set_options(&o);
     assert!(!b.is_fallback());
     assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());

@@ -17,8 +17,9 @@
 //! [`Backend::read_image`] (screenshots) reads the accumulation buffer back. `app::run`
 //! chooses the backend (`refract view --device auto|cpu|gpu`).
 
-use crate::cpu::{RenderOptions, Renderer};
+use crate::cpu::Renderer;
 use crate::film::{Film, ToneMap, linear_to_srgb};
+use crate::render::RenderOptions;
 use crate::scene::{Camera, Material, Scene};
 use glam::Vec3;
 use std::sync::atomic::{AtomicU64, Ordering};

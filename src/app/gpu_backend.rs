@@ -30,9 +30,9 @@
 //!   tries the GPU again.
 
 use super::backend::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
-use crate::cpu::{Estimator, RenderOptions};
 use crate::film::ToneMap;
-use crate::gpu::{GpuContext, GpuEstimator, GpuOptions, GpuRenderer};
+use crate::gpu::{GpuContext, GpuRenderer};
+use crate::render::{Estimator, RenderOptions};
 use crate::scene::{Camera, Material, Scene};
 use anyhow::{Context as _, Result};
 use eframe::egui;
@@ -511,7 +511,7 @@ impl GpuBackend {
     }
 
     /// The renderer's options for the current viewer options, interactive state and speed.
-    fn gpu_options(&self) -> Option<GpuOptions> {
+    fn gpu_options(&self) -> Option<RenderOptions> {
         let o = self.options?;
         let (mut w, mut h) = (o.width, o.height);
         // Quarter resolution while dragging, when one full-resolution sample per pixel would
@@ -524,13 +524,12 @@ impl GpuBackend {
             w = (w / 4).max(1);
             h = (h / 4).max(1);
         }
-        Some(GpuOptions {
+        Some(RenderOptions {
             width: w,
             height: h,
-            max_depth: o.max_depth,
-            rr_depth: o.rr_depth,
-            seed: o.seed,
+            estimator: self.wanted_estimator(),
             batch_spp: None,
+            ..o
         })
     }
 
@@ -558,10 +557,10 @@ impl GpuBackend {
     /// The GPU estimator for the viewer's choice: path tracing stays path tracing; the
     /// bidirectional choices (lt+pt, what "auto" picks for caustic scenes, and bdpt / lt,
     /// which exist only on the CPU) run light + path tracing with MIS.
-    fn wanted_estimator(&self) -> GpuEstimator {
+    fn wanted_estimator(&self) -> Estimator {
         match self.options.map(|o| o.estimator) {
-            None | Some(Estimator::Path) => GpuEstimator::Path,
-            Some(_) => GpuEstimator::LtPt,
+            None | Some(Estimator::Path) => Estimator::Path,
+            Some(_) => Estimator::LtPt,
         }
     }
 

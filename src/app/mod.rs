@@ -1,22 +1,26 @@
 //! The interactive viewer (eframe/egui): a side panel of physics controls, the progressively
 //! refined image in the central viewport and a status bar. Rendering runs behind the
-//! [`backend::Backend`] trait and never blocks the UI thread.
+//! [`backend::Backend`] trait and never blocks the UI thread. Controls never change the scene
+//! themselves: they push an [`Edit`], and [`ViewerApp::apply`] (src/app/edit.rs) applies it.
 //!
 //! [`ViewerApp::show`] draws the whole UI into any `egui::Ui`, so the same code runs in the
 //! window ([`run`]) and in the `egui_kittest` tests without a window.
 
 pub mod backend;
+pub mod edit;
 pub mod gpu_backend;
 pub mod panels;
 pub mod screenshot;
-pub mod settings;
 pub mod viewport;
 
 use crate::bvh::Bvh;
+use crate::render::Device;
+use crate::render::settings::{DEFAULT_SCENE, ViewerSettings};
+use crate::scene::edits::Orbit;
 use crate::scene::{Material, Scene};
 use backend::{Backend, CpuBackend, DisplayParams};
+pub use edit::Edit;
 use eframe::egui;
-use settings::{DEFAULT_SCENE, Orbit, ViewerSettings};
 use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -34,31 +38,7 @@ pub struct ViewOptions {
     /// Close after this much time.
     pub exit_after: Option<Duration>,
     /// Which renderer drives the viewport.
-    pub device: DeviceChoice,
-}
-
-/// `refract view --device`: which backend renders.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DeviceChoice {
-    /// The GPU backend on a hardware adapter, else the CPU backend (a software adapter such
-    /// as lavapipe is much slower than the CPU renderer).
-    #[default]
-    Auto,
-    Cpu,
-    /// The GPU backend on whatever adapter eframe opened (software ones included).
-    Gpu,
-}
-
-impl std::str::FromStr for DeviceChoice {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "auto" => Ok(DeviceChoice::Auto),
-            "cpu" => Ok(DeviceChoice::Cpu),
-            "gpu" => Ok(DeviceChoice::Gpu),
-            other => Err(format!("unknown device '{other}' (use auto, cpu or gpu)")),
-        }
-    }
+    pub device: Device,
 }
 
 /// A message shown at the top of the side panel until dismissed.
@@ -113,6 +93,8 @@ pub struct ViewerApp {
     stats: FrameStats,
     dragging: bool,
     closing: bool,
+    /// Edits pushed this frame, applied by [`ViewerApp::apply`] (src/app/edit.rs).
+    edits: Vec<Edit>,
 }
 
 impl ViewerApp {
@@ -135,7 +117,7 @@ impl ViewerApp {
         base.validate()?;
         let (scene, warnings) = settings.apply(&base);
         let pick_bvh = Bvh::build(&scene.mesh);
-        let orbit = settings.orbit_for(&base);
+        let orbit = settings.camera.orbit(&base);
         let filter_text = settings.render.paths.clone();
         let mut app = ViewerApp {
             settings,
@@ -166,11 +148,11 @@ impl ViewerApp {
             },
             dragging: false,
             closing: false,
+            edits: Vec::new(),
         };
         app.report_warnings(&warnings);
         app.backend.set_scene(&app.scene);
-        app.options_changed();
-        app.backend.set_spp_target(app.settings.render.spp_target);
+        app.options_follow();
         Ok(app)
     }
 
@@ -184,141 +166,22 @@ impl ViewerApp {
         self.backend.as_ref()
     }
 
-    pub fn backend_mut(&mut self) -> &mut dyn Backend {
-        self.backend.as_mut()
-    }
-
     fn report_warnings(&mut self, warnings: &[String]) {
         if !warnings.is_empty() {
             self.messages.info = Some(warnings.join("\n"));
         }
     }
 
-    /// Load a scene; on failure the error is shown and the old scene keeps rendering.
-    pub fn load_scene(&mut self, spec: &str) -> bool {
-        let spec = spec.trim();
-        let loaded = Scene::load(spec).and_then(|s| s.validate().map(|_| s));
-        match loaded {
-            Ok(base) => {
-                let warnings = base.warnings.clone();
-                self.base = base;
-                self.settings.scene = spec.to_owned();
-                self.settings.clear_scene_edits();
-                self.settings.capture = None;
-                let (scene, w2) = self.settings.apply(&self.base);
-                self.scene = scene;
-                self.pick_bvh = Bvh::build(&self.scene.mesh);
-                self.orbit = self.settings.orbit_for(&self.base);
-                self.selected = None;
-                self.messages = Messages::default();
-                self.report_warnings(&[warnings, w2].concat());
-                self.backend.set_scene(&self.scene);
-                self.options_changed();
-                true
-            }
-            Err(e) => {
-                self.messages.error = Some(format!(
-                    "could not open '{spec}': {e:#}. Still showing '{}'.",
-                    self.settings.scene
-                ));
-                false
-            }
-        }
+    /// Apply a material edit now (headless callers; the panels push [`Edit::Material`]).
+    pub fn set_material(&mut self, index: usize, material: Material) {
+        self.apply(Edit::Material { index, material });
     }
 
-    /// Material `index` was edited: validate, record, send to the backend. Invalid values
-    /// (IOR ≤ 0, NaN …) are refused and the previous material stays.
-    pub fn set_material(&mut self, index: usize, m: Material) {
-        let Some(old) = self.scene.materials.get(index) else {
-            return;
-        };
-        if *old == m {
-            return;
-        }
-        if let Err(e) = m.validate() {
-            self.messages.error = Some(format!("{e:#}"));
-            return;
-        }
-        self.settings.set_material(index, &m);
-        self.scene.materials[index] = m;
-        self.backend
-            .update_material(index, &self.scene.materials[index]);
-    }
-
-    /// `settings.light` changed: rebuild the lit scene (and the BVH if the light moved).
-    pub fn lights_changed(&mut self) {
-        let (scene, _) = self.settings.apply(&self.base);
-        let geometry_changed = scene.mesh.positions != self.scene.mesh.positions;
-        self.scene = scene;
-        if geometry_changed {
-            self.pick_bvh = Bvh::build(&self.scene.mesh);
-        }
-        self.backend.update_lights(&self.scene, geometry_changed);
-    }
-
-    /// `orbit` or `settings.camera` changed.
-    pub fn camera_changed(&mut self, from_orbit: bool) {
-        if from_orbit {
-            self.settings.camera.orbit = Some(self.orbit);
-        }
-        self.scene.camera = self.settings.camera_for(&self.base);
-        self.backend.update_camera(&self.scene.camera);
-    }
-
-    /// Back to the scene's own camera.
-    pub fn reset_camera(&mut self) {
-        self.settings.camera = Default::default();
-        self.orbit = self.settings.orbit_for(&self.base);
-        self.camera_changed(false);
-    }
-
-    /// `settings.render` changed.
+    /// `settings.render` was changed in place (headless callers): apply it now.
     pub fn options_changed(&mut self) {
-        match self.settings.render_options(&self.scene) {
-            Ok(o) => self.backend.set_options(&o),
-            Err(e) => self.messages.error = Some(format!("{e:#}")),
-        }
-        self.backend.set_spp_target(self.settings.render.spp_target);
+        self.options_follow();
     }
 
-    /// Path filter text edited: compile it; an invalid expression shows its message and the
-    /// last valid filter keeps rendering.
-    pub fn set_filter_text(&mut self, text: &str) {
-        self.filter_text = text.to_owned();
-        match crate::paths::PathFilter::parse(text) {
-            Ok(_) => {
-                self.filter_error = None;
-                if self.settings.render.paths != text {
-                    self.settings.render.paths = text.to_owned();
-                    self.options_changed();
-                }
-            }
-            Err(e) => self.filter_error = Some(e.to_string()),
-        }
-    }
-
-    /// Everything back to the scene's defaults (render and display settings too).
-    pub fn reset_to_defaults(&mut self) {
-        let spec = self.settings.scene.clone();
-        self.settings = ViewerSettings::for_scene(&spec);
-        let (scene, _) = self.settings.apply(&self.base);
-        self.scene = scene;
-        self.pick_bvh = Bvh::build(&self.scene.mesh);
-        self.orbit = self.settings.orbit_for(&self.base);
-        self.filter_text.clear();
-        self.filter_error = None;
-        self.paused = false;
-        self.backend.set_paused(false);
-        self.backend.set_scene(&self.scene);
-        self.options_changed();
-    }
-
-    pub fn set_paused(&mut self, paused: bool) {
-        self.paused = paused;
-        self.backend.set_paused(paused);
-    }
-
-    /// Material index under film point (sx, sy), by a primary ray through the BVH.
     pub fn pick(&self, sx: f32, sy: f32) -> Option<usize> {
         let (w, h) = self.settings.resolution(&self.scene);
         let cam = &self.scene.camera;
@@ -362,7 +225,7 @@ impl ViewerApp {
                 self.dialog = None;
                 let spec = path.display().to_string();
                 self.open_path = spec.clone();
-                self.load_scene(&spec);
+                self.push(Edit::OpenScene(spec));
             }
             Ok(None) => {
                 self.dialog = None;
@@ -403,7 +266,7 @@ impl ViewerApp {
         if let Some(p) = dropped.first() {
             let spec = p.display().to_string();
             self.open_path = spec.clone();
-            self.load_scene(&spec);
+            self.push(Edit::OpenScene(spec));
         }
         let (f12, ctrl_s) = ctx.input_mut(|i| {
             (
@@ -423,10 +286,10 @@ impl ViewerApp {
                 )
             });
             if space {
-                self.set_paused(!self.paused);
+                self.push(Edit::Pause(!self.paused));
             }
             if r {
-                self.reset_camera();
+                self.push(Edit::ResetCamera);
             }
             if esc {
                 self.selected = None;
@@ -452,13 +315,15 @@ impl ViewerApp {
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| panels::side_panel(self, ui));
             });
+        self.apply_queued();
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let tex = self.backend.display_texture(&ctx, &self.display_params());
             let res = self.settings.resolution(&self.scene);
             let yfov = self.scene.camera.yfov;
-            let r = viewport::show(ui, tex, res, &mut self.orbit, yfov);
+            let mut orbit = self.orbit;
+            let r = viewport::show(ui, tex, res, &mut orbit, yfov);
             if r.camera_changed {
-                self.camera_changed(true);
+                self.push(Edit::Orbit(orbit));
             }
             if r.dragging != self.dragging {
                 self.dragging = r.dragging;
@@ -468,6 +333,7 @@ impl ViewerApp {
                 self.selected = self.pick(sx, sy);
             }
         });
+        self.apply_queued();
 
         let ui_time = t0.elapsed();
         self.record_frame(ui_time);
@@ -613,23 +479,23 @@ pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
 /// The backend for `--device` on the adapter eframe opened, and a note for the user when the
 /// choice was not what was asked for.
 fn choose_backend(
-    device: DeviceChoice,
+    device: Device,
     cc: &eframe::CreationContext<'_>,
 ) -> anyhow::Result<(Box<dyn Backend>, Option<String>)> {
     let repaint = Some(cc.egui_ctx.clone());
     let cpu = |repaint| -> Box<dyn Backend> { Box::new(CpuBackend::new(repaint)) };
-    if device == DeviceChoice::Cpu {
+    if device == Device::Cpu {
         return Ok((cpu(repaint), None));
     }
     let Some(rs) = &cc.wgpu_render_state else {
         anyhow::ensure!(
-            device != DeviceChoice::Gpu,
+            device != Device::Gpu,
             "--device gpu needs the wgpu renderer, which did not start"
         );
         return Ok((cpu(repaint), None));
     };
     let info = rs.adapter.get_info();
-    if device == DeviceChoice::Auto && info.device_type == eframe::wgpu::DeviceType::Cpu {
+    if device == Device::Auto && info.device_type == eframe::wgpu::DeviceType::Cpu {
         // lavapipe & co. are ~15x slower than the CPU renderer on the same cores.
         return Ok((cpu(repaint), None));
     }

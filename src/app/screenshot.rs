@@ -1,10 +1,10 @@
 //! Screenshots: `<dir>/<scene>-<UTC timestamp>.png` (tone-mapped, as shown), `.exr` (linear
-//! accumulated radiance) and `.json` (every setting, see [`super::settings`]), so the image can
+//! accumulated radiance) and `.json` (every setting, see [`crate::render::settings`]), so the image can
 //! be re-rendered headless with `refract render --settings <file>.json`.
 
 use super::ViewerApp;
-use super::settings::CaptureInfo;
 use crate::film;
+use crate::render::settings::CaptureInfo;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};

@@ -2,7 +2,7 @@
 //! input into orbit / pan / zoom of the camera, and clicks into picking rays.
 
 use super::backend::DisplayTexture;
-use super::settings::Orbit;
+use crate::scene::edits::Orbit;
 use eframe::egui::{self, Color32, PointerButton, Pos2, Rect, Sense, Vec2};
 use glam::Vec3;
 

@@ -13,4 +13,4 @@ pub mod spectral;
 
 pub use integrator::Integrator;
 pub use interaction::SurfaceHit;
-pub use render::{Estimator, RenderOptions, RenderStats, Renderer};
+pub use render::Renderer;

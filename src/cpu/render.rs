@@ -5,99 +5,10 @@ use super::Integrator;
 use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
-use crate::scene::{Scene, light::LightSet};
+use crate::render::{Estimator, RenderOptions, RenderStats};
+use crate::scene::{Features, Scene, light::LightSet};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
-
-/// Light-transport estimator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Estimator {
-    /// Unidirectional path tracing with NEE + MIS.
-    #[default]
-    Path,
-    /// Bidirectional path tracing, MIS over all strategies (incl. light-tracing splats).
-    Bdpt,
-    /// Pure light tracing (light subpaths connected to the camera only).
-    Lt,
-    /// Path tracing and light tracing combined by MIS: the GPU estimator for caustics
-    /// (src/shaders/light_tracing.wgsl). The CPU renders it with full BDPT, whose strategies
-    /// are a superset.
-    #[serde(rename = "lt+pt", alias = "ltpt")]
-    LtPt,
-}
-
-impl std::fmt::Display for Estimator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Estimator::Path => "path",
-            Estimator::Bdpt => "bdpt",
-            Estimator::Lt => "lt",
-            Estimator::LtPt => "lt+pt",
-        })
-    }
-}
-
-impl std::str::FromStr for Estimator {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "path" | "pt" => Ok(Estimator::Path),
-            "bdpt" => Ok(Estimator::Bdpt),
-            "lt" | "light" => Ok(Estimator::Lt),
-            "lt+pt" | "ltpt" | "pt+lt" => Ok(Estimator::LtPt),
-            _ => Err(format!(
-                "unknown estimator '{s}' (use path, bdpt, lt or lt+pt)"
-            )),
-        }
-    }
-}
-
-/// Per-render options (overrides of the scene's settings are applied by the caller).
-#[derive(Clone, Copy, Debug)]
-pub struct RenderOptions {
-    pub width: u32,
-    pub height: u32,
-    pub max_depth: u32,
-    pub rr_depth: u32,
-    pub seed: u32,
-    /// Heckbert path filter (eye→light table); None = all paths.
-    pub filter: Option<crate::paths::DfaTable>,
-    /// The same filter in light→eye order (bidirectional estimators).
-    pub filter_forward: Option<crate::paths::DfaTable>,
-    pub estimator: Estimator,
-}
-
-impl RenderOptions {
-    pub fn from_scene(scene: &Scene) -> RenderOptions {
-        let s = scene.settings;
-        RenderOptions {
-            width: s.width,
-            height: s.height,
-            max_depth: s.max_depth,
-            rr_depth: s.rr_depth,
-            seed: 0,
-            filter: None,
-            filter_forward: None,
-            estimator: Estimator::Path,
-        }
-    }
-}
-
-/// Counters of one render.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RenderStats {
-    pub spp: u64,
-    pub elapsed: Duration,
-    pub dropped: u64,
-}
-
-impl RenderStats {
-    /// Pixel samples per second.
-    pub fn samples_per_sec(&self, pixels: u64) -> f64 {
-        (self.spp * pixels) as f64 / self.elapsed.as_secs_f64().max(1e-9)
-    }
-}
 
 /// A scene prepared for CPU rendering (BVH and light distribution built once).
 pub struct Renderer {
@@ -114,7 +25,7 @@ impl Renderer {
         scene.validate()?;
         let bvh = Bvh::build(&scene.mesh);
         let lights = LightSet::build(&scene);
-        let spectral = scene.features().dispersion;
+        let spectral = scene.features().contains(Features::DISPERSION);
         Ok(Renderer {
             scene,
             bvh,
@@ -135,20 +46,6 @@ impl Renderer {
         }
     }
 
-    /// Set both directions of a Heckbert filter (None or an accept-all filter = no filter).
-    pub fn set_filter(opts: &mut RenderOptions, f: Option<&crate::paths::PathFilter>) {
-        match f {
-            Some(f) if !f.is_accept_all() => {
-                opts.filter = Some(*f.reversed());
-                opts.filter_forward = Some(*f.forward());
-            }
-            _ => {
-                opts.filter = None;
-                opts.filter_forward = None;
-            }
-        }
-    }
-
     /// Add samples `first_spp .. first_spp + count` to every pixel of `film`.
     pub fn render_pass(&self, opts: &RenderOptions, film: &mut Film, first_spp: u32, count: u32) {
         self.render_pass_cancellable(opts, film, first_spp, count, &|| false);
@@ -166,9 +63,10 @@ impl Renderer {
         count: u32,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> bool {
-        if opts.estimator != Estimator::Path {
+        let estimator = opts.estimator.resolve(&self.scene);
+        if estimator != Estimator::Path {
             // Bidirectional passes are not cancellable mid-pass (splats span all rows).
-            self.render_pass_bdpt(opts, film, first_spp, count);
+            self.render_pass_bdpt(opts, estimator, film, first_spp, count);
             return true;
         }
         let integ = self.integrator(opts);
@@ -219,11 +117,19 @@ impl Renderer {
 
     /// Bidirectional / light-tracing pass: camera contributions per pixel, light-tracing
     /// splats into a shared buffer of atomically added f64 values, then folded into the film.
-    fn render_pass_bdpt(&self, opts: &RenderOptions, film: &mut Film, first_spp: u32, count: u32) {
+    /// `estimator` is `opts.estimator` resolved: bdpt, lt or lt+pt (which runs full bdpt).
+    fn render_pass_bdpt(
+        &self,
+        opts: &RenderOptions,
+        estimator: Estimator,
+        film: &mut Film,
+        first_spp: u32,
+        count: u32,
+    ) {
         use super::bdpt::{Bdpt, BdptMode};
         use std::sync::atomic::{AtomicU64, Ordering};
         let integ = self.integrator(opts);
-        let mode = if opts.estimator == Estimator::Lt {
+        let mode = if estimator == Estimator::Lt {
             BdptMode::LightTracing
         } else {
             BdptMode::Full
@@ -289,7 +195,6 @@ impl Renderer {
                 px[k] += f64::from_bits(splats[3 * i + k].load(Ordering::Relaxed));
             }
         }
-        let _ = h;
         film.spp += count as u64;
         film.dropped += dropped;
     }
@@ -306,8 +211,7 @@ impl Renderer {
         let mut film = Film::new(opts.width, opts.height);
         let start = Instant::now();
         // Passes of a few spp keep the progress bar and time budget responsive.
-        let pixels = (opts.width as u64 * opts.height as u64).max(1);
-        let pass = ((1u64 << 20) / pixels).clamp(1, 16) as u32;
+        let pass = opts.pass_spp();
         let mut done = 0u32;
         while done < spp {
             let n = pass.min(spp - done);
@@ -322,8 +226,10 @@ impl Renderer {
         }
         let stats = RenderStats {
             spp: film.spp,
-            elapsed: start.elapsed(),
             dropped: film.dropped,
+            elapsed: start.elapsed(),
+            pixels: opts.pixels(),
+            segments: None,
         };
         (film, stats)
     }

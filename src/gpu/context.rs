@@ -3,7 +3,6 @@
 //! scene buffers.
 
 use anyhow::{Context, Result};
-use eframe::wgpu;
 
 /// An adapter with its device and queue.
 pub struct GpuContext {

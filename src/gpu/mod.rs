@@ -1,6 +1,8 @@
 //! The GPU progressive renderer: a wgpu compute twin of the CPU path tracer
 //! (`cpu::Integrator::li`), with the same estimator and the same counter-based RNG so single
-//! paths can be compared. See DESIGN.md ("Architecture", "Rendering").
+//! paths can be compared. It takes the `render` vocabulary (options, estimator, stats) and
+//! depends on `wgpu` directly, never on the viewer. See DESIGN.md ("Architecture",
+//! "Rendering").
 //!
 //! - [`context`]: adapter and device (`required_limits = adapter.limits()`).
 //! - [`layout`]: `#[repr(C)]` Pod twins of the WGSL structs, naga layout reflection.
@@ -17,4 +19,4 @@ pub mod renderer;
 pub mod upload;
 
 pub use context::GpuContext;
-pub use renderer::{GpuEstimator, GpuImage, GpuOptions, GpuRenderer, GpuStats};
+pub use renderer::{GpuImage, GpuRenderer, gpu_estimator};

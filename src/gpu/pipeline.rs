@@ -6,11 +6,10 @@
 //! roughness within a kind, emission, environment) never recompiles. Pipelines are cached per
 //! key.
 
-use super::layout::{self, GpuLayout, ProbeCase, ProbeOut};
-use super::{GpuContext, upload};
-use crate::scene::Scene;
+use super::GpuContext;
+use super::layout::{GpuLayout, ProbeCase, ProbeOut};
+use crate::scene::Features;
 use anyhow::Result;
-use eframe::wgpu;
 use std::collections::HashMap;
 
 const COMMON: &str = include_str!("../shaders/common.wgsl");
@@ -111,7 +110,8 @@ pub fn probe_source() -> String {
     assemble(&[MATHS, &[PROBE]].concat())
 }
 
-/// Which parts of the kernel a scene needs (the pipeline cache key).
+/// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
+/// always compiled in (its radiance is a slider: value edits must not recompile).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Specialization {
     pub lambert: bool,
@@ -127,12 +127,9 @@ pub struct Specialization {
     /// Emissive triangles (area lights).
     pub area_lights: bool,
     pub punctual_lights: bool,
-    /// Compiled in always: the environment radiance is a slider (value edits must not
-    /// recompile); kept as a key field for symmetry with `Features::environment`.
-    pub environment: bool,
     /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
     pub absorption: bool,
-    /// Some material references a texture.
+    /// Some BSDF reads a texture.
     pub textures: bool,
     /// A Heckbert path filter is set (the table itself is a uniform: edits do not recompile).
     pub filter: bool,
@@ -143,77 +140,25 @@ pub struct Specialization {
 }
 
 impl Specialization {
-    /// From `scene.features()` plus the BSDF kinds the materials map to (no filter).
-    pub fn for_scene(scene: &Scene) -> Specialization {
-        let f = scene.features();
-        let mut s = Specialization {
-            area_lights: f.area_lights,
-            punctual_lights: f.punctual_lights,
-            environment: true,
-            absorption: f.smooth_glass || f.rough_glass,
-            spectral: f.dispersion,
-            ..Default::default()
-        };
-        let mut used = vec![false; scene.materials.len()];
-        for &m in &scene.mesh.tri_material {
-            if let Some(u) = used.get_mut(m as usize) {
-                *u = true;
-            }
-        }
-        for (m, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
-            let rough = |s: &mut Specialization| match m.distribution {
-                crate::bsdf::MicrofacetDistribution::Ggx => s.ggx = true,
-                crate::bsdf::MicrofacetDistribution::Beckmann => s.beckmann = true,
-            };
-            if m.base_color_texture.is_some() {
-                s.textures = true;
-            }
-            match upload::bsdf_kind(scene, m).0 {
-                layout::BSDF_LAMBERT => s.lambert = true,
-                layout::BSDF_MIRROR => s.mirror = true,
-                layout::BSDF_SMOOTH_DIELECTRIC => s.smooth_dielectric = true,
-                layout::BSDF_THIN_DIELECTRIC => s.thin_dielectric = true,
-                layout::BSDF_ROUGH_DIELECTRIC => {
-                    s.rough_dielectric = true;
-                    rough(&mut s);
-                }
-                layout::BSDF_ROUGH_CONDUCTOR => {
-                    s.rough_conductor = true;
-                    rough(&mut s);
-                }
-                layout::BSDF_METAL_ROUGH => {
-                    s.metal_rough = true;
-                    s.ggx = true;
-                    if m.metallic_roughness_texture.is_some() {
-                        s.textures = true;
-                    }
-                }
-                _ => {}
-            }
-        }
-        s
-    }
-
-    /// Union (a pipeline for `self | other` renders both).
-    pub fn union(self, o: Specialization) -> Specialization {
+    /// The kernel parts `f` needs (no filter, path tracing).
+    pub fn from_features(f: Features) -> Specialization {
         Specialization {
-            lambert: self.lambert | o.lambert,
-            mirror: self.mirror | o.mirror,
-            smooth_dielectric: self.smooth_dielectric | o.smooth_dielectric,
-            thin_dielectric: self.thin_dielectric | o.thin_dielectric,
-            rough_dielectric: self.rough_dielectric | o.rough_dielectric,
-            rough_conductor: self.rough_conductor | o.rough_conductor,
-            metal_rough: self.metal_rough | o.metal_rough,
-            ggx: self.ggx | o.ggx,
-            beckmann: self.beckmann | o.beckmann,
-            area_lights: self.area_lights | o.area_lights,
-            punctual_lights: self.punctual_lights | o.punctual_lights,
-            environment: self.environment | o.environment,
-            absorption: self.absorption | o.absorption,
-            textures: self.textures | o.textures,
-            filter: self.filter | o.filter,
-            spectral: self.spectral | o.spectral,
-            light_tracing: self.light_tracing | o.light_tracing,
+            lambert: f.contains(Features::DIFFUSE),
+            mirror: f.contains(Features::MIRROR),
+            smooth_dielectric: f.contains(Features::SMOOTH_GLASS),
+            thin_dielectric: f.contains(Features::THIN_GLASS),
+            rough_dielectric: f.contains(Features::ROUGH_GLASS),
+            rough_conductor: f.contains(Features::GLOSSY_METAL),
+            metal_rough: f.contains(Features::METAL_ROUGH),
+            ggx: f.contains(Features::GGX),
+            beckmann: f.contains(Features::BECKMANN),
+            area_lights: f.contains(Features::AREA_LIGHTS),
+            punctual_lights: f.contains(Features::PUNCTUAL_LIGHTS),
+            absorption: f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS),
+            textures: f.contains(Features::TEXTURES),
+            filter: false,
+            spectral: f.contains(Features::DISPERSION),
+            light_tracing: false,
         }
     }
 
@@ -231,7 +176,7 @@ impl Specialization {
             ("HAS_BECKMANN", b(self.beckmann)),
             ("HAS_LIGHTS", b(self.area_lights)),
             ("HAS_PUNCTUAL", b(self.punctual_lights)),
-            ("HAS_ENVIRONMENT", b(self.environment)),
+            ("HAS_ENVIRONMENT", 1.0),
             ("HAS_ABSORPTION", b(self.absorption)),
             ("HAS_TEXTURES", b(self.textures)),
             ("HAS_FILTER", b(self.filter)),

@@ -8,60 +8,13 @@ use super::layout::{self, GpuLayout, Params};
 use super::pipeline::{Kernel, Pipelines, Specialization};
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
-use crate::scene::{Camera, Material, Scene, light::LightSet};
+use crate::paths::{DfaTable, PathFilter};
+use crate::render::{Estimator, RenderOptions, RenderStats};
+use crate::scene::{Camera, Features, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
-use eframe::wgpu;
 use glam::{Vec3, Vec4};
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
-
-/// Per-render options (as `cpu::RenderOptions`, plus the batch size).
-#[derive(Clone, Copy, Debug)]
-pub struct GpuOptions {
-    pub width: u32,
-    pub height: u32,
-    pub max_depth: u32,
-    pub rr_depth: u32,
-    pub seed: u32,
-    /// Samples per pixel per dispatch (None: about 2²⁰ samples per dispatch, 1..=16 spp).
-    pub batch_spp: Option<u32>,
-}
-
-impl GpuOptions {
-    pub fn from_scene(scene: &Scene) -> GpuOptions {
-        let s = scene.settings;
-        GpuOptions {
-            width: s.width,
-            height: s.height,
-            max_depth: s.max_depth,
-            rr_depth: s.rr_depth,
-            seed: 0,
-            batch_spp: None,
-        }
-    }
-}
-
-/// Light-transport estimator of the GPU renderer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum GpuEstimator {
-    /// Path tracing with next-event estimation (MIS between BSDF and light sampling).
-    #[default]
-    Path,
-    /// Path tracing plus light tracing (one light subpath per camera path, connected to the
-    /// camera and splatted with fixed-point atomics), all three strategies combined by MIS
-    /// (src/shaders/light_tracing.wgsl). Converges caustics (LS+DE) that path tracing barely
-    /// finds, dispersive ones included (hero wavelengths on both walks).
-    LtPt,
-}
-
-impl std::fmt::Display for GpuEstimator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            GpuEstimator::Path => "path",
-            GpuEstimator::LtPt => "lt+pt",
-        })
-    }
-}
 
 /// The accumulated image: per-pixel mean radiance (row-major, top row first).
 #[derive(Clone, Debug)]
@@ -84,27 +37,6 @@ impl GpuImage {
         film.spp = self.spp;
         film.dropped = self.dropped;
         film
-    }
-}
-
-/// Counters since the last reset.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct GpuStats {
-    pub spp: u64,
-    pub dropped: u64,
-    /// Closest-hit rays traced (path segments), shadow rays not included.
-    pub segments: u64,
-    /// GPU time spent in `render` (dispatch to completion) since the last reset.
-    pub elapsed: Duration,
-    pub pixels: u64,
-}
-
-impl GpuStats {
-    pub fn samples_per_sec(&self) -> f64 {
-        (self.spp * self.pixels) as f64 / self.elapsed.as_secs_f64().max(1e-9)
-    }
-    pub fn segments_per_sec(&self) -> f64 {
-        self.segments as f64 / self.elapsed.as_secs_f64().max(1e-9)
     }
 }
 
@@ -142,7 +74,7 @@ struct Buffers {
 pub struct GpuRenderer {
     ctx: GpuContext,
     scene: Scene,
-    opts: GpuOptions,
+    opts: RenderOptions,
     bvh: GpuBvh,
     light_set: LightSet,
     light_count: u32,
@@ -155,10 +87,8 @@ pub struct GpuRenderer {
     debug_pixel: u32,
     /// Texture reference slots of each material (`upload::pack_textures`).
     tex_slots: Vec<(u32, u32)>,
-    /// Whether a path filter is set (part of the specialisation).
-    filtered: bool,
-    filter_table: Option<crate::paths::DfaTable>,
-    estimator: GpuEstimator,
+    /// The scene's features (the specialisation without filter and estimator).
+    features: Features,
 }
 
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
@@ -178,40 +108,40 @@ fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
         })
 }
 
-fn check_options(opts: &GpuOptions) -> Result<()> {
-    use crate::scene::MAX_IMAGE_SIDE;
-    ensure!(
-        (1..=MAX_IMAGE_SIDE).contains(&opts.width) && (1..=MAX_IMAGE_SIDE).contains(&opts.height),
-        "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
-        opts.width,
-        opts.height
-    );
-    ensure!(opts.max_depth >= 1, "max_depth must be at least 1");
-    Ok(())
+/// The estimator the GPU kernels run for `estimator` on `scene`: path tracing or lt+pt.
+pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
+    match estimator.resolve(scene) {
+        e @ (Estimator::Path | Estimator::LtPt) => Ok(e),
+        e => anyhow::bail!(
+            "the GPU renderer implements path and lt+pt (estimator '{e}' needs --device cpu)"
+        ),
+    }
 }
 
 impl GpuRenderer {
     /// Open the best adapter and prepare `scene`. Errors: no adapter, invalid scene, features
     /// the GPU kernel lacks, buffers over 128 MiB.
-    pub fn new(scene: Scene, opts: GpuOptions) -> Result<GpuRenderer> {
+    pub fn new(scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
         let ctx = GpuContext::new()?;
         Self::with_context(ctx, scene, opts)
     }
 
     /// Prepare `scene` on an existing device.
-    pub fn with_context(ctx: GpuContext, scene: Scene, opts: GpuOptions) -> Result<GpuRenderer> {
+    pub fn with_context(ctx: GpuContext, scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
         scene.validate()?;
         upload::check_supported(&scene)?;
-        check_options(&opts)?;
+        opts.check()?;
+        gpu_estimator(opts.estimator, &scene)?;
         let mut pipelines = Pipelines::new(&ctx)?;
-        let spec = Specialization::for_scene(&scene);
-        pipelines.get(&ctx, spec);
+        let features = scene.features();
+        let spec = Self::specialization_for(features, &opts, &scene);
+        Self::compile(&ctx, &mut pipelines, spec);
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
             Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
         let bind_group = Self::bind(&ctx, &pipelines, &buffers);
-        Ok(GpuRenderer {
+        let r = GpuRenderer {
             ctx,
             scene,
             opts,
@@ -226,10 +156,10 @@ impl GpuRenderer {
             elapsed: Duration::ZERO,
             debug_pixel: u32::MAX,
             tex_slots,
-            filtered: false,
-            filter_table: None,
-            estimator: GpuEstimator::Path,
-        })
+            features,
+        };
+        r.write_filter_table();
+        Ok(r)
     }
 
     fn create_buffers(
@@ -237,7 +167,7 @@ impl GpuRenderer {
         scene: &Scene,
         bvh: &GpuBvh,
         light_set: &LightSet,
-        opts: &GpuOptions,
+        opts: &RenderOptions,
     ) -> Result<BuiltBuffers> {
         let tris = upload::pack_triangles(scene, bvh, light_set);
         let verts = upload::pack_vertices(scene);
@@ -345,7 +275,7 @@ impl GpuRenderer {
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
-    pub fn options(&self) -> &GpuOptions {
+    pub fn options(&self) -> &RenderOptions {
         &self.opts
     }
     /// Samples per pixel accumulated since the last reset.
@@ -405,13 +335,9 @@ impl GpuRenderer {
         }
     }
 
-    /// Default batch: about 2²⁰ samples per dispatch, 1..=16 spp.
+    /// Samples per pixel per dispatch ([`RenderOptions::pass_spp`]).
     pub fn batch_spp(&self) -> u32 {
-        let pixels = (self.opts.width as u64 * self.opts.height as u64).max(1);
-        self.opts
-            .batch_spp
-            .unwrap_or(((1u64 << 20) / pixels).clamp(1, 16) as u32)
-            .max(1)
+        self.opts.pass_spp()
     }
 
     /// Queue one dispatch adding `k` samples per pixel (does not wait).
@@ -509,14 +435,14 @@ impl GpuRenderer {
     }
 
     /// Counters since the last reset.
-    pub fn stats(&self) -> Result<GpuStats> {
+    pub fn stats(&self) -> Result<RenderStats> {
         let (s, _) = self.read_stats()?;
-        Ok(GpuStats {
+        Ok(RenderStats {
             spp: self.spp,
             dropped: s.dropped_lo as u64 | (s.dropped_hi as u64) << 32,
-            segments: s.segments_lo as u64 | (s.segments_hi as u64) << 32,
+            segments: Some(s.segments_lo as u64 | (s.segments_hi as u64) << 32),
             elapsed: self.elapsed,
-            pixels: self.opts.width as u64 * self.opts.height as u64,
+            pixels: self.opts.pixels(),
         })
     }
 
@@ -614,44 +540,61 @@ impl GpuRenderer {
         if emission_changed {
             self.rebuild_lights()?;
         }
+        self.features = self.scene.features();
         self.respecialize();
         self.reset();
         Ok(())
     }
 
-    fn respecialize(&mut self) {
-        let mut spec = Specialization::for_scene(&self.scene);
-        spec.filter = self.filtered;
-        spec.light_tracing = self.estimator == GpuEstimator::LtPt;
-        if spec != self.spec {
-            self.spec = spec;
-            self.pipelines.get(&self.ctx, spec);
-            if spec.light_tracing {
-                self.pipelines
-                    .get_kernel(&self.ctx, spec, Kernel::LightTrace);
-            }
+    /// The kernel parts for `features` with the filter and estimator of `opts`.
+    fn specialization_for(
+        features: Features,
+        opts: &RenderOptions,
+        scene: &Scene,
+    ) -> Specialization {
+        let mut spec = Specialization::from_features(features);
+        spec.filter = opts.filter.is_some();
+        spec.light_tracing = matches!(opts.estimator.resolve(scene), Estimator::LtPt);
+        spec
+    }
+
+    /// Compile the pipelines `spec` dispatches (cached).
+    fn compile(ctx: &GpuContext, pipelines: &mut Pipelines, spec: Specialization) {
+        pipelines.get(ctx, spec);
+        if spec.light_tracing {
+            pipelines.get_kernel(ctx, spec, Kernel::LightTrace);
         }
     }
 
-    /// Choose the estimator (compiles its pipelines on first use); accumulation restarts.
-    pub fn set_estimator(&mut self, estimator: GpuEstimator) -> Result<()> {
-        self.estimator = estimator;
+    fn respecialize(&mut self) {
+        let spec = Self::specialization_for(self.features, &self.opts, &self.scene);
+        if spec != self.spec {
+            self.spec = spec;
+            Self::compile(&self.ctx, &mut self.pipelines, spec);
+        }
+    }
+
+    /// Choose the estimator: path or lt+pt (`auto` resolves to one of them for the scene);
+    /// compiles its pipelines on first use; accumulation restarts.
+    pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
+        gpu_estimator(estimator, &self.scene)?;
+        self.opts.estimator = estimator;
         self.respecialize();
         self.reset();
         Ok(())
     }
 
     /// The estimator asked for.
-    pub fn estimator(&self) -> GpuEstimator {
-        self.estimator
+    pub fn estimator(&self) -> Estimator {
+        self.opts.estimator
     }
 
     /// The estimator the kernels run.
-    pub fn effective_estimator(&self) -> GpuEstimator {
+    pub fn effective_estimator(&self) -> Estimator {
         if self.spec.light_tracing {
-            GpuEstimator::LtPt
+            Estimator::LtPt
         } else {
-            GpuEstimator::Path
+            Estimator::Path
         }
     }
 
@@ -696,9 +639,12 @@ impl GpuRenderer {
         Ok(())
     }
 
-    /// Change seed, depth limits or image size (size changes reallocate the image buffer).
-    pub fn set_options(&mut self, opts: GpuOptions) -> Result<()> {
-        check_options(&opts)?;
+    /// Change seed, depth limits, batch or image size (size changes reallocate the image
+    /// buffer). The filter and estimator stay as they are (see [`GpuRenderer::set_filter`]
+    /// and [`GpuRenderer::set_estimator`]).
+    pub fn set_options(&mut self, opts: RenderOptions) -> Result<()> {
+        opts.check()?;
+        let opts = self.keep_filter_and_estimator(opts);
         let resized = (opts.width, opts.height) != (self.opts.width, self.opts.height);
         self.opts = opts;
         if resized {
@@ -707,19 +653,31 @@ impl GpuRenderer {
             self.buffers = buffers;
             self.light_count = count;
             self.tex_slots = slots;
-            self.write_filter_table(None);
+            self.write_filter_table();
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         }
         self.reset();
         Ok(())
     }
 
+    /// `opts` with the filter and estimator in use.
+    fn keep_filter_and_estimator(&self, opts: RenderOptions) -> RenderOptions {
+        RenderOptions {
+            filter: self.opts.filter,
+            filter_forward: self.opts.filter_forward,
+            estimator: self.opts.estimator,
+            ..opts
+        }
+    }
+
     /// Replace the scene: BVH, buffers and (if its features differ) the pipeline are rebuilt;
-    /// compiled pipelines stay cached.
-    pub fn set_scene(&mut self, scene: Scene, opts: GpuOptions) -> Result<()> {
+    /// compiled pipelines stay cached. Options as [`GpuRenderer::set_options`] (the filter
+    /// and estimator stay).
+    pub fn set_scene(&mut self, scene: Scene, opts: RenderOptions) -> Result<()> {
         scene.validate()?;
         upload::check_supported(&scene)?;
-        check_options(&opts)?;
+        opts.check()?;
+        let opts = self.keep_filter_and_estimator(opts);
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, count, slots) =
@@ -732,7 +690,8 @@ impl GpuRenderer {
         self.buffers = buffers;
         self.light_count = count;
         self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
-        self.write_filter_table(None);
+        self.features = self.scene.features();
+        self.write_filter_table();
         self.respecialize();
         self.reset();
         Ok(())
@@ -742,24 +701,21 @@ impl GpuRenderer {
     /// uniform table is rewritten when a filter replaces another; switching between filtered
     /// and unfiltered selects the other specialisation (compiled once, then cached).
     /// Accumulation restarts.
-    pub fn set_filter(&mut self, filter: Option<&crate::paths::PathFilter>) {
-        let table = filter.filter(|f| !f.is_accept_all()).map(|f| *f.reversed());
-        self.filtered = table.is_some();
-        self.filter_table = table;
-        self.write_filter_table(table);
+    pub fn set_filter(&mut self, filter: Option<&PathFilter>) {
+        self.opts.set_filter(filter);
+        self.write_filter_table();
         self.respecialize();
         self.reset();
     }
 
     /// The eye→light table in use (None = unfiltered).
-    pub fn filter(&self) -> Option<&crate::paths::DfaTable> {
-        self.filter_table.as_ref()
+    pub fn filter(&self) -> Option<&DfaTable> {
+        self.opts.filter.as_ref()
     }
 
-    fn write_filter_table(&mut self, table: Option<crate::paths::DfaTable>) {
-        let table = table.or(self.filter_table);
+    fn write_filter_table(&self) {
         let mut words = [0u32; layout::FILTER_WORDS];
-        if let Some(t) = table {
+        if let Some(t) = self.opts.filter {
             let w = t.words();
             words[..w.len()].copy_from_slice(&w);
         }
@@ -781,12 +737,12 @@ impl GpuRenderer {
         &self.buffers.stats
     }
 
-    /// Set the path filter from an eye→light table (as `cpu::RenderOptions::filter`; None =
-    /// every path). Like [`GpuRenderer::set_filter`]; accumulation restarts.
-    pub fn set_filter_table(&mut self, table: Option<crate::paths::DfaTable>) {
-        self.filtered = table.is_some();
-        self.filter_table = table;
-        self.write_filter_table(table);
+    /// Set the path filter from an eye→light table (as [`RenderOptions::filter`]; None =
+    /// every path; the GPU has no use for the light→eye table). Like
+    /// [`GpuRenderer::set_filter`]; accumulation restarts.
+    pub fn set_filter_table(&mut self, table: Option<DfaTable>) {
+        self.opts.filter = table;
+        self.write_filter_table();
         self.respecialize();
         self.reset();
     }

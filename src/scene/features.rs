@@ -1,27 +1,54 @@
-//! What a scene needs, so renderers can skip everything else (specialised kernels).
+//! What a scene needs, so renderers can skip everything else (specialised kernels): computed
+//! once here from the materials the mesh uses, read by the CPU renderer (spectral transport),
+//! the `auto` estimator rule and the GPU pipeline specialisation.
 
 use super::{MaterialKind, Scene};
-use crate::bsdf::{effectively_smooth, roughness_to_alpha};
+use crate::bsdf::{Bsdf, MicrofacetDistribution};
+use glam::Vec2;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Features {
-    pub diffuse: bool,
-    pub mirror: bool,
-    pub glossy_metal: bool,
-    pub smooth_glass: bool,
-    pub rough_glass: bool,
-    pub thin_glass: bool,
-    pub metal_rough: bool,
-    pub dispersion: bool,
-    pub absorption: bool,
-    pub textures: bool,
-    pub environment: bool,
-    pub area_lights: bool,
-    pub punctual_lights: bool,
+bitflags::bitflags! {
+    /// The BSDFs, microfacet distributions, textures, lights and effects a scene uses. The
+    /// BSDF flags name what a material becomes (`Material::bsdf`): smooth glossy metal is a
+    /// mirror, index-matched rough glass is smooth glass.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+    pub struct Features: u32 {
+        /// Lambertian diffuse.
+        const DIFFUSE = 1 << 0;
+        /// Perfect mirror (also smooth glossy metal).
+        const MIRROR = 1 << 1;
+        /// Rough conductor (glossy metal above the smoothness threshold).
+        const GLOSSY_METAL = 1 << 2;
+        /// Smooth dielectric interface (solid glass).
+        const SMOOTH_GLASS = 1 << 3;
+        /// Rough dielectric interface (solid glass).
+        const ROUGH_GLASS = 1 << 4;
+        /// Thin-walled dielectric.
+        const THIN_GLASS = 1 << 5;
+        /// The glTF metallic-roughness BRDF.
+        const METAL_ROUGH = 1 << 6;
+        /// GGX microfacets (rough glass or glossy metal with GGX, or metal-rough).
+        const GGX = 1 << 7;
+        /// Beckmann microfacets (rough glass or glossy metal with Beckmann).
+        const BECKMANN = 1 << 8;
+        /// A transmissive material with an Abbe number: paths carry hero wavelengths.
+        const DISPERSION = 1 << 9;
+        /// Solid glass with a finite attenuation distance (Beer–Lambert).
+        const ABSORPTION = 1 << 10;
+        /// A BSDF reads a texture: any base-colour texture, or a metallic-roughness texture
+        /// on the metal-rough BRDF (the only one that reads it).
+        const TEXTURES = 1 << 11;
+        /// A non-black uniform environment.
+        const ENVIRONMENT = 1 << 12;
+        /// Emissive triangles.
+        const AREA_LIGHTS = 1 << 13;
+        /// Point, spot or directional lights.
+        const PUNCTUAL_LIGHTS = 1 << 14;
+    }
 }
 
+/// The features of `scene` (materials no triangle uses are ignored).
 pub fn compute(scene: &Scene) -> Features {
-    let mut f = Features::default();
+    let mut f = Features::empty();
     let mut used = vec![false; scene.materials.len()];
     for &m in &scene.mesh.tri_material {
         if let Some(u) = used.get_mut(m as usize) {
@@ -29,39 +56,37 @@ pub fn compute(scene: &Scene) -> Features {
         }
     }
     for (m, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
-        let smooth = effectively_smooth(roughness_to_alpha(m.roughness));
-        match m.kind {
-            MaterialKind::Diffuse => f.diffuse = true,
-            MaterialKind::Mirror => f.mirror = true,
-            MaterialKind::GlossyMetal => {
-                if smooth {
-                    f.mirror = true
-                } else {
-                    f.glossy_metal = true
-                }
+        let dist = |d: MicrofacetDistribution| match d {
+            MicrofacetDistribution::Ggx => Features::GGX,
+            MicrofacetDistribution::Beckmann => Features::BECKMANN,
+        };
+        f |= match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
+            Bsdf::Lambert(_) => Features::DIFFUSE,
+            Bsdf::Mirror(_) => Features::MIRROR,
+            Bsdf::SmoothDielectric(_) => Features::SMOOTH_GLASS,
+            Bsdf::ThinDielectric(_) => Features::THIN_GLASS,
+            Bsdf::RoughDielectric(b) => Features::ROUGH_GLASS | dist(b.dist),
+            Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
+            Bsdf::MetalRough(_) => {
+                let mut k = Features::METAL_ROUGH | Features::GGX;
+                k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());
+                k
             }
-            MaterialKind::Glass => {
-                if smooth {
-                    f.smooth_glass = true
-                } else {
-                    f.rough_glass = true
-                }
-                f.absorption |= m.has_absorption();
-            }
-            MaterialKind::ThinGlass => f.thin_glass = true,
-            MaterialKind::MetalRough => f.metal_rough = true,
+        };
+        if m.kind == MaterialKind::Glass && m.has_absorption() {
+            f |= Features::ABSORPTION;
         }
         if m.is_transmissive() && m.abbe.is_some() {
-            f.dispersion = true;
+            f |= Features::DISPERSION;
         }
-        if m.base_color_texture.is_some() || m.metallic_roughness_texture.is_some() {
-            f.textures = true;
+        if m.base_color_texture.is_some() {
+            f |= Features::TEXTURES;
         }
         if m.is_emissive() {
-            f.area_lights = true;
+            f |= Features::AREA_LIGHTS;
         }
     }
-    f.environment = scene.environment.max_element() > 0.0;
-    f.punctual_lights = !scene.punctual_lights.is_empty();
+    f.set(Features::ENVIRONMENT, scene.environment.max_element() > 0.0);
+    f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
     f
 }

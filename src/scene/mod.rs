@@ -4,6 +4,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod edits;
 pub mod features;
 pub mod gltf_export;
 pub mod gltf_load;

@@ -1,6 +1,6 @@
 //! Camera group: field of view, orbit parameters, reset.
 
-use crate::app::ViewerApp;
+use crate::app::{Edit, ViewerApp};
 use eframe::egui::{self, Slider, SliderClamping};
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
@@ -19,8 +19,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .changed()
         && fov.is_finite()
     {
-        app.settings.camera.yfov_deg = Some(fov);
-        app.camera_changed(false);
+        app.push(Edit::FieldOfView(fov));
     }
     let mut o = app.orbit;
     let mut changed = false;
@@ -57,14 +56,13 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if changed {
         let fallback = app.orbit;
         o.sanitize(&fallback);
-        app.orbit = o;
-        app.camera_changed(true);
+        app.push(Edit::Orbit(o));
     }
     if ui
         .button("Reset view")
         .on_hover_text("Back to the scene's own camera and field of view.")
         .clicked()
     {
-        app.reset_camera();
+        app.push(Edit::ResetCamera);
     }
 }

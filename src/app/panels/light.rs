@@ -1,15 +1,15 @@
 //! Light group: emission scale and colour, size and placement of the main area light,
 //! environment brightness.
 
-use crate::app::ViewerApp;
-use crate::app::settings::{MainLight, blackbody_rgb};
+use crate::app::{Edit, ViewerApp};
+use crate::scene::edits::{MainLight, blackbody_rgb};
 use crate::scene::light::luminance;
 use eframe::egui::{self, Slider, SliderClamping};
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let before = app.settings.light.clone();
     let main = MainLight::find(&app.base);
-    let l = &mut app.settings.light;
+    let mut light = app.settings.light.clone();
+    let l = &mut light;
 
     ui.add(
         Slider::new(&mut l.intensity, 0.0..=20.0)
@@ -123,7 +123,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if l.intensity.is_nan() {
         l.intensity = 1.0;
     }
-    if app.settings.light != before {
-        app.lights_changed();
+    if light != app.settings.light {
+        app.push(Edit::Light(light));
     }
 }

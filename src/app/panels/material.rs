@@ -1,6 +1,6 @@
 //! Material group: the material of the selected object (click it in the viewport).
 
-use crate::app::ViewerApp;
+use crate::app::{Edit, ViewerApp};
 use crate::bsdf::MicrofacetDistribution;
 use crate::scene::{Material, MaterialKind};
 use eframe::egui::{self, Slider, SliderClamping};
@@ -97,7 +97,12 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     };
     let mut m = app.scene.materials[idx].clone();
     edit_material(ui, &mut m);
-    app.set_material(idx, m);
+    if m != app.scene.materials[idx] {
+        app.push(Edit::Material {
+            index: idx,
+            material: m,
+        });
+    }
 }
 
 /// The material controls; edits `m` in place with sanitised values.

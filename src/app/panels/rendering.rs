@@ -1,8 +1,11 @@
 //! Rendering group: depth, Heckbert path filter, exposure, tone map, pause, spp target,
 //! render scale, screenshot and reset.
 
-use crate::app::ViewerApp;
+use crate::app::{Edit, ViewerApp};
 use crate::film::ToneMap;
+use crate::render::Estimator;
+use crate::render::settings::RenderEdit;
+use crate::scene::Scene;
 use eframe::egui::{self, Color32, Slider, SliderClamping};
 
 /// Path filter presets (read light → eye) with what they show.
@@ -36,10 +39,39 @@ pub const PATH_PRESETS: &[(&str, &str, &str)] = &[
 ];
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let before = app.settings.render.clone();
-    let scene_depth = app.scene.settings.max_depth;
+    let mut render = app.settings.render.clone();
+    depth_and_estimator(ui, &mut render, &app.scene);
+    path_filter(app, ui);
+    ui.separator();
+    display(app, ui);
+    ui.separator();
+    accumulation(app, ui, &mut render);
+    if render != app.settings.render {
+        app.push(Edit::Render(render));
+    }
+    ui.separator();
+    ui.horizontal(|ui| {
+        if ui
+            .button("Screenshot")
+            .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
+            .clicked()
+        {
+            let _ = app.save_screenshot();
+        }
+        if ui
+            .button("Reset to defaults")
+            .on_hover_text("Forget every edit and setting: the scene as loaded, default render options.")
+            .clicked()
+        {
+            app.push(Edit::ResetAll);
+        }
+    });
+}
+
+/// Max depth and the estimator (edits `r`).
+fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
+    let scene_depth = scene.settings.max_depth;
     {
-        let r = &mut app.settings.render;
         let mut depth = r.max_depth.unwrap_or(scene_depth).clamp(1, 64);
         if ui
             .add(Slider::new(&mut depth, 1..=64).text("Max depth").clamping(SliderClamping::Always))
@@ -51,31 +83,42 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     }
 
     {
-        use crate::app::settings::EstimatorChoice;
-        let r = &mut app.settings.render;
-        let resolved = r.estimator.resolve(&app.scene);
+        // What `auto` picks and why (computed only when it is selected: it walks the mesh).
+        let auto = (r.estimator == Estimator::Auto).then(|| r.estimator.resolve_why(scene));
         egui::ComboBox::from_label("Estimator")
-            .selected_text(match r.estimator {
-                EstimatorChoice::Auto => format!("auto ({resolved})"),
-                EstimatorChoice::LtPt => "lt+pt".to_string(),
-                other => format!("{other:?}").to_lowercase(),
+            .selected_text(match auto {
+                Some((resolved, _)) => format!("auto ({resolved})"),
+                None => r.estimator.to_string(),
             })
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut r.estimator, EstimatorChoice::Auto, "auto")
+                ui.selectable_value(&mut r.estimator, Estimator::Auto, "auto")
                     .on_hover_text("Light + path tracing when the scene has glass and a small light (caustics), else path tracing.");
-                ui.selectable_value(&mut r.estimator, EstimatorChoice::Path, "path")
+                ui.selectable_value(&mut r.estimator, Estimator::Path, "path")
                     .on_hover_text("Paths start at the eye; light is found by aiming at lights (NEE) and by chance: caustics from small lights converge slowly.");
-                ui.selectable_value(&mut r.estimator, EstimatorChoice::Bdpt, "bdpt")
+                ui.selectable_value(&mut r.estimator, Estimator::Bdpt, "bdpt")
                     .on_hover_text("Paths from the eye and from the light, joined in every possible way and weighted by MIS: caustics on diffuse surfaces converge fast.");
-                ui.selectable_value(&mut r.estimator, EstimatorChoice::Lt, "light tracing")
+                ui.selectable_value(&mut r.estimator, Estimator::Lt, "light tracing")
                     .on_hover_text("Paths start at the light and are connected to the camera: sees caustics at once, but cannot see mirrors or glass directly.");
-                ui.selectable_value(&mut r.estimator, EstimatorChoice::LtPt, "lt+pt")
+                ui.selectable_value(&mut r.estimator, Estimator::LtPt, "lt+pt")
                     .on_hover_text("Eye paths and light paths, each path weighted by how likely each side was to find it (MIS): caustics and glass both converge. The GPU's caustic estimator; the CPU runs bdpt for it.");
             })
             .response
-            .on_hover_text("How light paths are sampled; all estimators converge to the same image.");
+            .on_hover_text(match auto {
+                Some((resolved, why)) => format!(
+                    "How light paths are sampled; all estimators converge to the same image. \
+                     Auto picks {resolved} here: {why}."
+                ),
+                None => {
+                    "How light paths are sampled; all estimators converge to the same image."
+                        .to_string()
+                }
+            });
     }
+}
 
+/// The Heckbert path filter: an invalid expression is highlighted and the last valid one keeps
+/// rendering.
+fn path_filter(app: &mut ViewerApp, ui: &mut egui::Ui) {
     // Path filter: an invalid expression is highlighted and the last valid one keeps rendering.
     let label = ui.label("Path filter (Heckbert, light to eye)");
     let mut text = app.filter_text.clone();
@@ -89,7 +132,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .labelled_by(label.id)
         .on_hover_text("A regular expression over events L (light), D (diffuse), G (glossy), S (specular), E (eye); only matching paths are drawn.");
     if resp.changed() {
-        app.set_filter_text(&text);
+        app.push(Edit::PathFilter(text));
     }
     if let Some(e) = &app.filter_error {
         ui.colored_label(Color32::from_rgb(255, 110, 110), format!("invalid: {e}"));
@@ -103,13 +146,16 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         for (label, expr, tip) in PATH_PRESETS {
             if ui.small_button(*label).on_hover_text(*tip).clicked() {
-                app.set_filter_text(expr);
+                app.push(Edit::PathFilter(expr.to_string()));
             }
         }
     });
+}
 
-    ui.separator();
-    let d = &mut app.settings.display;
+/// Exposure and tone map (the samples stay).
+fn display(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let mut display = app.settings.display;
+    let d = &mut display;
     ui.add(
         Slider::new(&mut d.exposure, -10.0..=10.0)
             .text("Exposure (stops)")
@@ -135,8 +181,13 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         })
         .response
         .on_hover_text("How radiance, which has no upper bound, is squeezed into the displayable range.");
+    if display != app.settings.display {
+        app.push(Edit::Display(display));
+    }
+}
 
-    ui.separator();
+/// Pause, restart, spp target, render scale and seed (edits `r`).
+fn accumulation(app: &mut ViewerApp, ui: &mut egui::Ui, r: &mut RenderEdit) {
     ui.horizontal(|ui| {
         let label = if app.paused { "Resume" } else { "Pause" };
         if ui
@@ -145,18 +196,17 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             .clicked()
         {
             let p = !app.paused;
-            app.set_paused(p);
+            app.push(Edit::Pause(p));
         }
         if ui
             .button("Restart")
             .on_hover_text("Drop all samples and start accumulating again.")
             .clicked()
         {
-            app.backend_mut().reset();
+            app.push(Edit::Restart);
         }
     });
     {
-        let r = &mut app.settings.render;
         ui.add(
             egui::DragValue::new(&mut r.spp_target)
                 .range(0..=1_000_000)
@@ -185,26 +235,4 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.add(egui::DragValue::new(&mut r.seed).prefix("seed "))
             .on_hover_text("Seed of the random numbers: another seed gives independent noise with the same mean.");
     }
-
-    if app.settings.render != before {
-        app.options_changed();
-    }
-
-    ui.separator();
-    ui.horizontal(|ui| {
-        if ui
-            .button("Screenshot")
-            .on_hover_text("Save PNG (as shown), linear EXR and a JSON of every setting to screenshots/ (F12, Ctrl+S).")
-            .clicked()
-        {
-            let _ = app.save_screenshot();
-        }
-        if ui
-            .button("Reset to defaults")
-            .on_hover_text("Forget every edit and setting: the scene as loaded, default render options.")
-            .clicked()
-        {
-            app.reset_to_defaults();
-        }
-    });
 }

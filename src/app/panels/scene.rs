@@ -1,6 +1,6 @@
 //! Scene group: built-in picker, open a .glb/.gltf (path, dialog, drag-and-drop).
 
-use crate::app::ViewerApp;
+use crate::app::{Edit, ViewerApp};
 use crate::scene::builtin;
 use eframe::egui;
 
@@ -22,7 +22,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             "Scenes built into refract; the Cornell box shows colour bleeding, caustics and refraction at once.",
         );
     if let Some(spec) = chosen {
-        app.load_scene(&spec);
+        app.push(Edit::OpenScene(spec));
     }
     ui.horizontal(|ui| {
         let edit = ui
@@ -42,7 +42,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             || enter
         {
             let p = app.open_path.clone();
-            app.load_scene(&p);
+            app.push(Edit::OpenScene(p));
         }
         if ui
             .button("Browse…")

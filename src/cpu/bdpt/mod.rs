@@ -163,8 +163,9 @@ mod tests {
     use super::vertex::to_area;
     use super::*;
     use crate::bsdf::BxDF;
-    use crate::cpu::{RenderOptions, Renderer};
+    use crate::cpu::Renderer;
     use crate::math::Frame;
+    use crate::render::RenderOptions;
     use crate::scene::light::TriangleLight;
     use crate::scene::{MaterialKind, Scene};
 

@@ -1,0 +1,201 @@
+//! Viewer edits as data. The panels, the viewport and the keyboard shortcuts push an [`Edit`]
+//! ([`ViewerApp::push`]); [`ViewerApp::apply`] is the one place that writes it into the
+//! settings and the rendered scene and decides what follows: the light distribution and the
+//! picking BVH are rebuilt when emitters move, the backend gets the material, lights, camera,
+//! options or whole scene that changed (it restarts accumulation, and the GPU backend
+//! respecialises its kernel when a material kind, the filter or the estimator asks for it).
+
+use super::{Messages, ViewerApp};
+use crate::bvh::Bvh;
+use crate::paths::PathFilter;
+use crate::render::settings::{DisplaySettings, RenderEdit, ViewerSettings};
+use crate::scene::edits::{LightEdit, Orbit};
+use crate::scene::{Material, Scene};
+
+/// One change the user asked for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Edit {
+    /// Material `index` becomes `material` (an invalid one is refused with a message).
+    Material { index: usize, material: Material },
+    /// Light scale and colour, size and placement of the main area light, environment.
+    Light(LightEdit),
+    /// Full vertical field of view in degrees.
+    FieldOfView(f32),
+    /// The orbit the camera moves on (drag, scroll or typed values; already sanitised).
+    Orbit(Orbit),
+    /// Back to the scene's own camera.
+    ResetCamera,
+    /// Depth limits, seed, estimator, render scale, spp target.
+    Render(RenderEdit),
+    /// Path filter text as typed: a valid expression replaces the filter, an invalid one
+    /// shows its message and the last valid filter keeps rendering.
+    PathFilter(String),
+    /// Exposure and tone map (the samples stay).
+    Display(DisplaySettings),
+    /// Open a scene (`builtin:NAME` or a path); on failure the current one stays.
+    OpenScene(String),
+    /// Forget every edit and setting: the scene as loaded, default options.
+    ResetAll,
+    /// Stop or continue adding samples (the image keeps its samples).
+    Pause(bool),
+    /// Drop every sample and start again.
+    Restart,
+}
+
+impl ViewerApp {
+    /// Queue `edit`; it is applied later in the same frame.
+    pub fn push(&mut self, edit: Edit) {
+        self.edits.push(edit);
+    }
+
+    /// Apply the queued edits in order.
+    pub(super) fn apply_queued(&mut self) {
+        for edit in std::mem::take(&mut self.edits) {
+            self.apply(edit);
+        }
+    }
+
+    /// Apply one edit and whatever it implies (see the module documentation).
+    pub fn apply(&mut self, edit: Edit) {
+        match edit {
+            Edit::Material { index, material } => self.apply_material(index, material),
+            Edit::Light(light) => {
+                self.settings.light = light;
+                self.lights_follow();
+            }
+            Edit::FieldOfView(deg) => {
+                self.settings.camera.yfov_deg = Some(deg);
+                self.camera_follows();
+            }
+            Edit::Orbit(orbit) => {
+                self.orbit = orbit;
+                self.settings.camera.orbit = Some(orbit);
+                self.camera_follows();
+            }
+            Edit::ResetCamera => {
+                self.settings.camera = Default::default();
+                self.orbit = self.settings.camera.orbit(&self.base);
+                self.camera_follows();
+            }
+            Edit::Render(render) => {
+                self.settings.render = render;
+                self.options_follow();
+            }
+            Edit::PathFilter(text) => self.apply_filter_text(text),
+            Edit::Display(display) => self.settings.display = display,
+            Edit::OpenScene(spec) => self.open_scene(&spec),
+            Edit::ResetAll => self.reset_all(),
+            Edit::Pause(paused) => {
+                self.paused = paused;
+                self.backend.set_paused(paused);
+            }
+            Edit::Restart => self.backend.reset(),
+        }
+    }
+
+    /// Validate, record and send a material edit. Invalid values (IOR ≤ 0, NaN …) are refused
+    /// and the previous material stays.
+    fn apply_material(&mut self, index: usize, m: Material) {
+        let Some(old) = self.scene.materials.get(index) else {
+            return;
+        };
+        if *old == m {
+            return;
+        }
+        if let Err(e) = m.validate() {
+            self.messages.error = Some(format!("{e:#}"));
+            return;
+        }
+        self.settings.set_material(index, &m);
+        self.scene.materials[index] = m;
+        self.backend
+            .update_material(index, &self.scene.materials[index]);
+    }
+
+    /// `settings.light` changed: rebuild the lit scene (and the picking BVH if the light
+    /// moved); the backend rebuilds its light distribution (and BVH).
+    fn lights_follow(&mut self) {
+        let (scene, _) = self.settings.apply(&self.base);
+        let geometry_changed = scene.mesh.positions != self.scene.mesh.positions;
+        self.scene = scene;
+        if geometry_changed {
+            self.pick_bvh = Bvh::build(&self.scene.mesh);
+        }
+        self.backend.update_lights(&self.scene, geometry_changed);
+    }
+
+    /// `settings.camera` changed.
+    fn camera_follows(&mut self) {
+        self.scene.camera = self.settings.camera.camera(&self.base);
+        self.backend.update_camera(&self.scene.camera);
+    }
+
+    /// `settings.render` changed: new options and spp target for the backend.
+    pub(super) fn options_follow(&mut self) {
+        match self.settings.render_options(&self.scene) {
+            Ok(o) => self.backend.set_options(&o),
+            Err(e) => self.messages.error = Some(format!("{e:#}")),
+        }
+        self.backend.set_spp_target(self.settings.render.spp_target);
+    }
+
+    fn apply_filter_text(&mut self, text: String) {
+        match PathFilter::parse(&text) {
+            Ok(_) => {
+                self.filter_error = None;
+                if self.settings.render.paths != text {
+                    self.settings.render.paths = text.clone();
+                    self.options_follow();
+                }
+            }
+            Err(e) => self.filter_error = Some(e.to_string()),
+        }
+        self.filter_text = text;
+    }
+
+    /// Load a scene; on failure the error is shown and the old scene keeps rendering.
+    fn open_scene(&mut self, spec: &str) {
+        let spec = spec.trim();
+        let loaded = Scene::load(spec).and_then(|s| s.validate().map(|_| s));
+        match loaded {
+            Ok(base) => {
+                let warnings = base.warnings.clone();
+                self.base = base;
+                self.settings.scene = spec.to_owned();
+                self.settings.clear_scene_edits();
+                self.settings.capture = None;
+                let (scene, w2) = self.settings.apply(&self.base);
+                self.scene = scene;
+                self.pick_bvh = Bvh::build(&self.scene.mesh);
+                self.orbit = self.settings.camera.orbit(&self.base);
+                self.selected = None;
+                self.messages = Messages::default();
+                self.report_warnings(&[warnings, w2].concat());
+                self.backend.set_scene(&self.scene);
+                self.options_follow();
+            }
+            Err(e) => {
+                self.messages.error = Some(format!(
+                    "could not open '{spec}': {e:#}. Still showing '{}'.",
+                    self.settings.scene
+                ));
+            }
+        }
+    }
+
+    /// Everything back to the scene's defaults (render and display settings too).
+    fn reset_all(&mut self) {
+        let spec = self.settings.scene.clone();
+        self.settings = ViewerSettings::for_scene(&spec);
+        let (scene, _) = self.settings.apply(&self.base);
+        self.scene = scene;
+        self.pick_bvh = Bvh::build(&self.scene.mesh);
+        self.orbit = self.settings.camera.orbit(&self.base);
+        self.filter_text.clear();
+        self.filter_error = None;
+        self.paused = false;
+        self.backend.set_paused(false);
+        self.backend.set_scene(&self.scene);
+        self.options_follow();
+    }
+}

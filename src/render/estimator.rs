@@ -1,0 +1,178 @@
+//! The light-transport estimator, and the `auto` rule that picks one from a scene's features.
+
+use crate::scene::{Features, Scene};
+
+/// Light-transport estimator. The serde names ("auto", "path", "bdpt", "lt", "lt+pt" with
+/// alias "ltpt") are those of the viewer's settings sidecars.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Estimator {
+    /// Picked from the scene (`Estimator::resolve`): lt+pt for glass lit by a small or
+    /// delta light (caustics), else path tracing.
+    Auto,
+    /// Unidirectional path tracing with NEE + MIS.
+    #[default]
+    Path,
+    /// Bidirectional path tracing, MIS over all strategies (incl. light-tracing splats).
+    Bdpt,
+    /// Pure light tracing (light subpaths connected to the camera only).
+    Lt,
+    /// Path tracing and light tracing combined by MIS: the GPU estimator for caustics
+    /// (src/shaders/light_tracing.wgsl). The CPU renders it with full BDPT, whose strategies
+    /// are a superset.
+    #[serde(rename = "lt+pt", alias = "ltpt")]
+    #[value(name = "lt+pt", alias = "ltpt")]
+    LtPt,
+}
+
+impl std::fmt::Display for Estimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Estimator::Auto => "auto",
+            Estimator::Path => "path",
+            Estimator::Bdpt => "bdpt",
+            Estimator::Lt => "lt",
+            Estimator::LtPt => "lt+pt",
+        })
+    }
+}
+
+impl std::str::FromStr for Estimator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "auto" => Ok(Estimator::Auto),
+            "path" | "pt" => Ok(Estimator::Path),
+            "bdpt" => Ok(Estimator::Bdpt),
+            "lt" | "light" => Ok(Estimator::Lt),
+            "lt+pt" | "ltpt" | "pt+lt" => Ok(Estimator::LtPt),
+            _ => Err(format!(
+                "unknown estimator '{s}' (use path, bdpt, lt or lt+pt)"
+            )),
+        }
+    }
+}
+
+impl Estimator {
+    /// The estimator this choice means for `scene` (never `Auto`).
+    pub fn resolve(self, scene: &Scene) -> Estimator {
+        self.resolve_why(scene).0
+    }
+
+    /// [`Estimator::resolve`] and, for `Auto`, a few words on why (empty otherwise).
+    pub fn resolve_why(self, scene: &Scene) -> (Estimator, &'static str) {
+        if self != Estimator::Auto {
+            return (self, "");
+        }
+        let f = scene.features();
+        let glass =
+            f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS | Features::THIN_GLASS);
+        // "Small" light: the emitters cover < 1% of the scene's bounding-box area, so
+        // BSDF-sampled caustic paths rarely hit them.
+        let (lo, hi) = scene.bounds();
+        let d = hi - lo;
+        let box_area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+        let light_area: f32 = scene
+            .emissive_triangles()
+            .iter()
+            .map(|&t| scene.mesh.area(t as usize))
+            .sum();
+        // (No emitter at all, e.g. an environment-lit furnace: nothing to trace from.)
+        let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
+        let small = punctual || (light_area > 0.0 && light_area < 0.01 * box_area);
+        match (glass, small) {
+            // lt+pt: the GPU runs light + path tracing, the CPU bdpt.
+            (true, true) if punctual => (Estimator::LtPt, "glass and a delta light: caustics"),
+            (true, true) => (Estimator::LtPt, "glass and a small light: caustics"),
+            (true, false) => (Estimator::Path, "no small or delta light: path tracing"),
+            (false, _) => (Estimator::Path, "no glass: path tracing"),
+        }
+    }
+
+    /// A clap value parser: the [`std::str::FromStr`] spellings and error message (aliases
+    /// such as `pt` included), with the [`clap::ValueEnum`] names listed in `--help`.
+    pub fn parser() -> EstimatorParser {
+        EstimatorParser
+    }
+}
+
+/// See [`Estimator::parser`].
+#[derive(Clone, Copy, Debug)]
+pub struct EstimatorParser;
+
+impl clap::builder::TypedValueParser for EstimatorParser {
+    type Value = Estimator;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<Estimator, clap::Error> {
+        let from_str: fn(&str) -> Result<Estimator, String> = str::parse;
+        from_str.parse_ref(cmd, arg, value)
+    }
+
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        use clap::ValueEnum;
+        Some(Box::new(
+            Estimator::value_variants()
+                .iter()
+                .filter_map(|e| e.to_possible_value()),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `auto` picks light + path tracing for glass lit by a small light (caustics), path
+    /// tracing otherwise; `lt+pt` survives a settings round trip under its own name.
+    #[test]
+    fn auto_estimator_picks_by_scene_features() {
+        let caustic = Scene::load("builtin:caustic").unwrap();
+        let furnace = Scene::load("builtin:furnace").unwrap();
+        assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::LtPt);
+        assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
+        let text = serde_json::to_string(&Estimator::LtPt).unwrap();
+        assert_eq!(text, "\"lt+pt\"");
+        let back: Estimator = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, Estimator::LtPt);
+    }
+
+    /// Every spelling parses to its estimator and prints back under the serde name.
+    #[test]
+    fn names_round_trip() {
+        for (s, e) in [
+            ("auto", Estimator::Auto),
+            ("path", Estimator::Path),
+            ("pt", Estimator::Path),
+            ("bdpt", Estimator::Bdpt),
+            ("lt", Estimator::Lt),
+            ("lt+pt", Estimator::LtPt),
+            ("LTPT", Estimator::LtPt),
+        ] {
+            assert_eq!(s.parse::<Estimator>(), Ok(e), "{s}");
+            let json = serde_json::to_string(&e).unwrap();
+            assert_eq!(json, format!("\"{e}\""));
+        }
+        let back: Estimator = serde_json::from_str("\"ltpt\"").unwrap();
+        assert_eq!(back, Estimator::LtPt);
+        let furnace = Scene::load("builtin:furnace").unwrap();
+        assert_eq!(Estimator::Bdpt.resolve_why(&furnace), (Estimator::Bdpt, ""));
+    }
+}

@@ -1,0 +1,15 @@
+//! The render vocabulary shared by the CPU and GPU renderers and their callers (CLI, bench,
+//! viewer): one options type, one estimator enum (with `auto`), one stats type, one device
+//! choice, and the settings sidecar that turns a loaded scene into the job that is rendered.
+//! Nothing here renders; `cpu` and `gpu` sit above it and never import each other.
+
+pub mod device;
+pub mod estimator;
+pub mod options;
+pub mod settings;
+pub mod stats;
+
+pub use device::Device;
+pub use estimator::Estimator;
+pub use options::RenderOptions;
+pub use stats::RenderStats;
