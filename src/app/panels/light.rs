@@ -2,8 +2,8 @@
 //! environment brightness.
 
 use crate::app::ViewerApp;
-use crate::app::settings::{MainLight, blackbody_rgb};
-use crate::scene::light::luminance;
+use crate::app::settings::MainLight;
+use crate::math::color::{blackbody_rgb, luminance};
 use eframe::egui::{self, Slider, SliderClamping};
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
