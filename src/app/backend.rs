@@ -18,7 +18,8 @@
 //! chooses the backend (`refract view --device auto|cpu|gpu`).
 
 use crate::cpu::{RenderOptions, Renderer};
-use crate::film::{Film, ToneMap, linear_to_srgb};
+use crate::film::{Film, ToneMap};
+use crate::math::color::linear_to_srgb;
 use crate::scene::{Camera, Material, Scene};
 use glam::Vec3;
 use std::sync::atomic::{AtomicU64, Ordering};
