@@ -6,7 +6,6 @@
 //! window ([`run`]) and in the `egui_kittest` tests without a window.
 
 pub mod backend;
-pub mod gpu_backend;
 pub mod panels;
 pub mod screenshot;
 pub mod settings;
@@ -633,7 +632,7 @@ fn choose_backend(
         // lavapipe & co. are ~15x slower than the CPU renderer on the same cores.
         return Ok((cpu(repaint), None));
     }
-    match gpu_backend::GpuBackend::from_render_state(rs, repaint.clone()) {
+    match backend::GpuBackend::from_render_state(rs, repaint.clone()) {
         Ok(g) => Ok((Box::new(g), None)),
         Err(e) => Ok((
             cpu(repaint),

@@ -7,11 +7,13 @@
 //! - [`upload`]: scene → GPU arrays (BVH2 repack in leaf order, materials, light CDF).
 //! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
+//! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
 pub mod context;
 pub mod layout;
 pub mod pipeline;
 pub mod renderer;
+pub mod tonemap;
 pub mod upload;
 
 pub use context::GpuContext;
