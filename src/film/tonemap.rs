@@ -21,6 +21,7 @@ impl ToneMap {
     pub fn apply(self, x: f32) -> f32 {
         match self {
             ToneMap::Clamp => x.clamp(0.0, 1.0),
+            // Reinhard et al. 2002, "Photographic Tone Reproduction for Digital Images".
             ToneMap::Reinhard => (x / (1.0 + x)).clamp(0.0, 1.0),
             // Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
             ToneMap::Aces => {

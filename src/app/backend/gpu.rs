@@ -12,10 +12,10 @@
 //!   the frame budget. While the user drags, and when one sample per pixel at full resolution
 //!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
 //! - [`Backend::display_texture`] tone-maps the accumulation buffer on the GPU
-//!   ([`crate::gpu::tonemap`], `shaders/tonemap.wgsl`) into an `Rgba8Unorm` storage texture holding sRGB-encoded bytes;
-//!   an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's own
-//!   textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the CPU
-//!   path. The tone map reruns only when the generation, the spp or the display settings
+//!   ([`crate::gpu::tonemap`]) into an `Rgba8Unorm` storage texture holding sRGB-encoded
+//!   bytes; an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's
+//!   own textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the
+//!   CPU path. The tone map reruns only when the generation, the spp or the display settings
 //!   change, and only while no batch is in flight (it is queued right after a batch finishes,
 //!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
 //!   behind a running batch. (Software drivers such as lavapipe execute a submission before

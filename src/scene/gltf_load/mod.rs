@@ -14,6 +14,12 @@
 //! - Emissive materials are area lights whose surface is black (kind Diffuse, albedo 0).
 //! - The base colour of glass is kept as written (the contract's dielectric ignores it).
 //! - The camera's `aspectRatio` is ignored: the image size comes from `extras.render`.
+//!
+//! Files: raw decoding (`decode`: the GLB container; `uri`: percent-encoded and base64 URIs;
+//! `accessor`: bounds-checked strided and sparse accessor reads) apart from the mapping onto
+//! the scene contract (`nodes`: hierarchy and transforms; `cameras`; `mesh`: primitives →
+//! triangles; `materials`; `textures`; `lights`: `KHR_lights_punctual`; `extras`: render
+//! settings and environment).
 
 mod accessor;
 mod cameras;
@@ -116,6 +122,7 @@ impl Warnings {
     }
 }
 
+/// The state of one load: the parsed JSON and buffers, and the scene built so far.
 struct Loader<'a> {
     root: &'a json::Root,
     buffers: Vec<&'a [u8]>,
