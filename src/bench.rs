@@ -95,7 +95,7 @@ pub fn rmse(x: &[Vec3], reference: &[Vec3]) -> f64 {
 
 fn mean_luminance(x: &[Vec3]) -> f64 {
     x.iter()
-        .map(|p| crate::scene::light::luminance(*p) as f64)
+        .map(|p| crate::math::color::luminance(*p) as f64)
         .sum::<f64>()
         / x.len().max(1) as f64
 }

@@ -1,4 +1,4 @@
-//! The viewer's GPU backend (`app::gpu_backend::GpuBackend`): headless on a `GpuContext` with
+//! The viewer's GPU backend (`app::backend::GpuBackend`): headless on a `GpuContext` with
 //! an `egui_wgpu::Renderer` (no window), and the whole viewer through egui_kittest with a
 //! wgpu renderer. Tests print a SKIP line and return when there is no adapter, unless
 //! REFRACT_REQUIRE_GPU is set (CI installs lavapipe, so they run there).
@@ -11,8 +11,7 @@ use eframe::egui::mutex::RwLock;
 use eframe::egui_wgpu;
 use eframe::wgpu;
 use refract::app::ViewerApp;
-use refract::app::backend::{Backend, DisplayParams};
-use refract::app::gpu_backend::GpuBackend;
+use refract::app::backend::{Backend, DisplayParams, GpuBackend};
 use refract::film::{self, ToneMap};
 use refract::gpu::GpuContext;
 use refract::render::RenderOptions;

@@ -8,7 +8,6 @@
 
 pub mod backend;
 pub mod edit;
-pub mod gpu_backend;
 pub mod panels;
 pub mod screenshot;
 pub mod viewport;
@@ -499,7 +498,7 @@ fn choose_backend(
         // lavapipe & co. are ~15x slower than the CPU renderer on the same cores.
         return Ok((cpu(repaint), None));
     }
-    match gpu_backend::GpuBackend::from_render_state(rs, repaint.clone()) {
+    match backend::GpuBackend::from_render_state(rs, repaint.clone()) {
         Ok(g) => Ok((Box::new(g), None)),
         Err(e) => Ok((
             cpu(repaint),

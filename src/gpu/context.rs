@@ -4,7 +4,9 @@
 
 use anyhow::{Context, Result};
 
-/// An adapter with its device and queue.
+/// An adapter with its device and queue (cloning shares them: wgpu handles are
+/// reference-counted).
+#[derive(Clone)]
 pub struct GpuContext {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,

@@ -10,12 +10,14 @@
 //! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
 //! - [`prelude`]: the WGSL constants generated from their Rust definitions.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
+//! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
 pub mod context;
 pub mod layout;
 pub mod pipeline;
 pub mod prelude;
 pub mod renderer;
+pub mod tonemap;
 pub mod upload;
 
 pub use context::GpuContext;

@@ -724,7 +724,7 @@ impl GpuRenderer {
             .write_buffer(&self.buffers.filter, 0, bytemuck::cast_slice(&words));
     }
 
-    // ---- BEGIN viewer accessors (used by app::gpu_backend; keep this block last) ----------
+    // ---- BEGIN viewer accessors (used by app::backend::gpu; keep this block last) ----------
 
     /// The accumulation buffer: `array<vec4<f32>>`, per-pixel MEAN radiance (linear Rec.709),
     /// row-major, top row first, `width × height` entries. The viewer tone-maps it on the GPU.

@@ -1,6 +1,7 @@
-//! Low-level maths shared by every layer: frames, sampling warps, the counter-based RNG and
-//! spectral helpers. Knows nothing about scenes, renderers or the UI.
+//! Low-level maths shared by every layer: frames, sampling warps, the counter-based RNG,
+//! colour (sRGB, luminance, black body) and spectral helpers. Knows nothing about scenes, renderers or the UI.
 
+pub mod color;
 pub mod frame;
 pub mod rng;
 pub mod sampling;

@@ -2,8 +2,8 @@
 //! environment brightness.
 
 use crate::app::{Edit, ViewerApp};
-use crate::scene::edits::{MainLight, blackbody_rgb};
-use crate::scene::light::luminance;
+use crate::math::color::{blackbody_rgb, luminance};
+use crate::scene::edits::MainLight;
 use eframe::egui::{self, Slider, SliderClamping};
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {

@@ -23,10 +23,11 @@ mod triangle;
 #[cfg(test)]
 mod tests;
 
+pub use crate::math::color::luminance;
 pub use directional::DirectionalLight;
 pub use environment::UniformEnvironment;
 pub use point::PointLight;
-pub use set::{LightSet, luminance};
+pub use set::LightSet;
 pub use spot::{SpotLight, spot_falloff};
 pub use triangle::TriangleLight;
 

@@ -36,12 +36,6 @@ impl Default for LightSet {
     }
 }
 
-/// Luminance of linear Rec.709 RGB (ITU-R BT.709 weights).
-#[inline]
-pub fn luminance(c: Vec3) -> f32 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
-}
-
 /// The scene's lights: emissive triangles first, then `KHR_lights_punctual` lights.
 fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
     let mut lights = Vec::new();

@@ -1,4 +1,4 @@
-//! [`GpuBackend`]: the viewer's wgpu backend (the GPU SEAM of [`super::backend`]).
+//! [`GpuBackend`]: the viewer's wgpu backend (the GPU side of [`super`]).
 //!
 //! It renders with [`crate::gpu::GpuRenderer`] on eframe's own device (the
 //! `egui_wgpu::RenderState`, created in `app::wgpu_configuration` with the adapter's limits),
@@ -12,10 +12,10 @@
 //!   the frame budget. While the user drags, and when one sample per pixel at full resolution
 //!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
 //! - [`Backend::display_texture`] tone-maps the accumulation buffer on the GPU
-//!   (`shaders/tonemap.wgsl`) into an `Rgba8Unorm` storage texture holding sRGB-encoded bytes;
-//!   an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's own
-//!   textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the CPU
-//!   path. The tone map reruns only when the generation, the spp or the display settings
+//!   ([`crate::gpu::tonemap`]) into an `Rgba8Unorm` storage texture holding sRGB-encoded
+//!   bytes; an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's
+//!   own textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the
+//!   CPU path. The tone map reruns only when the generation, the spp or the display settings
 //!   change, and only while no batch is in flight (it is queued right after a batch finishes,
 //!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
 //!   behind a running batch. (Software drivers such as lavapipe execute a submission before
@@ -29,8 +29,8 @@
 //!   the limit) switches to a [`CpuBackend`] with a message; the next scene or options change
 //!   tries the GPU again.
 
-use super::backend::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
-use crate::film::ToneMap;
+use super::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
+use crate::gpu::tonemap::ToneMapper;
 use crate::gpu::{GpuContext, GpuRenderer};
 use crate::render::{Estimator, RenderOptions};
 use crate::scene::{Camera, Material, Scene};
@@ -42,8 +42,6 @@ use eframe::wgpu;
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-
-const TONEMAP_WGSL: &str = include_str!("../shaders/tonemap.wgsl");
 
 /// Upper bound of samples per pixel in one batch (keeps single dispatches short).
 const MAX_BATCH_SPP: u32 = 256;
@@ -127,211 +125,6 @@ const MAP_OK: u8 = 1;
 const MAP_FAILED: u8 = 2;
 
 // ---------------------------------------------------------------------------------------------
-// Tone mapping
-// ---------------------------------------------------------------------------------------------
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct ToneParams {
-    width: u32,
-    height: u32,
-    tone: u32,
-    scale: f32,
-}
-
-/// The tone-mapped image: an `Rgba8Unorm` storage texture with an `Rgba8UnormSrgb` view
-/// registered with egui-wgpu.
-struct Target {
-    texture: wgpu::Texture,
-    size: [u32; 2],
-    id: egui::TextureId,
-}
-
-struct ToneMapper {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
-    params: wgpu::Buffer,
-    target: Option<Target>,
-}
-
-impl ToneMapper {
-    fn new(ctx: &GpuContext) -> Result<ToneMapper> {
-        let device = &ctx.device;
-        let module = create_module(ctx, "tonemap.wgsl", TONEMAP_WGSL)?;
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("tonemap"),
-            layout: None,
-            module: &module,
-            entry_point: Some("tonemap"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let layout = pipeline.get_bind_group_layout(0);
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tonemap params"),
-            size: std::mem::size_of::<ToneParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Ok(ToneMapper {
-            pipeline,
-            layout,
-            params,
-            target: None,
-        })
-    }
-
-    /// Make sure the target texture has `size`, (re)registering it with egui.
-    fn ensure_target(
-        &mut self,
-        ctx: &GpuContext,
-        egui_renderer: &RwLock<egui_wgpu::Renderer>,
-        size: [u32; 2],
-    ) {
-        if self.target.as_ref().is_some_and(|t| t.size == size) {
-            return;
-        }
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("refract image"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::STORAGE_BINDING
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[wgpu::TextureFormat::Rgba8UnormSrgb],
-        });
-        // egui samples its textures as linear colour and stores its own as Rgba8UnormSrgb:
-        // the sRGB view decodes our sRGB bytes exactly as it decodes its own.
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("refract image (sRGB view)"),
-            format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
-            // Sampled only: sRGB formats cannot be storage-bound.
-            usage: Some(wgpu::TextureUsages::TEXTURE_BINDING),
-            ..Default::default()
-        });
-        let filter = wgpu::FilterMode::Linear;
-        let mut r = egui_renderer.write();
-        let id = match self.target.take() {
-            Some(old) => {
-                r.update_egui_texture_from_wgpu_texture(&ctx.device, &view, filter, old.id);
-                old.id
-            }
-            None => r.register_native_texture(&ctx.device, &view, filter),
-        };
-        self.target = Some(Target { texture, size, id });
-    }
-
-    /// Queue the tone map of `accum` (`size` pixels) into the target texture.
-    fn run(
-        &mut self,
-        ctx: &GpuContext,
-        egui_renderer: &RwLock<egui_wgpu::Renderer>,
-        accum: &wgpu::Buffer,
-        size: [u32; 2],
-        display: &DisplayParams,
-    ) {
-        self.ensure_target(ctx, egui_renderer, size);
-        let Some(target) = &self.target else { return };
-        let p = ToneParams {
-            width: size[0],
-            height: size[1],
-            tone: match display.tone_map {
-                ToneMap::Clamp => 0,
-                ToneMap::Reinhard => 1,
-                ToneMap::Aces => 2,
-            },
-            scale: exposure_scale(display.exposure),
-        };
-        ctx.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
-        let view = target.texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("refract image (storage view)"),
-            format: Some(wgpu::TextureFormat::Rgba8Unorm),
-            usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
-            ..Default::default()
-        });
-        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tonemap"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: accum.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                },
-            ],
-        });
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("tonemap"),
-            });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("tonemap"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
-        }
-        ctx.queue.submit([enc.finish()]);
-    }
-}
-
-/// Compile a WGSL module, validating it with naga first so an error is an `Err` (wgpu would
-/// panic), as `gpu::pipeline` does for the integrator.
-fn create_module(ctx: &GpuContext, label: &str, source: &str) -> Result<wgpu::ShaderModule> {
-    let module = naga::front::wgsl::parse_str(source)
-        .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(source)))?;
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(source)))?;
-    Ok(ctx
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        }))
-}
-
-/// The same adapter, device and queue (wgpu handles are reference-counted).
-fn share(ctx: &GpuContext) -> GpuContext {
-    GpuContext {
-        adapter: ctx.adapter.clone(),
-        device: ctx.device.clone(),
-        queue: ctx.queue.clone(),
-        info: ctx.info.clone(),
-    }
-}
-
-/// 2^stops, as `CpuBackend` shows it (non-finite exposure = 1, clamped to ±30 stops).
-fn exposure_scale(stops: f32) -> f32 {
-    if stops.is_finite() {
-        2f32.powf(stops.clamp(-30.0, 30.0))
-    } else {
-        1.0
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
 // The backend
 // ---------------------------------------------------------------------------------------------
 
@@ -359,6 +152,8 @@ pub struct GpuBackend {
     sec_per_sample: Option<f64>,
     budget: Duration,
     tonemap: ToneMapper,
+    /// The egui id of the tone-mapped texture's sRGB view (None before the first image).
+    image_id: Option<egui::TextureId>,
     /// (generation, spp, size, display) of the tone-mapped texture.
     shown: Option<(u64, u64, [u32; 2], DisplayParams)>,
     /// Display settings of the last `display_texture` call.
@@ -421,6 +216,7 @@ impl GpuBackend {
             sec_per_sample: None,
             budget: DEFAULT_BUDGET,
             tonemap,
+            image_id: None,
             shown: None,
             display: None,
             readback,
@@ -452,54 +248,7 @@ impl GpuBackend {
     /// Read the tone-mapped texture back: (width, height, RGBA8 sRGB bytes). Blocking; for
     /// tests and debugging only (the viewer never reads it back).
     pub fn read_display_pixels(&self) -> Result<(u32, u32, Vec<u8>)> {
-        let t = self
-            .tonemap
-            .target
-            .as_ref()
-            .context("no tone-mapped image yet")?;
-        let [w, h] = t.size;
-        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let size = row as u64 * h as u64;
-        let buf = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("texture readback"),
-            size,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let mut enc = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &t.texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
-        self.ctx.queue.submit([enc.finish()]);
-        let bytes = self.ctx.read_buffer(&buf, size)?;
-        let mut out = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h as usize {
-            let start = y * row as usize;
-            out.extend_from_slice(&bytes[start..start + w as usize * 4]);
-        }
-        Ok((w, h, out))
+        self.tonemap.read_pixels(&self.ctx)
     }
 
     /// Every edit: a new generation with no samples.
@@ -544,7 +293,7 @@ impl GpuBackend {
         match self.renderer.as_mut() {
             Some(r) => r.set_scene(scene, gopts)?,
             None => {
-                self.renderer = Some(GpuRenderer::with_context(share(&self.ctx), scene, gopts)?);
+                self.renderer = Some(GpuRenderer::with_context(self.ctx.clone(), scene, gopts)?);
             }
         }
         if let Some(r) = self.renderer.as_mut() {
@@ -719,12 +468,19 @@ impl GpuBackend {
         let key = (self.generation, r.spp(), size, display);
         // Nothing rendered for this generation yet: keep showing the previous image.
         if r.spp() > 0 && self.shown != Some(key) {
+            if self.tonemap.ensure_target(&self.ctx, size) {
+                register_image(
+                    &self.ctx,
+                    &self.egui_renderer,
+                    &self.tonemap,
+                    &mut self.image_id,
+                );
+            }
             self.tonemap.run(
                 &self.ctx,
-                &self.egui_renderer,
                 r.accum_buffer(),
-                size,
-                &display,
+                display.tone_map,
+                display.exposure,
             );
             self.shown = Some(key);
         }
@@ -735,10 +491,32 @@ impl GpuBackend {
     }
 }
 
+/// Register the (new) tone-map target's sRGB view with egui-wgpu, under the old id if there
+/// is one.
+fn register_image(
+    ctx: &GpuContext,
+    egui_renderer: &RwLock<egui_wgpu::Renderer>,
+    tonemap: &ToneMapper,
+    image_id: &mut Option<egui::TextureId>,
+) {
+    let Some(view) = tonemap.srgb_view() else {
+        return;
+    };
+    let filter = wgpu::FilterMode::Linear;
+    let mut r = egui_renderer.write();
+    *image_id = Some(match *image_id {
+        Some(id) => {
+            r.update_egui_texture_from_wgpu_texture(&ctx.device, &view, filter, id);
+            id
+        }
+        None => r.register_native_texture(&ctx.device, &view, filter),
+    });
+}
+
 impl Drop for GpuBackend {
     fn drop(&mut self) {
-        if let Some(t) = self.tonemap.target.take() {
-            self.egui_renderer.write().free_texture(&t.id);
+        if let Some(id) = self.image_id.take() {
+            self.egui_renderer.write().free_texture(&id);
         }
     }
 }
@@ -1019,9 +797,10 @@ impl Backend for GpuBackend {
         }
         self.display = Some(*display);
         self.refresh_display();
-        self.tonemap.target.as_ref().map(|t| DisplayTexture {
-            id: t.id,
-            size: t.size,
+        let size = self.tonemap.target()?.size;
+        Some(DisplayTexture {
+            id: self.image_id?,
+            size,
         })
     }
 

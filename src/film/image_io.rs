@@ -1,0 +1,76 @@
+//! Image files: linear EXR and tone-mapped sRGB PNG output, EXR input.
+
+use super::tonemap::{ToneMap, to_srgb8};
+use glam::Vec3;
+use std::path::Path;
+
+/// Check that `path` names a format we can write (call before rendering).
+pub fn check_output_path(path: &Path) -> anyhow::Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    anyhow::ensure!(
+        ext == "exr" || ext == "png",
+        "unsupported output format '{}': use .exr (linear) or .png (sRGB)",
+        path.display()
+    );
+    Ok(())
+}
+
+/// Write `img` (linear radiance) to `path`: `.exr` = linear float RGB, `.png` = tone-mapped sRGB.
+pub fn save_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    img: &[Vec3],
+    exposure: f32,
+    tone: ToneMap,
+) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
+    }
+    match ext.as_str() {
+        "exr" => {
+            let data: Vec<f32> = img.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+            let buf = image::Rgb32FImage::from_raw(width, height, data)
+                .context("image buffer size does not match its dimensions")?;
+            image::DynamicImage::ImageRgb32F(buf)
+                .save_with_format(path, image::ImageFormat::OpenExr)
+                .with_context(|| format!("cannot write '{}'", path.display()))?;
+        }
+        "png" => {
+            let data = to_srgb8(img, exposure, tone);
+            let buf = image::RgbaImage::from_raw(width, height, data)
+                .context("image buffer size does not match its dimensions")?;
+            buf.save_with_format(path, image::ImageFormat::Png)
+                .with_context(|| format!("cannot write '{}'", path.display()))?;
+        }
+        _ => anyhow::bail!(
+            "unsupported output format '{}': use .exr (linear) or .png (sRGB)",
+            path.display()
+        ),
+    }
+    Ok(())
+}
+
+/// Read a linear RGB EXR back (used by tests and `bench`).
+pub fn load_exr(path: &Path) -> anyhow::Result<(u32, u32, Vec<Vec3>)> {
+    use anyhow::Context;
+    let img = image::open(path)
+        .with_context(|| format!("cannot read '{}'", path.display()))?
+        .into_rgb32f();
+    let (w, h) = img.dimensions();
+    let px = img.pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+    Ok((w, h, px))
+}

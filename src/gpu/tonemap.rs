@@ -1,0 +1,239 @@
+//! GPU tone mapping for display: the renderer's accumulation buffer (mean radiance) →
+//! exposure → tone curve → sRGB-encoded bytes in an `Rgba8Unorm` storage texture
+//! (`shaders/tonemap.wgsl`, the twin of `film::to_srgb8`). The texture may also be viewed as
+//! `Rgba8UnormSrgb`, so a UI that samples it as an sRGB texture shows exactly those bytes.
+
+use super::GpuContext;
+use super::layout::GpuLayout;
+use crate::film::{ToneMap, exposure_scale};
+use anyhow::{Context as _, Result};
+use eframe::wgpu;
+
+const TONEMAP_WGSL: &str = include_str!("../shaders/tonemap.wgsl");
+
+/// Uniforms of `tonemap.wgsl` (`ToneParams`).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ToneParams {
+    width: u32,
+    height: u32,
+    /// 0 = clamp, 1 = Reinhard, 2 = ACES.
+    tone: u32,
+    /// 2^exposure (finite).
+    scale: f32,
+}
+
+impl GpuLayout for ToneParams {
+    const WGSL_NAME: &'static str = "ToneParams";
+    fn fields() -> Vec<(&'static str, u32)> {
+        vec![
+            ("width", std::mem::offset_of!(ToneParams, width) as u32),
+            ("height", std::mem::offset_of!(ToneParams, height) as u32),
+            ("tone", std::mem::offset_of!(ToneParams, tone) as u32),
+            ("scale", std::mem::offset_of!(ToneParams, scale) as u32),
+        ]
+    }
+}
+
+/// The tone-mapped image: an `Rgba8Unorm` storage texture holding sRGB-encoded bytes, with
+/// `Rgba8UnormSrgb` allowed as a view format.
+pub struct ToneTarget {
+    pub texture: wgpu::Texture,
+    pub size: [u32; 2],
+}
+
+/// The tone-map compute pipeline and its target texture.
+pub struct ToneMapper {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    target: Option<ToneTarget>,
+}
+
+impl ToneMapper {
+    pub fn new(ctx: &GpuContext) -> Result<ToneMapper> {
+        let device = &ctx.device;
+        let module = super::pipeline::create_module(ctx, "tonemap.wgsl", TONEMAP_WGSL.into())?;
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tonemap"),
+            layout: None,
+            module: &module,
+            entry_point: Some("tonemap"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let layout = pipeline.get_bind_group_layout(0);
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tonemap params"),
+            size: std::mem::size_of::<ToneParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(ToneMapper {
+            pipeline,
+            layout,
+            params,
+            target: None,
+        })
+    }
+
+    /// The current target texture (None before the first [`ToneMapper::ensure_target`]).
+    pub fn target(&self) -> Option<&ToneTarget> {
+        self.target.as_ref()
+    }
+
+    /// Make sure the target texture has `size`. True when it was (re)created: views of the
+    /// old texture no longer show the image.
+    pub fn ensure_target(&mut self, ctx: &GpuContext, size: [u32; 2]) -> bool {
+        if self.target.as_ref().is_some_and(|t| t.size == size) {
+            return false;
+        }
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("refract image"),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[wgpu::TextureFormat::Rgba8UnormSrgb],
+        });
+        self.target = Some(ToneTarget { texture, size });
+        true
+    }
+
+    /// A sampled `Rgba8UnormSrgb` view of the target: a UI that samples it as linear colour
+    /// (as egui does its own sRGB textures) decodes our sRGB bytes exactly as its own.
+    pub fn srgb_view(&self) -> Option<wgpu::TextureView> {
+        let t = self.target.as_ref()?;
+        Some(t.texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("refract image (sRGB view)"),
+            format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
+            // Sampled only: sRGB formats cannot be storage-bound.
+            usage: Some(wgpu::TextureUsages::TEXTURE_BINDING),
+            ..Default::default()
+        }))
+    }
+
+    /// Queue the tone map of `accum` (the target's size in pixels) into the target texture,
+    /// with `exposure` in stops. Nothing happens before [`ToneMapper::ensure_target`].
+    pub fn run(&self, ctx: &GpuContext, accum: &wgpu::Buffer, tone_map: ToneMap, exposure: f32) {
+        let Some(target) = &self.target else { return };
+        let size = target.size;
+        let p = ToneParams {
+            width: size[0],
+            height: size[1],
+            tone: match tone_map {
+                ToneMap::Clamp => 0,
+                ToneMap::Reinhard => 1,
+                ToneMap::Aces => 2,
+            },
+            scale: exposure_scale(exposure),
+        };
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let view = target.texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("refract image (storage view)"),
+            format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
+            ..Default::default()
+        });
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: accum.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tonemap"),
+            });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tonemap"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
+        }
+        ctx.queue.submit([enc.finish()]);
+    }
+
+    /// Read the target back: (width, height, RGBA8 sRGB bytes). Blocking; for tests and
+    /// debugging only.
+    pub fn read_pixels(&self, ctx: &GpuContext) -> Result<(u32, u32, Vec<u8>)> {
+        let t = self.target.as_ref().context("no tone-mapped image yet")?;
+        let [w, h] = t.size;
+        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let size = row as u64 * h as u64;
+        let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("texture readback"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &t.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        ctx.queue.submit([enc.finish()]);
+        let bytes = ctx.read_buffer(&buf, size)?;
+        let mut out = Vec::with_capacity((w * h * 4) as usize);
+        for y in 0..h as usize {
+            let start = y * row as usize;
+            out.extend_from_slice(&bytes[start..start + w as usize * 4]);
+        }
+        Ok((w, h, out))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tone_params_match_the_wgsl_layout() {
+        super::super::layout::check_layout::<ToneParams>(TONEMAP_WGSL).unwrap();
+    }
+}

@@ -1,0 +1,310 @@
+//! Accessors: component sizes, little-endian strided reads and sparse substitution, every
+//! offset and count checked against its buffer view.
+
+use super::Loader;
+use gltf::json;
+use gltf::json::validation::Checked;
+
+/// Largest element count of one accessor we accept.
+const MAX_ACCESSOR_COUNT: u64 = 1 << 28;
+
+fn comp_size(c: json::accessor::ComponentType) -> usize {
+    use json::accessor::ComponentType as C;
+    match c {
+        C::I8 | C::U8 => 1,
+        C::I16 | C::U16 => 2,
+        C::U32 | C::F32 => 4,
+    }
+}
+
+fn type_comps(t: json::accessor::Type) -> usize {
+    use json::accessor::Type as T;
+    match t {
+        T::Scalar => 1,
+        T::Vec2 => 2,
+        T::Vec3 => 3,
+        T::Vec4 | T::Mat2 => 4,
+        T::Mat3 => 9,
+        T::Mat4 => 16,
+    }
+}
+
+fn read_le<const N: usize>(b: &[u8], at: usize) -> Option<[u8; N]> {
+    b.get(at..at.checked_add(N)?)?.try_into().ok()
+}
+
+/// One component at byte `at`, as f32 (normalised integers mapped per glTF §3.11).
+fn read_comp(
+    b: &[u8],
+    at: usize,
+    c: json::accessor::ComponentType,
+    normalized: bool,
+) -> Option<f32> {
+    use json::accessor::ComponentType as C;
+    Some(match c {
+        C::F32 => f32::from_le_bytes(read_le(b, at)?),
+        C::U8 => {
+            let v = read_le::<1>(b, at)?[0] as f32;
+            if normalized { v / 255.0 } else { v }
+        }
+        C::I8 => {
+            let v = i8::from_le_bytes(read_le(b, at)?) as f32;
+            if normalized { (v / 127.0).max(-1.0) } else { v }
+        }
+        C::U16 => {
+            let v = u16::from_le_bytes(read_le(b, at)?) as f32;
+            if normalized { v / 65535.0 } else { v }
+        }
+        C::I16 => {
+            let v = i16::from_le_bytes(read_le(b, at)?) as f32;
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        C::U32 => u32::from_le_bytes(read_le(b, at)?) as f32,
+    })
+}
+
+fn read_uint(b: &[u8], at: usize, c: json::accessor::ComponentType) -> Option<u32> {
+    use json::accessor::ComponentType as C;
+    Some(match c {
+        C::U8 => read_le::<1>(b, at)?[0] as u32,
+        C::U16 => u16::from_le_bytes(read_le(b, at)?) as u32,
+        C::U32 => u32::from_le_bytes(read_le(b, at)?),
+        _ => return None,
+    })
+}
+
+/// A located, bounds-checked strided array inside a buffer.
+struct Strided<'a> {
+    data: &'a [u8],
+    start: usize,
+    stride: usize,
+}
+
+impl Strided<'_> {
+    fn at(&self, i: usize) -> usize {
+        self.start + i * self.stride
+    }
+}
+
+/// Decoded accessor data: `count × comps` floats or unsigned integers.
+pub(super) enum AccessorData {
+    Float(Vec<f32>),
+    Uint(Vec<u32>),
+}
+
+impl Loader<'_> {
+    /// Locate accessor `ai`'s elements, checking every offset against the buffer.
+    fn locate(&self, ai: usize) -> Result<(&json::Accessor, Option<Strided<'_>>, usize), String> {
+        let acc = self
+            .root
+            .accessors
+            .get(ai)
+            .ok_or_else(|| format!("accessor {ai} does not exist (index out of range)"))?;
+        let Checked::Valid(ty) = acc.type_ else {
+            return Err(format!("accessor {ai} has an invalid type"));
+        };
+        let Checked::Valid(ct) = acc.component_type else {
+            return Err(format!("accessor {ai} has an invalid component type"));
+        };
+        let count = acc.count.0;
+        if count > MAX_ACCESSOR_COUNT {
+            return Err(format!("accessor {ai} count {count} is too large"));
+        }
+        let count = count as usize;
+        let elem = type_comps(ty) * comp_size(ct.0);
+        let Some(vi) = acc.buffer_view else {
+            return Ok((acc, None, elem));
+        };
+        let view =
+            self.root.buffer_views.get(vi.value()).ok_or_else(|| {
+                format!("accessor {ai}: buffer view {} does not exist", vi.value())
+            })?;
+        let data = self.view_bytes(vi.value(), view)?;
+        let stride = view.byte_stride.map(|s| s.0).unwrap_or(elem);
+        if stride < elem {
+            return Err(format!(
+                "accessor {ai}: byte stride {stride} is smaller than the element size {elem}"
+            ));
+        }
+        let start = acc.byte_offset.map(|o| o.0).unwrap_or(0);
+        let start =
+            usize::try_from(start).map_err(|_| format!("accessor {ai}: offset too large"))?;
+        if count > 0 {
+            let end = (count - 1)
+                .checked_mul(stride)
+                .and_then(|x| x.checked_add(start))
+                .and_then(|x| x.checked_add(elem));
+            match end {
+                Some(e) if e <= data.len() => {}
+                _ => {
+                    return Err(format!(
+                        "accessor {ai} (count {count}, offset {start}, stride {stride}) reads past the end of its {}-byte buffer view (accessor out of bounds)",
+                        data.len()
+                    ));
+                }
+            }
+        }
+        Ok((
+            acc,
+            Some(Strided {
+                data,
+                start,
+                stride,
+            }),
+            elem,
+        ))
+    }
+
+    pub(super) fn view_bytes(&self, vi: usize, view: &json::buffer::View) -> Result<&[u8], String> {
+        let bi = view.buffer.value();
+        let buf = self.buffers.get(bi).ok_or_else(|| {
+            format!("buffer view {vi}: buffer {bi} does not exist (missing buffer)")
+        })?;
+        let off = view.byte_offset.map(|o| o.0).unwrap_or(0);
+        let len = view.byte_length.0;
+        let end = off.checked_add(len);
+        match end {
+            Some(e) if e <= buf.len() as u64 => Ok(&buf[off as usize..e as usize]),
+            _ => Err(format!(
+                "buffer view {vi} (offset {off}, length {len}) exceeds buffer {bi} of {} bytes",
+                buf.len()
+            )),
+        }
+    }
+
+    /// Read accessor `ai` as floats (`want` components) or unsigned integers.
+    pub(super) fn read_accessor(
+        &self,
+        ai: usize,
+        want_uint: bool,
+    ) -> Result<(AccessorData, usize), String> {
+        let (acc, strided, _elem) = self.locate(ai)?;
+        let (Checked::Valid(ty), Checked::Valid(ct)) = (acc.type_, acc.component_type) else {
+            return Err(format!("accessor {ai} has an invalid type"));
+        };
+        let ct = ct.0;
+        let comps = type_comps(ty);
+        let count = acc.count.0 as usize;
+        let cs = comp_size(ct);
+        let bad = || format!("accessor {ai} reads out of bounds");
+        let mut data = if want_uint {
+            if !matches!(
+                ct,
+                json::accessor::ComponentType::U8
+                    | json::accessor::ComponentType::U16
+                    | json::accessor::ComponentType::U32
+            ) {
+                return Err(format!("accessor {ai}: indices must be unsigned integers"));
+            }
+            let mut v = Vec::with_capacity(count * comps);
+            match &strided {
+                Some(s) => {
+                    for i in 0..count {
+                        for k in 0..comps {
+                            v.push(read_uint(s.data, s.at(i) + k * cs, ct).ok_or_else(bad)?);
+                        }
+                    }
+                }
+                None => v.resize(count * comps, 0),
+            }
+            AccessorData::Uint(v)
+        } else {
+            let mut v = Vec::with_capacity(count * comps);
+            match &strided {
+                Some(s) => {
+                    for i in 0..count {
+                        for k in 0..comps {
+                            v.push(
+                                read_comp(s.data, s.at(i) + k * cs, ct, acc.normalized)
+                                    .ok_or_else(bad)?,
+                            );
+                        }
+                    }
+                }
+                None => v.resize(count * comps, 0.0),
+            }
+            AccessorData::Float(v)
+        };
+        if let Some(sp) = &acc.sparse {
+            self.apply_sparse(ai, sp, count, comps, ct, acc.normalized, &mut data)?;
+        }
+        Ok((data, comps))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn apply_sparse(
+        &self,
+        ai: usize,
+        sp: &json::accessor::sparse::Sparse,
+        count: usize,
+        comps: usize,
+        ct: json::accessor::ComponentType,
+        normalized: bool,
+        data: &mut AccessorData,
+    ) -> Result<(), String> {
+        let n = sp.count.0;
+        if n > count as u64 {
+            return Err(format!(
+                "accessor {ai}: sparse count {n} exceeds count {count}"
+            ));
+        }
+        let n = n as usize;
+        let Checked::Valid(ict) = sp.indices.component_type else {
+            return Err(format!("accessor {ai}: invalid sparse index type"));
+        };
+        let get_view = |vi: usize| -> Result<&[u8], String> {
+            let v =
+                self.root.buffer_views.get(vi).ok_or_else(|| {
+                    format!("accessor {ai}: sparse buffer view {vi} does not exist")
+                })?;
+            self.view_bytes(vi, v)
+        };
+        let ib = get_view(sp.indices.buffer_view.value())?;
+        let io = sp.indices.byte_offset.0 as usize;
+        let vb = get_view(sp.values.buffer_view.value())?;
+        let vo = sp.values.byte_offset.0 as usize;
+        let ics = comp_size(ict.0);
+        let cs = comp_size(ct);
+        let bad = || format!("accessor {ai}: sparse data out of bounds");
+        for s in 0..n {
+            let idx = read_uint(ib, io + s * ics, ict.0).ok_or_else(bad)? as usize;
+            if idx >= count {
+                return Err(format!("accessor {ai}: sparse index {idx} out of range"));
+            }
+            for k in 0..comps {
+                let at = vo + (s * comps + k) * cs;
+                match data {
+                    AccessorData::Float(v) => {
+                        v[idx * comps + k] = read_comp(vb, at, ct, normalized).ok_or_else(bad)?
+                    }
+                    AccessorData::Uint(v) => {
+                        v[idx * comps + k] = read_uint(vb, at, ct).ok_or_else(bad)?
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn read_floats(
+        &self,
+        ai: usize,
+        comps: usize,
+        what: &str,
+    ) -> Result<Vec<f32>, String> {
+        let (data, c) = self.read_accessor(ai, false)?;
+        if c != comps {
+            return Err(format!(
+                "{what} accessor {ai} has {c} components, expected {comps}"
+            ));
+        }
+        match data {
+            AccessorData::Float(v) => Ok(v),
+            AccessorData::Uint(_) => Err(format!("{what} accessor {ai} is not float")),
+        }
+    }
+}

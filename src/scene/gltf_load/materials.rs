@@ -1,0 +1,333 @@
+//! glTF materials → scene materials (the kind decision of the scene contract).
+
+use super::extras::extras_value;
+use super::{GLASS_TRANSMISSION_THRESHOLD, Loader, Warnings};
+use crate::bsdf::MicrofacetDistribution;
+use crate::scene::{Material, MaterialKind};
+use glam::Vec3;
+use gltf::json;
+use gltf::json::validation::Checked;
+use serde_json::Value;
+
+/// `KHR_materials_volume` as the scene contract uses it.
+struct Volume {
+    thickness: f32,
+    attenuation_color: Vec3,
+    attenuation_distance: f32,
+}
+
+impl Loader<'_> {
+    pub(super) fn material_for(&mut self, index: Option<usize>) -> Result<u32, String> {
+        match index {
+            Some(i) => self
+                .material_map
+                .get(i)
+                .copied()
+                .ok_or_else(|| format!("material {i} does not exist (index out of range)")),
+            None => {
+                if let Some(d) = self.default_material {
+                    return Ok(d);
+                }
+                // glTF default material: base colour 1, metallic 1, roughness 1.
+                let m = self.convert_material(usize::MAX, &json::Material::default());
+                let id = self.materials.len() as u32;
+                self.materials.push(Material {
+                    name: "default".into(),
+                    ..m
+                });
+                self.default_material = Some(id);
+                Ok(id)
+            }
+        }
+    }
+
+    pub(super) fn convert_material(&mut self, i: usize, m: &json::Material) -> Material {
+        let name = m.name.clone().unwrap_or_else(|| format!("material{i}"));
+        let pbr = &m.pbr_metallic_roughness;
+        let (base_color, metallic, roughness) = self.pbr_factors(pbr, &name);
+        let ext = m.extensions.as_ref();
+        let transmission = ext
+            .and_then(|e| e.transmission.as_ref())
+            .map(|t| t.transmission_factor.0)
+            .unwrap_or(0.0);
+        let ior = self.ior(ext, &name);
+        let volume = self.volume(ext, &name);
+        let emission = self.emission(m, ext, &name);
+        let spec = ext.and_then(|e| e.specular.as_ref());
+        let specular_factor = spec.map(|s| s.specular_factor.0).unwrap_or(1.0);
+        let specular_color = spec
+            .map(|s| Vec3::from(s.specular_color_factor.0))
+            .unwrap_or(Vec3::ONE);
+        self.warn_ignored_features(m, ext);
+        let abbe = self.dispersion_abbe(ext, &name);
+        let distribution = self.microfacet_distribution(m, &name);
+
+        let base_color_texture = pbr
+            .base_color_texture
+            .as_ref()
+            .and_then(|t| self.texture_ref(t, true, &name));
+        let metallic_roughness_texture = pbr
+            .metallic_roughness_texture
+            .as_ref()
+            .and_then(|t| self.texture_ref(t, false, &name));
+
+        let kind = self.material_kind(
+            &name,
+            transmission,
+            volume.thickness,
+            (metallic, roughness),
+            metallic_roughness_texture.is_some(),
+        );
+        let mut mat = Material {
+            name,
+            kind,
+            base_color,
+            base_color_texture,
+            metallic,
+            roughness,
+            metallic_roughness_texture,
+            ior,
+            abbe,
+            distribution,
+            emission,
+            double_sided: m.double_sided,
+            attenuation_color: volume.attenuation_color,
+            attenuation_distance: volume.attenuation_distance,
+            specular_factor,
+            specular_color,
+        };
+        if mat.is_emissive() {
+            // Contract: an emitter's surface is otherwise black.
+            mat.kind = MaterialKind::Diffuse;
+            mat.base_color = Vec3::ZERO;
+            mat.base_color_texture = None;
+            mat.metallic_roughness_texture = None;
+        }
+        mat
+    }
+
+    /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
+    fn pbr_factors(
+        &mut self,
+        pbr: &json::material::PbrMetallicRoughness,
+        name: &str,
+    ) -> (Vec3, f32, f32) {
+        let bc = pbr.base_color_factor.0;
+        let mut base_color = Vec3::new(bc[0], bc[1], bc[2]);
+        if !(base_color.is_finite() && base_color.min_element() >= 0.0) {
+            self.warnings.push(format!(
+                "material '{name}': invalid baseColorFactor; using white"
+            ));
+            base_color = Vec3::ONE;
+        }
+        let metallic = clamp01(
+            pbr.metallic_factor.0,
+            name,
+            "metallicFactor",
+            &mut self.warnings,
+        );
+        let roughness = clamp01(
+            pbr.roughness_factor.0,
+            name,
+            "roughnessFactor",
+            &mut self.warnings,
+        );
+        (base_color, metallic, roughness)
+    }
+
+    /// `KHR_materials_ior` (1.5 when absent or invalid).
+    fn ior(&mut self, ext: Option<&json::extensions::material::Material>, name: &str) -> f32 {
+        let mut ior = ext
+            .and_then(|e| e.ior.as_ref())
+            .map(|i| i.ior.0)
+            .unwrap_or(1.5);
+        if !(ior.is_finite() && ior >= 1.0) {
+            self.warnings.push(format!(
+                "material '{name}': IOR {ior} is not ≥ 1; using 1.5"
+            ));
+            ior = 1.5;
+        }
+        ior
+    }
+
+    /// `KHR_materials_volume` (no attenuation when absent or invalid).
+    fn volume(&mut self, ext: Option<&json::extensions::material::Material>, name: &str) -> Volume {
+        let volume = ext.and_then(|e| e.volume.as_ref());
+        let thickness = volume.map(|v| v.thickness_factor.0).unwrap_or(0.0);
+        let mut attenuation_color = volume
+            .map(|v| Vec3::from(v.attenuation_color.0))
+            .unwrap_or(Vec3::ONE);
+        let mut attenuation_distance = volume
+            .map(|v| v.attenuation_distance.0)
+            .unwrap_or(f32::INFINITY);
+        if !(attenuation_color.is_finite() && attenuation_color.min_element() >= 0.0)
+            || attenuation_distance.is_nan()
+            || attenuation_distance <= 0.0
+        {
+            self.warnings.push(format!(
+                "material '{name}': invalid volume attenuation; ignored"
+            ));
+            attenuation_color = Vec3::ONE;
+            attenuation_distance = f32::INFINITY;
+        }
+        Volume {
+            thickness,
+            attenuation_color,
+            attenuation_distance,
+        }
+    }
+
+    /// `emissiveFactor` × `KHR_materials_emissive_strength` (zero when invalid).
+    fn emission(
+        &mut self,
+        m: &json::Material,
+        ext: Option<&json::extensions::material::Material>,
+        name: &str,
+    ) -> Vec3 {
+        let strength = ext
+            .and_then(|e| e.emissive_strength.as_ref())
+            .map(|s| s.emissive_strength.0)
+            .unwrap_or(1.0);
+        let mut emission = Vec3::from(m.emissive_factor.0) * strength;
+        if !(emission.is_finite() && emission.min_element() >= 0.0) {
+            self.warnings
+                .push(format!("material '{name}': invalid emission; ignored"));
+            emission = Vec3::ZERO;
+        }
+        emission
+    }
+
+    /// One warning each for the material features the contract ignores.
+    fn warn_ignored_features(
+        &mut self,
+        m: &json::Material,
+        ext: Option<&json::extensions::material::Material>,
+    ) {
+        let spec = ext.and_then(|e| e.specular.as_ref());
+        if spec.is_some_and(|s| s.specular_texture.is_some() || s.specular_color_texture.is_some())
+        {
+            self.warnings.once("specular-tex", || {
+                "KHR_materials_specular textures are ignored".into()
+            });
+        }
+        if ext
+            .and_then(|e| e.transmission.as_ref())
+            .is_some_and(|t| t.transmission_texture.is_some())
+        {
+            self.warnings.once("transmission-tex", || {
+                "transmission textures are ignored".into()
+            });
+        }
+        if m.normal_texture.is_some()
+            || m.occlusion_texture.is_some()
+            || m.emissive_texture.is_some()
+        {
+            self.warnings.once("ignored-tex", || {
+                "normal, occlusion and emissive textures are ignored".into()
+            });
+        }
+        if !matches!(
+            m.alpha_mode,
+            Checked::Valid(json::material::AlphaMode::Opaque)
+        ) {
+            self.warnings.once("alpha", || {
+                "alpha modes MASK/BLEND are ignored (treated as opaque)".into()
+            });
+        }
+    }
+
+    /// KHR_materials_dispersion from the raw extension JSON: the Abbe number (None = none).
+    fn dispersion_abbe(
+        &mut self,
+        ext: Option<&json::extensions::material::Material>,
+        name: &str,
+    ) -> Option<f32> {
+        let mut abbe = None;
+        if let Some(d) = ext.and_then(|e| e.others.get("KHR_materials_dispersion")) {
+            match d.get("dispersion").map(|v| v.as_f64()) {
+                None => {}
+                Some(Some(x)) if x.is_finite() && x >= 0.0 => {
+                    // dispersion 0 = none; otherwise V_d = 20 / dispersion.
+                    abbe = (x > 0.0).then(|| (20.0 / x) as f32);
+                }
+                Some(_) => self.warnings.push(format!(
+                    "material '{name}': KHR_materials_dispersion.dispersion must be a number ≥ 0; ignored"
+                )),
+            }
+        }
+        abbe
+    }
+
+    /// `extras.microfacet_distribution`: "ggx" (default) or "beckmann".
+    fn microfacet_distribution(
+        &mut self,
+        m: &json::Material,
+        name: &str,
+    ) -> MicrofacetDistribution {
+        let mut distribution = MicrofacetDistribution::Ggx;
+        if let Some(x) = extras_value(&m.extras) {
+            match x.get("microfacet_distribution") {
+                None => {}
+                Some(Value::String(s)) if s.eq_ignore_ascii_case("ggx") => {}
+                Some(Value::String(s)) if s.eq_ignore_ascii_case("beckmann") => {
+                    distribution = MicrofacetDistribution::Beckmann
+                }
+                Some(v) => self.warnings.push(format!(
+                    "material '{name}': microfacet_distribution {v} is not \"ggx\" or \"beckmann\"; using GGX"
+                )),
+            }
+        }
+        distribution
+    }
+
+    /// The contract's material kind from transmission, volume thickness and the
+    /// metallic-roughness factors or texture.
+    fn material_kind(
+        &mut self,
+        name: &str,
+        transmission: f32,
+        thickness: f32,
+        (metallic, roughness): (f32, f32),
+        has_mr_tex: bool,
+    ) -> MaterialKind {
+        let eps = 1e-6;
+        if transmission >= GLASS_TRANSMISSION_THRESHOLD {
+            if thickness > 0.0 {
+                MaterialKind::Glass
+            } else {
+                self.warnings.once("thin-glass", || {
+                    format!(
+                        "material '{name}' is thin-walled glass (transmission without KHR_materials_volume, as Blender exports glass): rendered as a thin sheet; switch it to solid glass in the viewer if the object is a solid"
+                    )
+                });
+                MaterialKind::ThinGlass
+            }
+        } else {
+            if transmission > 0.0 {
+                self.warnings.push(format!(
+                    "material '{name}': partial transmission {transmission} (< {GLASS_TRANSMISSION_THRESHOLD}) is ignored; treated as opaque"
+                ));
+            }
+            if has_mr_tex {
+                MaterialKind::MetalRough
+            } else if (metallic - 1.0).abs() <= eps && roughness <= eps {
+                MaterialKind::Mirror
+            } else if (metallic - 1.0).abs() <= eps {
+                MaterialKind::GlossyMetal
+            } else if metallic <= eps && (roughness - 1.0).abs() <= eps && transmission == 0.0 {
+                MaterialKind::Diffuse
+            } else {
+                MaterialKind::MetalRough
+            }
+        }
+    }
+}
+
+fn clamp01(x: f32, mat: &str, what: &str, w: &mut Warnings) -> f32 {
+    if (0.0..=1.0).contains(&x) {
+        x
+    } else {
+        w.push(format!("material '{mat}': {what} {x} clamped to [0, 1]"));
+        if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
+    }
+}

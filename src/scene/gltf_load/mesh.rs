@@ -1,0 +1,242 @@
+//! Meshes: primitives → world-space triangles of the merged scene mesh.
+
+use super::Loader;
+use super::accessor::AccessorData;
+use crate::scene::Mesh;
+use glam::{Mat3, Mat4, Vec2, Vec3};
+use gltf::json;
+use gltf::json::validation::Checked;
+
+/// A triangle primitive's attributes (object space, flat arrays) and indices, checked: every
+/// index addresses a vertex and the attribute counts agree.
+struct PrimitiveData {
+    positions: Vec<f32>,
+    normals: Option<Vec<f32>>,
+    uvs: Option<Vec<f32>>,
+    indices: Vec<u32>,
+}
+
+/// A primitive's vertices in world space; `flip` = mirrored transform (reverse the winding).
+struct WorldVertices {
+    positions: Vec<Vec3>,
+    /// Unit normals (zero where missing or broken); None = the primitive has no normals.
+    normals: Option<Vec<Vec3>>,
+    /// TEXCOORD_0 (zero where missing or non-finite).
+    uvs: Vec<Vec2>,
+    flip: bool,
+}
+
+impl Loader<'_> {
+    pub(super) fn mesh_node(&mut self, ni: usize, mi: usize, world: Mat4) -> anyhow::Result<()> {
+        let Some(mesh) = self.root.meshes.get(mi) else {
+            self.skip_primitive(format!(
+                "node {ni}: mesh {mi} does not exist (index out of range)"
+            ));
+            return Ok(());
+        };
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            match self.primitive(prim, world) {
+                Ok(()) => {}
+                Err(e) => self.skip_primitive(format!("mesh {mi} primitive {pi}: {e}")),
+            }
+        }
+        Ok(())
+    }
+
+    fn skip_primitive(&mut self, what: String) {
+        self.skipped_primitives += 1;
+        if self.first_skip_reason.is_none() {
+            self.first_skip_reason = Some(what.clone());
+        }
+        self.warnings.push(format!("skipped primitive: {what}"));
+    }
+
+    fn primitive(&mut self, prim: &json::mesh::Primitive, world: Mat4) -> Result<(), String> {
+        match prim.mode {
+            Checked::Valid(json::mesh::Mode::Triangles) => {}
+            Checked::Valid(m) => {
+                self.warnings.once(&format!("mode:{m:?}"), || {
+                    format!("primitives with mode {m:?} are skipped (triangles only)")
+                });
+                return Ok(());
+            }
+            Checked::Invalid => return Err("invalid primitive mode".into()),
+        }
+        let data = self.primitive_data(prim)?;
+        let material = self.material_for(prim.material.map(|m| m.value()))?;
+        let verts = world_vertices(&data, world)?;
+        self.append_triangles(&data.indices, &verts, material)
+    }
+
+    /// Read and check a triangle primitive's attributes and indices.
+    fn primitive_data(&mut self, prim: &json::mesh::Primitive) -> Result<PrimitiveData, String> {
+        let attr =
+            |s: json::mesh::Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
+        let pos_i = attr(json::mesh::Semantic::Positions).ok_or("it has no POSITION attribute")?;
+        let positions = self.read_floats(pos_i, 3, "POSITION")?;
+        let nv = positions.len() / 3;
+        let normals = match attr(json::mesh::Semantic::Normals) {
+            Some(i) => {
+                let n = self.read_floats(i, 3, "NORMAL")?;
+                if n.len() != positions.len() {
+                    return Err(format!(
+                        "NORMAL count {} differs from POSITION count {nv}",
+                        n.len() / 3
+                    ));
+                }
+                Some(n)
+            }
+            None => None,
+        };
+        let uvs = match attr(json::mesh::Semantic::TexCoords(0)) {
+            Some(i) => match self.read_floats(i, 2, "TEXCOORD_0") {
+                Ok(t) if t.len() / 2 == nv => Some(t),
+                Ok(_) => {
+                    self.warnings
+                        .push("TEXCOORD_0 count differs from POSITION count; UVs ignored".into());
+                    None
+                }
+                Err(e) => {
+                    self.warnings.push(format!("{e}; UVs ignored"));
+                    None
+                }
+            },
+            None => None,
+        };
+        let indices: Vec<u32> = match prim.indices {
+            Some(ii) => match self.read_accessor(ii.value(), true)? {
+                (AccessorData::Uint(v), 1) => v,
+                _ => return Err(format!("index accessor {} must be scalar", ii.value())),
+            },
+            None => (0..nv as u32).collect(),
+        };
+        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= nv) {
+            return Err(format!("vertex index {bad} out of range ({nv} vertices)"));
+        }
+        if !indices.len().is_multiple_of(3) {
+            self.warnings.push(format!(
+                "index count {} is not a multiple of 3; trailing indices ignored",
+                indices.len()
+            ));
+        }
+        Ok(PrimitiveData {
+            positions,
+            normals,
+            uvs,
+            indices,
+        })
+    }
+
+    /// Append the primitive's non-degenerate triangles to the scene mesh. Vertices with a
+    /// usable normal are shared; the others get the triangle's geometric normal (flat).
+    fn append_triangles(
+        &mut self,
+        indices: &[u32],
+        v: &WorldVertices,
+        material: u32,
+    ) -> Result<(), String> {
+        let mut remap = vec![u32::MAX; v.positions.len()];
+        let out = &mut self.mesh;
+        let push_vertex = |out: &mut Mesh, p: Vec3, n: Vec3, t: Vec2| -> Result<u32, String> {
+            let id =
+                u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
+            out.positions.push(p);
+            out.normals.push(n);
+            out.uvs.push(t);
+            Ok(id)
+        };
+        let wpos = &v.positions;
+        let mut bad_normals = 0usize;
+        for tri in indices.chunks_exact(3) {
+            let mut t = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+            if v.flip {
+                t.swap(1, 2);
+            }
+            let [a, b, c] = [wpos[t[0]], wpos[t[1]], wpos[t[2]]];
+            let g = (b - a).cross(c - a);
+            if !(a.is_finite() && b.is_finite() && c.is_finite() && g.is_finite())
+                || g.length_squared() <= 0.0
+            {
+                self.dropped_triangles += 1;
+                continue;
+            }
+            let gn = g.normalize_or_zero();
+            if gn == Vec3::ZERO {
+                self.dropped_triangles += 1;
+                continue;
+            }
+            let mut ids = [0u32; 3];
+            for k in 0..3 {
+                let i = t[k];
+                let n = v.normals.as_ref().map(|n| n[i]).unwrap_or(Vec3::ZERO);
+                if n == Vec3::ZERO {
+                    // No normal (flat shading) or a broken one: the geometric normal.
+                    if v.normals.is_some() {
+                        bad_normals += 1;
+                    }
+                    ids[k] = push_vertex(out, wpos[i], gn, v.uvs[i])?;
+                } else {
+                    if remap[i] == u32::MAX {
+                        remap[i] = push_vertex(out, wpos[i], n, v.uvs[i])?;
+                    }
+                    ids[k] = remap[i];
+                }
+            }
+            out.indices.push(ids);
+            out.tri_material.push(material);
+        }
+        if bad_normals > 0 {
+            self.warnings.push(format!(
+                "{bad_normals} vertex normals were zero or non-finite; used the geometric normal"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// World transform; normals with the inverse-transpose; mirrored → flip winding.
+fn world_vertices(d: &PrimitiveData, world: Mat4) -> Result<WorldVertices, String> {
+    let nv = d.positions.len() / 3;
+    let m3 = Mat3::from_mat4(world);
+    let det = m3.determinant();
+    if !(det.is_finite() && det != 0.0) {
+        return Err("its node transform is singular".into());
+    }
+    let normal_m = m3.inverse().transpose();
+    let positions = &d.positions;
+    let p = |i: usize| {
+        world.transform_point3(Vec3::new(
+            positions[3 * i],
+            positions[3 * i + 1],
+            positions[3 * i + 2],
+        ))
+    };
+    let wpos: Vec<Vec3> = (0..nv).map(p).collect();
+    let wnrm: Option<Vec<Vec3>> = d.normals.as_ref().map(|n| {
+        (0..nv)
+            .map(|i| {
+                let v = normal_m * Vec3::new(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+                if v.is_finite() {
+                    v.normalize_or_zero()
+                } else {
+                    Vec3::ZERO
+                }
+            })
+            .collect()
+    });
+    let uv = |i: usize| -> Vec2 {
+        match &d.uvs {
+            Some(t) => {
+                let v = Vec2::new(t[2 * i], t[2 * i + 1]);
+                if v.is_finite() { v } else { Vec2::ZERO }
+            }
+            None => Vec2::ZERO,
+        }
+    };
+    Ok(WorldVertices {
+        positions: wpos,
+        normals: wnrm,
+        uvs: (0..nv).map(uv).collect(),
+        flip: det < 0.0,
+    })
+}

@@ -1,0 +1,147 @@
+//! Textures: images from buffer views, `data:` or relative URIs, samplers and
+//! `KHR_texture_transform`.
+
+use super::{Loader, uri};
+use crate::math::color::srgb_to_linear;
+use crate::scene::{MAX_IMAGE_SIDE, Texture, TextureRef, Wrap};
+use glam::{Affine2, Mat2, Vec2, Vec4};
+use gltf::json;
+use gltf::json::validation::Checked;
+
+impl Loader<'_> {
+    pub(super) fn texture_ref(
+        &mut self,
+        info: &json::texture::Info,
+        srgb: bool,
+        mat: &str,
+    ) -> Option<TextureRef> {
+        let ti = info.index.value();
+        let tex = match self.texture_cache.get(&(ti, srgb)) {
+            Some(t) => *t,
+            None => {
+                let t = match self.load_texture(ti, srgb) {
+                    Ok(t) => {
+                        self.textures.push(t);
+                        Some(self.textures.len() as u32 - 1)
+                    }
+                    Err(e) => {
+                        self.warnings.push(format!(
+                            "material '{mat}': texture {ti} cannot be used ({e}); using no texture"
+                        ));
+                        None
+                    }
+                };
+                self.texture_cache.insert((ti, srgb), t);
+                t
+            }
+        }?;
+        let mut tex_coord = info.tex_coord;
+        let mut transform = Affine2::IDENTITY;
+        if let Some(tt) = info
+            .extensions
+            .as_ref()
+            .and_then(|e| e.texture_transform.as_ref())
+        {
+            // KHR_texture_transform: uv' = T · R · S · uv with
+            // R = [[cos, sin], [−sin, cos]] (row-major, as in the extension spec).
+            let (s, c) = tt.rotation.0.sin_cos();
+            let rot = Mat2::from_cols(glam::Vec2::new(c, -s), glam::Vec2::new(s, c));
+            let scale = Mat2::from_diagonal(Vec2::from(tt.scale.0));
+            transform = Affine2::from_mat2_translation(rot * scale, Vec2::from(tt.offset.0));
+            if let Some(tc) = tt.tex_coord {
+                tex_coord = tc;
+            }
+            if !transform.is_finite() {
+                self.warnings.push(format!(
+                    "material '{mat}': non-finite KHR_texture_transform ignored"
+                ));
+                transform = Affine2::IDENTITY;
+            }
+        }
+        if tex_coord != 0 {
+            self.warnings.once("texcoord", || {
+                "only TEXCOORD_0 is loaded; textures using other sets read TEXCOORD_0".into()
+            });
+        }
+        Some(TextureRef {
+            texture: tex,
+            tex_coord,
+            transform,
+        })
+    }
+
+    fn load_texture(&self, ti: usize, srgb: bool) -> Result<Texture, String> {
+        let root = self.root;
+        let t = root
+            .textures
+            .get(ti)
+            .ok_or_else(|| "index out of range".to_string())?;
+        let ii = t.source.value();
+        let img = root
+            .images
+            .get(ii)
+            .ok_or_else(|| format!("image {ii} does not exist"))?;
+        let bytes: Vec<u8> = if let Some(vi) = img.buffer_view {
+            let view = root
+                .buffer_views
+                .get(vi.value())
+                .ok_or_else(|| format!("image {ii}: buffer view does not exist"))?;
+            self.view_bytes(vi.value(), view)?.to_vec()
+        } else if let Some(uri) = &img.uri {
+            uri::image_bytes(uri, self.base, ii)?
+        } else {
+            return Err(format!("image {ii} has neither bufferView nor uri"));
+        };
+        let dynimg = image::load_from_memory(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
+        let (w, h) = (dynimg.width(), dynimg.height());
+        if w == 0 || h == 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
+            return Err(format!("image {ii}: size {w}x{h} out of range"));
+        }
+        let rgba = dynimg.to_rgba32f();
+        let texels = rgba
+            .pixels()
+            .map(|p| {
+                let v = Vec4::from(p.0);
+                let v = if v.is_finite() { v } else { Vec4::ZERO };
+                if srgb {
+                    Vec4::new(
+                        srgb_to_linear(v.x),
+                        srgb_to_linear(v.y),
+                        srgb_to_linear(v.z),
+                        v.w,
+                    )
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let (mut wrap_s, mut wrap_t, mut linear) = (Wrap::Repeat, Wrap::Repeat, true);
+        if let Some(si) = t.sampler
+            && let Some(s) = root.samplers.get(si.value())
+        {
+            wrap_s = wrap_mode(&s.wrap_s);
+            wrap_t = wrap_mode(&s.wrap_t);
+            linear = !matches!(
+                s.mag_filter,
+                Some(Checked::Valid(json::texture::MagFilter::Nearest))
+            );
+        }
+        Ok(Texture {
+            width: w,
+            height: h,
+            texels,
+            wrap_s,
+            wrap_t,
+            linear,
+        })
+    }
+}
+
+fn wrap_mode(w: &Checked<json::texture::WrappingMode>) -> Wrap {
+    use json::texture::WrappingMode as W;
+    match w {
+        Checked::Valid(W::ClampToEdge) => Wrap::ClampToEdge,
+        Checked::Valid(W::MirroredRepeat) => Wrap::MirroredRepeat,
+        _ => Wrap::Repeat,
+    }
+}
