@@ -87,6 +87,18 @@ pub struct LeSample {
     pub infinite: bool,
 }
 
+/// Unit direction from `p` to the light position `pl` and the squared distance (`None` when
+/// they coincide): the geometry of every delta-position light's `sample_li`.
+#[inline]
+pub(crate) fn towards_position(p: Vec3, pl: Vec3) -> Option<(Vec3, f32)> {
+    let to = pl - p;
+    let d2 = to.length_squared();
+    if d2 <= 0.0 {
+        return None;
+    }
+    Some((to / d2.sqrt(), d2))
+}
+
 impl Light {
     /// Sample incident illumination at `p` with the 2D sample `u` (PBR 4th ed. §12.2).
     #[inline]

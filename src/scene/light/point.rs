@@ -17,14 +17,10 @@ impl PointLight {
     /// Delta position: L = I/d² from the one point, pdf = selection probability.
     #[inline]
     pub fn sample_li(&self, p: Vec3, pick: f32) -> Option<LiSample> {
-        let to = self.position - p;
-        let d2 = to.length_squared();
-        if d2 <= 0.0 {
-            return None;
-        }
+        let (wi, d2) = super::towards_position(p, self.position)?;
         Some(LiSample {
             l: self.intensity / d2,
-            wi: to / d2.sqrt(),
+            wi,
             pdf: pick,
             p_light: self.position,
             n_light: Vec3::ZERO,

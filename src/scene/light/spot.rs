@@ -31,12 +31,7 @@ impl SpotLight {
     /// Delta position: L = I·falloff/d², pdf = selection probability.
     #[inline]
     pub fn sample_li(&self, p: Vec3, pick: f32) -> Option<LiSample> {
-        let to = self.position - p;
-        let d2 = to.length_squared();
-        if d2 <= 0.0 {
-            return None;
-        }
-        let wi = to / d2.sqrt();
+        let (wi, d2) = super::towards_position(p, self.position)?;
         let fall = spot_falloff((-wi).dot(self.direction), self.cos_inner, self.cos_outer);
         if fall <= 0.0 {
             return None;
