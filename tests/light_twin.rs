@@ -142,9 +142,13 @@ fn cases_of(set: &LightSet, light: usize, out: &mut Vec<LightProbeCase>) {
         for k in 0..PER_POINT {
             let idx = pi * PER_POINT + k;
             let f = idx as f32 + 0.5 * light as f32;
-            let sign = if (idx / ws.len()) % 2 == 0 { 1.0 } else { -1.0 };
+            let sign = if (idx / ws.len()).is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            };
             // Every third pick lands exactly on a CDF entry (first entry > u wins).
-            let u_pick = if idx % 3 == 0 {
+            let u_pick = if idx.is_multiple_of(3) {
                 set.cdf[(idx / 3 + light) % n_lights]
             } else {
                 (idx as f32 + 0.5) / (points().len() * PER_POINT) as f32
@@ -317,13 +321,7 @@ fn compare_sample_le(
     } else {
         side.dot(s.dir).abs()
     };
-    t.vec(
-        [o.le_cos_n, 0.0, 0.0],
-        Vec3::X * cos_n,
-        "sample_le cos_n",
-        REL,
-        i,
-    );
+    t.val(o.le_cos_n, cos_n, "sample_le cos_n", REL, i);
     let delta = (o.le_flags >> 1) & 1 != 0;
     t.check(
         delta == s.delta_pos,
