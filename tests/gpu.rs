@@ -16,7 +16,7 @@ use refract::bsdf::{
 use refract::cpu::Renderer;
 use refract::film::Film;
 use refract::gpu::layout::{self, *};
-use refract::gpu::pipeline::{integrator_source, probe_source, run_probe};
+use refract::gpu::pipeline::{integrator_source, light_probe_source, probe_source, run_probe};
 use refract::gpu::{GpuContext, GpuRenderer, upload};
 use refract::math::rng::{Sampler, pcg_hash};
 use refract::math::spectrum::{
@@ -55,6 +55,7 @@ fn prelude_constants_match_rust() {
     for (kernel, src) in [
         ("integrator", integrator_source()),
         ("probe", probe_source()),
+        ("light probe", light_probe_source()),
     ] {
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         for &(name, value) in WGSL_CONSTANTS {

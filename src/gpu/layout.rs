@@ -221,6 +221,80 @@ gpu_struct! {
     }
 }
 
+gpu_struct! {
+    /// Uniforms of the light probe kernel (src/shaders/light_probe.wgsl): what light.wgsl
+    /// reads of the integrator's [`Params`], plus the environment radiance.
+    pub struct LightProbeParams {
+        pub environment: [f32; 4],
+        pub light_count: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+}
+
+gpu_struct! {
+    /// Input of the light probe kernel: one light of the packed distribution (`light` ≥ the
+    /// light count probes the environment), a reference point and the random numbers.
+    pub struct LightProbeCase {
+        /// Reference point of `light_sample_li`.
+        pub p: [f32; 3],
+        pub light: u32,
+        /// Normal and direction of `light_le` / `light_pdf_le`.
+        pub n: [f32; 3],
+        /// Selection probability folded into the densities.
+        pub pick: f32,
+        pub w: [f32; 3],
+        /// `light_set_pick(u_pick)`.
+        pub u_pick: f32,
+        pub u: [f32; 2],
+        pub u_pos: [f32; 2],
+        pub u_dir: [f32; 2],
+        /// The sampler a double-sided area light draws its side from.
+        pub pixel: u32,
+        pub sample: u32,
+        pub seed: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+}
+
+gpu_struct! {
+    /// Output of the light probe kernel.
+    pub struct LightProbeOut {
+        /// `light_sample_li`: valid | is_delta << 1 | infinite << 2.
+        pub li_flags: u32,
+        pub li_l: [f32; 3],
+        pub li_wi: [f32; 3],
+        pub li_pdf: f32,
+        pub li_p: [f32; 3],
+        /// `light_pdf_li(pick, |p_light − p|, n_light, wi)` of the sampled point.
+        pub li_pdf_back: f32,
+        pub li_n: [f32; 3],
+        /// `light_sample_le`: valid | delta_pos << 1.
+        pub le_flags: u32,
+        pub le_p: [f32; 3],
+        pub le_pdf_pos: f32,
+        pub le_n: [f32; 3],
+        pub le_pdf_dir: f32,
+        pub le_dir: [f32; 3],
+        pub le_cos_n: f32,
+        pub le_l: [f32; 3],
+        /// The sampler's first draw: the side a double-sided area light emits from.
+        pub u_side: f32,
+        /// `light_le(n, w)`, then `light_pdf_le(pick, n, w)`.
+        pub emitted: [f32; 3],
+        pub pdf_pos: f32,
+        pub pdf_dir: f32,
+        /// `light_set_pick(u_pick)`: probability and the picked entry's CDF value.
+        pub pick_prob: f32,
+        pub pick_cdf: f32,
+        /// `light_set_area(slot).prob` of an area light's leaf slot (0 for other kinds).
+        pub area_prob: f32,
+    }
+}
+
 // Constants shared with the WGSL. Each one is emitted into the WGSL prelude by
 // `gpu::prelude` (the shaders never define them themselves; tests/gpu.rs checks both).
 

@@ -35,6 +35,7 @@ const INTERACTION: &str = include_str!("../shaders/interaction.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
 const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
+const LIGHT_PROBE: &str = include_str!("../shaders/light_probe.wgsl");
 
 /// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
 const MATHS: &[&str] = &[
@@ -77,6 +78,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("integrator.wgsl", INTEGRATOR),
     ("light_tracing.wgsl", LIGHT_TRACING),
     ("probe.wgsl", PROBE),
+    ("light_probe.wgsl", LIGHT_PROBE),
 ];
 
 /// The generated prelude, then `parts`.
@@ -108,6 +110,11 @@ pub fn integrator_source() -> String {
 /// The probe kernel's full WGSL source (prelude and maths only, no scene).
 pub fn probe_source() -> String {
     assemble(&[MATHS, &[PROBE]].concat())
+}
+
+/// The light probe kernel's full WGSL source: prelude, maths, scene bindings, lights.
+pub fn light_probe_source() -> String {
+    assemble(&[MATHS, &[SCENE, LIGHT, LIGHT_PROBE]].concat())
 }
 
 /// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
@@ -351,16 +358,6 @@ pub fn run_probe(ctx: &GpuContext, cases: &[ProbeCase]) -> Result<Vec<ProbeOut>>
     use wgpu::util::DeviceExt;
     anyhow::ensure!(!cases.is_empty(), "no probe cases");
     let module = create_module(ctx, "probe.wgsl", probe_source())?;
-    let pipeline = ctx
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("probe"),
-            layout: None,
-            module: &module,
-            entry_point: Some("probe"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
     let input = ctx
         .device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -375,19 +372,48 @@ pub fn run_probe(ctx: &GpuContext, cases: &[ProbeCase]) -> Result<Vec<ProbeOut>>
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
+    dispatch_once(
+        ctx,
+        &module,
+        "probe",
+        &[(0, &input), (1, &output)],
+        cases.len() as u32,
+    );
+    let bytes = ctx.read_buffer(&output, out_size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}
+
+/// Run entry point `entry` of `module` once over `threads` invocations (workgroups of 64)
+/// with `buffers` bound at their binding numbers of group 0 (the layout derived from the
+/// shader), and submit it (the probe kernels; the caller reads its output buffer back).
+pub(crate) fn dispatch_once(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    buffers: &[(u32, &wgpu::Buffer)],
+    threads: u32,
+) {
+    let pipeline = ctx
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: None,
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .map(|&(binding, b)| wgpu::BindGroupEntry {
+            binding,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
     let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("probe"),
+        label: Some(entry),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     });
     let mut enc = ctx
         .device
@@ -396,9 +422,7 @@ pub fn run_probe(ctx: &GpuContext, cases: &[ProbeCase]) -> Result<Vec<ProbeOut>>
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bg, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
+        pass.dispatch_workgroups(threads.div_ceil(64), 1, 1);
     }
     ctx.queue.submit([enc.finish()]);
-    let bytes = ctx.read_buffer(&output, out_size)?;
-    Ok(bytemuck::pod_collect_to_vec(&bytes))
 }

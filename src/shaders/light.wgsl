@@ -14,6 +14,16 @@
 // (glTF smooth falloff) and directional lights (KHR_lights_punctual), and the uniform
 // environment. The environment is not in the light distribution yet: escaped rays add
 // `light_le` of `light_environment` with MIS weight 1.
+//
+// Differences from the Rust twin (tests/light_twin.rs asserts them): `light_sample_le` draws
+// a double-sided emitter's side from its sampler (Rust `sample_le` takes `u_side`), reports
+// the emitting side as `n`, and is invalid for lights at infinity (directional, environment:
+// no light subpaths start there on the GPU; their `light_pdf_le` is (0, 0)).
+//
+// Adding a light type: the Rust file and `Light` variant in src/scene/light/ (see its module
+// docs), a LIGHT_* kind in gpu::layout packed by `upload::pack_lights`, a `case LIGHT_*` in
+// every light_* function below, and the light in tests/light_twin.rs `all_lights_scene`, which
+// runs these functions through src/shaders/light_probe.wgsl against the Rust methods.
 
 // Pipeline specialisation: area and punctual lights compiled out when a scene has none.
 override HAS_LIGHTS: bool = true;
@@ -78,7 +88,8 @@ fn spot_falloff(cos_theta: f32, cos_inner: f32, cos_outer: f32) -> f32 {
 }
 
 // A point on an area light: position, unit geometric normal (the triangle's winding) and
-// the triangle's area. Twin of `scene::light::sample_triangle` (PBR 4th ed. §6.5.4).
+// the triangle's area. Twin of `TriangleLight::sample_point` with the normal and area of
+// `TriangleLight::new` (PBR 4th ed. §6.5.4).
 struct TrianglePoint {
     p: vec3<f32>,
     n: vec3<f32>,
@@ -352,8 +363,9 @@ struct LightLePdf {
 
 // Densities with which `light_sample_le` of `light` (selection probability `pick`) emits from
 // a point with normal `n_light` towards `w`: area lights pdf_pos = pick / area (the mesh area),
-// pdf_dir cosine-weighted; delta positions have pdf_pos = 0. PBR 4th ed. §12.1, §12.5.1
-// (`PDF_Le`).
+// pdf_dir cosine-weighted; a delta position reports pdf_pos = pick, as `light_sample_le` does
+// (the walks read pdf_dir only). Lights at infinity emit no subpaths here: (0, 0).
+// PBR 4th ed. §12.1, §12.5.1 (`PDF_Le`).
 fn light_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> LightLePdf {
     switch light.kind {
         case LIGHT_TRIANGLE: {
@@ -366,14 +378,14 @@ fn light_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> Li
             return LightLePdf(pick / triangles[light.index].area, pdf_dir);
         }
         case LIGHT_POINT: {
-            return LightLePdf(0.0, light_punctual_pdf_dir(light));
+            return LightLePdf(pick, light_punctual_pdf_dir(light));
         }
         case LIGHT_SPOT: {
             var pdf_dir = 0.0;
             if dot3(w, v3(light.direction)) >= light.cos_outer {
                 pdf_dir = light_punctual_pdf_dir(light);
             }
-            return LightLePdf(0.0, pdf_dir);
+            return LightLePdf(pick, pdf_dir);
         }
         default: {
             return LightLePdf(0.0, 0.0);

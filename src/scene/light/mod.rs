@@ -10,8 +10,26 @@
 //!
 //! Densities are returned with the light-selection probability `pick` already folded in, in
 //! the order of operations the walks used before the interface existed (so images stayed
-//! bit-identical). Adding a light type (an image environment, say) is one more variant: a
-//! file here, its twin in `light.wgsl`, and a case in the twin test.
+//! bit-identical).
+//!
+//! The WGSL twin differs in two documented ways (tests/light_twin.rs asserts both):
+//! `light_sample_le` draws a two-sided emitter's side from the sampler it is given, where
+//! `sample_le` takes it as `u_side` (the CPU walks always draw it); and the GPU starts no
+//! light subpaths at lights at infinity (`light_sample_le` invalid, `light_pdf_le` (0, 0)).
+//!
+//! # Adding a light type
+//!
+//! An image environment, say, is one more variant, in three places:
+//! 1. Rust: a file here with the type and its `sample_li`, `pdf_li`, `le`, `sample_le`,
+//!    `pdf_le` and `power` (each formula with its citation), a `Light` variant dispatching
+//!    to them, its entry in `LightSet::build` (`scene_lights`), and its consistency cases in
+//!    `tests.rs` (`lights()`).
+//! 2. WGSL: a `LIGHT_*` kind in `gpu::layout`, its fields in `upload::pack_lights` (the GPU
+//!    `Light` entry), and a `case LIGHT_*` in each `light_*` function of
+//!    `src/shaders/light.wgsl`, the twins named and cited as here.
+//! 3. The twin test: the light in `all_lights_scene` of tests/light_twin.rs (with reference
+//!    points and directions that reach each branch), so the probe compares it with the Rust
+//!    methods to f32 tolerance.
 
 mod directional;
 mod environment;

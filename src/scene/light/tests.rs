@@ -2,7 +2,8 @@
 //! `pdf_le` return the densities `sample_li` and `sample_le` report, the emission estimator
 //! E[L·|cos|/(p_pos·p_dir)] recovers the analytic power, and emitted rays of lights at
 //! infinity cross the scene's bounding sphere. The WGSL twin (`light.wgsl`) is compared with
-//! these functions through the GPU renders in tests/gpu.rs and tests/gpu_lt.rs.
+//! these functions case by case in tests/light_twin.rs, and through the GPU renders in
+//! tests/gpu.rs and tests/gpu_lt.rs.
 
 use super::*;
 use crate::math::rng::Sampler;

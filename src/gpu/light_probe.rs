@@ -1,0 +1,86 @@
+//! The light twin probe: runs `src/shaders/light_probe.wgsl` (light.wgsl's `light_sample_li`,
+//! `light_pdf_li`, `light_le`, `light_sample_le`, `light_pdf_le`, `light_set_pick`,
+//! `light_set_area`) on a scene's packed lights, so `tests/light_twin.rs` can compare every
+//! light type with the Rust `scene::light::Light` methods.
+
+use super::layout::{GpuLayout, LightProbeCase, LightProbeOut, LightProbeParams};
+use super::pipeline::{create_module, dispatch_once, light_probe_source};
+use super::{GpuContext, upload};
+use crate::scene::Scene;
+use crate::scene::light::LightSet;
+use anyhow::Result;
+use eframe::wgpu;
+use wgpu::util::DeviceExt;
+
+/// Evaluate the WGSL lights of `scene` (packed as the renderer packs them: `LightSet::build`,
+/// BVH leaf order, `upload::pack_lights`) on `cases`.
+pub fn run_light_probe(
+    ctx: &GpuContext,
+    scene: &Scene,
+    cases: &[LightProbeCase],
+) -> Result<Vec<LightProbeOut>> {
+    anyhow::ensure!(!cases.is_empty(), "no light probe cases");
+    let set = LightSet::build(scene);
+    let bvh = upload::build_bvh(scene)?;
+    let triangles = upload::pack_triangles(scene, &bvh, &set);
+    let (_, tex_slots) = upload::pack_textures(scene);
+    let materials = upload::pack_materials(scene, &tex_slots);
+    let (lights, light_count) = upload::pack_lights(&bvh, &set);
+    let e = scene.environment;
+    let params = LightProbeParams {
+        environment: [e.x, e.y, e.z, 0.0],
+        light_count,
+        ..Default::default()
+    };
+    let module = create_module(ctx, "light_probe.wgsl", light_probe_source())?;
+    let init = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
+        ctx.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage,
+            })
+    };
+    let storage = wgpu::BufferUsages::STORAGE;
+    let params = init(
+        "light probe params",
+        bytemuck::bytes_of(&params),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let triangles = init(
+        "triangles",
+        upload::checked_bytes("triangles", &triangles)?,
+        storage,
+    );
+    let materials = init(
+        "materials",
+        upload::checked_bytes("materials", &materials)?,
+        storage,
+    );
+    let lights = init("lights", upload::checked_bytes("lights", &lights)?, storage);
+    let input = init("light probe cases", bytemuck::cast_slice(cases), storage);
+    let out_size = (cases.len() * LightProbeOut::size() as usize) as u64;
+    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("light probe out"),
+        size: out_size,
+        usage: storage | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    // Binding numbers of scene.wgsl (triangles 2, materials 4, lights 5) and light_probe.wgsl.
+    dispatch_once(
+        ctx,
+        &module,
+        "light_probe",
+        &[
+            (0, &params),
+            (2, &triangles),
+            (4, &materials),
+            (5, &lights),
+            (6, &input),
+            (7, &output),
+        ],
+        cases.len() as u32,
+    );
+    let bytes = ctx.read_buffer(&output, out_size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}

@@ -1,0 +1,489 @@
+//! Light twin test: the WGSL lights (src/shaders/light.wgsl, run through
+//! src/shaders/light_probe.wgsl) against the Rust `scene::light::Light` methods, on one scene
+//! with every light type — a one-sided and a two-sided area light, a point light, a spot light
+//! (reference points and directions inside the inner cone, in the falloff ramp and outside
+//! the outer cone), a directional light and the uniform environment.
+//!
+//! Per case (light, reference point, random numbers) both sides compute `sample_li`
+//! (l, wi, pdf, p_light, n_light, is_delta, infinite), `pdf_li` of the sampled point, `le`
+//! and `pdf_le` for a given normal and direction, `sample_le` (p, n, dir, l, pdf_pos,
+//! pdf_dir, delta_pos), the light-selection pick and an area light's hit probability.
+//!
+//! Tolerance: relative 1e-5 (vectors by the length of the difference over the longer
+//! length, scalars by |a − b| / max(|a|, |b|)); 1e-4 for spot-light radiance, where a
+//! cosine enters the falloff ramp with slope 1/(cos θ_inner − cos θ_outer) ≈ 9. The pick is
+//! exact (the same f32 CDF entries and subtraction on both sides).
+//!
+//! Documented differences of the twins (asserted as such below, not compared):
+//! - `light_sample_le` draws a two-sided emitter's side from the sampler it is given; the
+//!   Rust `sample_le` takes it as `u_side`. The probe reports the sampler's first draw and
+//!   the Rust side is given that, so both take the same side.
+//! - `light_sample_le` of a triangle reports the emitting side as `n` (the Rust `n` is the
+//!   front normal) and the cosine `cos_n`; it returns `valid = false` where the Rust
+//!   `sample_le` returns a direction with `pdf_dir` 0 (a tangent direction; not probed).
+//! - The WGSL lights at infinity (directional, environment) start no light subpaths:
+//!   `light_sample_le` is invalid and `light_pdf_le` is (0, 0) for them (the GPU `Light`
+//!   has no bounding sphere); the Rust `sample_le`/`pdf_le` serve the CPU light tracer.
+
+mod common_scenes;
+use common_scenes::*;
+use glam::{Vec2, Vec3};
+use refract::gpu::layout::{LightProbeCase, LightProbeOut, LightProbeParams, check_layout};
+use refract::gpu::light_probe::run_light_probe;
+use refract::gpu::pipeline::light_probe_source;
+use refract::scene::light::{Light, LightSet};
+use refract::scene::{Camera, Material, Mesh, PunctualLight, Scene};
+
+/// Relative tolerance of every compared value.
+const REL: f32 = 1e-5;
+/// Relative tolerance of spot-light radiance (a cosine through the steep falloff ramp).
+const SPOT_REL: f32 = 1e-4;
+
+const SPOT_INNER_DEG: f32 = 20.0;
+const SPOT_OUTER_DEG: f32 = 30.0;
+
+/// A floor, a one-sided area light facing down, a two-sided vertical area light, a point,
+/// a spot pointing down (cone 20°–30°), a directional light and a uniform environment.
+fn all_lights_scene() -> Scene {
+    let mut m = Mesh::default();
+    quad(
+        &mut m,
+        Vec3::new(-5.0, 0.0, 5.0),
+        Vec3::X * 10.0,
+        Vec3::Z * -10.0,
+        0,
+    );
+    // Normal X × Z = −Y (facing the floor).
+    quad(&mut m, Vec3::new(-1.5, 3.0, -0.5), Vec3::X, Vec3::Z, 1);
+    // Normal Y × Z = +X; emits on both faces.
+    quad(&mut m, Vec3::new(2.0, 1.0, -0.5), Vec3::Y, Vec3::Z, 2);
+    let one_sided = Material::emitter("one-sided", Vec3::new(4.0, 3.0, 2.0));
+    let two_sided = Material {
+        double_sided: true,
+        ..Material::emitter("two-sided", Vec3::new(1.0, 2.0, 3.0))
+    };
+    let cam = Camera::look_at(Vec3::new(0.0, 2.0, 6.0), Vec3::ZERO, Vec3::Y, 0.8);
+    let floor = Material::diffuse("floor", Vec3::splat(0.5));
+    let mut s = scene("all lights", m, vec![floor, one_sided, two_sided], cam, 0.0);
+    s.environment = Vec3::new(0.2, 0.3, 0.4);
+    s.punctual_lights = vec![
+        PunctualLight::Point {
+            position: Vec3::new(0.0, 2.5, 1.0),
+            intensity: Vec3::new(5.0, 4.0, 3.0),
+        },
+        PunctualLight::Spot {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction: -Vec3::Y,
+            intensity: Vec3::new(10.0, 20.0, 30.0),
+            cos_inner: SPOT_INNER_DEG.to_radians().cos(),
+            cos_outer: SPOT_OUTER_DEG.to_radians().cos(),
+        },
+        PunctualLight::Directional {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            irradiance: Vec3::new(1.5, 1.0, 0.5),
+        },
+    ];
+    s
+}
+
+/// Reference points. Seen from the spot at (0, 3, 0) pointing down: the origin is on its
+/// axis, (1.40, 0, 0) at 25° and (0, 0, −1.2) at 21.8° are in the ramp, (2.52, 0, 0.3) at
+/// 40.2° and (−1, 4, 0) (above it) are outside. (−1, 4, 0) is behind the one-sided light,
+/// (2.52, 0, 0.3) in front of the two-sided one and the others behind it.
+fn points() -> [Vec3; 6] {
+    let ramp = 3.0 * 25f32.to_radians().tan();
+    let outside = 3.0 * 40f32.to_radians().tan();
+    [
+        Vec3::ZERO,
+        Vec3::new(ramp, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, -1.2),
+        Vec3::new(outside, 0.0, 0.3),
+        Vec3::new(-1.0, 4.0, 0.0),
+        Vec3::new(0.5, 0.5, -2.0),
+    ]
+}
+
+/// Directions of `le` / `pdf_le`: relative to the spot axis −Y at 0°, ≈21.8°, ≈25.2°, ≈40°
+/// (inside, ramp, ramp, outside), then upwards, sideways and along ±X (the two-sided light's
+/// normal).
+fn directions() -> [Vec3; 8] {
+    [
+        -Vec3::Y,
+        Vec3::new(0.4, -1.0, 0.0).normalize(),
+        Vec3::new(0.0, -1.0, -0.47).normalize(),
+        Vec3::new(0.84, -1.0, 0.0).normalize(),
+        Vec3::Y,
+        Vec3::new(1.0, 0.2, -0.3).normalize(),
+        Vec3::X,
+        -Vec3::X,
+    ]
+}
+
+/// Probes per light: every reference point with 5 sets of random numbers.
+const PER_POINT: usize = 5;
+
+/// The cases of light `light` (index into `set.lights`; `set.lights.len()`: environment).
+fn cases_of(set: &LightSet, light: usize, out: &mut Vec<LightProbeCase>) {
+    let n_lights = set.lights.len();
+    let (pick, normal) = match set.lights.get(light) {
+        Some(l) => {
+            let prev = if light == 0 { 0.0 } else { set.cdf[light - 1] };
+            let n = match l {
+                Light::Triangle(t) => t.n,
+                _ => Vec3::Y,
+            };
+            (set.cdf[light] - prev, n)
+        }
+        None => (0.5, Vec3::Y),
+    };
+    let frac = |x: f32| x - x.floor();
+    let ws = directions();
+    for (pi, p) in points().into_iter().enumerate() {
+        for k in 0..PER_POINT {
+            let idx = pi * PER_POINT + k;
+            let f = idx as f32 + 0.5 * light as f32;
+            let sign = if (idx / ws.len()).is_multiple_of(2) {
+                1.0
+            } else {
+                -1.0
+            };
+            // Every third pick lands exactly on a CDF entry (first entry > u wins).
+            let u_pick = if idx.is_multiple_of(3) {
+                set.cdf[(idx / 3 + light) % n_lights]
+            } else {
+                (idx as f32 + 0.5) / (points().len() * PER_POINT) as f32
+            };
+            out.push(LightProbeCase {
+                p: p.to_array(),
+                light: light as u32,
+                n: (sign * normal).to_array(),
+                pick,
+                w: ws[idx % ws.len()].to_array(),
+                u_pick,
+                u: [frac(f * 0.29 + 0.11), frac(f * 0.61 + 0.05)],
+                u_pos: [frac(f * 0.37 + 0.23), frac(f * 0.17 + 0.71)],
+                u_dir: [frac(f * 0.53 + 0.07), frac(f * 0.83 + 0.31)],
+                pixel: (idx as u32).wrapping_mul(2_654_435_761) ^ light as u32,
+                sample: idx as u32,
+                seed: light as u32,
+                ..Default::default()
+            });
+        }
+    }
+}
+
+/// Worst errors and the first mismatches.
+#[derive(Default)]
+struct Track {
+    /// Worst relative error under [`REL`] and under [`SPOT_REL`].
+    worst: f32,
+    worst_spot: f32,
+    failures: Vec<String>,
+    n_fail: usize,
+    compared: usize,
+}
+
+impl Track {
+    fn err(&mut self, e: f32, what: &str, gpu: String, cpu: String, tol: f32, case: usize) {
+        self.compared += 1;
+        if tol == SPOT_REL {
+            self.worst_spot = self.worst_spot.max(e);
+        } else {
+            self.worst = self.worst.max(e);
+        }
+        if e.is_nan() || e > tol {
+            self.fail(format!(
+                "case {case}: {what}: GPU {gpu} vs CPU {cpu} (rel {e:.2e})"
+            ));
+        }
+    }
+    /// Scalars: |a − b| / max(|a|, |b|).
+    fn val(&mut self, gpu: f32, cpu: f32, what: &str, tol: f32, case: usize) {
+        let e = if gpu == cpu {
+            0.0
+        } else {
+            (gpu - cpu).abs() / gpu.abs().max(cpu.abs())
+        };
+        self.err(e, what, gpu.to_string(), cpu.to_string(), tol, case);
+    }
+    /// Vectors: |a − b| / max(|a|, |b|).
+    fn vec(&mut self, gpu: [f32; 3], cpu: Vec3, what: &str, tol: f32, case: usize) {
+        let g = Vec3::from_array(gpu);
+        let e = if g == cpu {
+            0.0
+        } else {
+            (g - cpu).length() / g.length().max(cpu.length())
+        };
+        self.err(e, what, format!("{g:?}"), format!("{cpu:?}"), tol, case);
+    }
+    fn check(&mut self, ok: bool, what: String) {
+        if !ok {
+            self.fail(what);
+        }
+    }
+    fn fail(&mut self, msg: String) {
+        self.n_fail += 1;
+        if self.failures.len() < 30 {
+            self.failures.push(msg);
+        } else if self.failures.len() == 30 {
+            self.failures.push("…".into());
+        }
+    }
+}
+
+/// `sample_li` and `pdf_li` of the sampled point.
+fn compare_li(t: &mut Track, light: &Light, c: &LightProbeCase, o: &LightProbeOut, i: usize) {
+    let p = Vec3::from_array(c.p);
+    let cpu = light.sample_li(p, Vec2::from_array(c.u), c.pick);
+    let valid = o.li_flags & 1 != 0;
+    t.check(
+        valid == cpu.is_some(),
+        format!(
+            "case {i}: sample_li valid: GPU {valid}, CPU {}",
+            cpu.is_some()
+        ),
+    );
+    let Some(s) = cpu.filter(|_| valid) else {
+        return;
+    };
+    let l_tol = if matches!(light, Light::Spot(_)) {
+        SPOT_REL
+    } else {
+        REL
+    };
+    t.vec(o.li_l, s.l, "sample_li l", l_tol, i);
+    t.vec(o.li_wi, s.wi, "sample_li wi", REL, i);
+    t.val(o.li_pdf, s.pdf, "sample_li pdf", REL, i);
+    t.vec(o.li_p, s.p_light, "sample_li p_light", REL, i);
+    t.vec(o.li_n, s.n_light, "sample_li n_light", REL, i);
+    let flags = [(o.li_flags >> 1) & 1 != 0, (o.li_flags >> 2) & 1 != 0];
+    t.check(
+        flags == [s.is_delta, s.infinite],
+        format!(
+            "case {i}: sample_li (is_delta, infinite): GPU {flags:?}, CPU {:?}",
+            [s.is_delta, s.infinite]
+        ),
+    );
+    let dist = (s.p_light - p).length();
+    let cos_light = s.n_light.dot(s.wi).abs();
+    let back = light.pdf_li(c.pick, dist, cos_light);
+    t.val(o.li_pdf_back, back, "pdf_li", REL, i);
+}
+
+/// `sample_le`, with the side the GPU sampler drew.
+fn compare_sample_le(
+    t: &mut Track,
+    light: &Light,
+    c: &LightProbeCase,
+    o: &LightProbeOut,
+    i: usize,
+) {
+    let u_pos = Vec2::from_array(c.u_pos);
+    let u_dir = Vec2::from_array(c.u_dir);
+    let cpu = light.sample_le(u_pos, u_dir, o.u_side, c.pick);
+    let valid = o.le_flags & 1 != 0;
+    if light.is_infinite() {
+        // No light subpaths from infinity on the GPU (module docs).
+        t.check(
+            !valid,
+            format!("case {i}: WGSL sample_le of an infinite light is valid"),
+        );
+        return;
+    }
+    t.check(
+        valid && cpu.is_some(),
+        format!(
+            "case {i}: sample_le valid: GPU {valid}, CPU {}",
+            cpu.is_some()
+        ),
+    );
+    let Some(s) = cpu.filter(|_| valid) else {
+        return;
+    };
+    // The WGSL reports the emitting side and its cosine.
+    let side = match light {
+        Light::Triangle(tl) if tl.two_sided && o.u_side < 0.5 => -s.n,
+        _ => s.n,
+    };
+    let l_tol = if matches!(light, Light::Spot(_)) {
+        SPOT_REL
+    } else {
+        REL
+    };
+    t.vec(o.le_p, s.p, "sample_le p", REL, i);
+    t.vec(o.le_n, side, "sample_le n (emitting side)", REL, i);
+    t.vec(o.le_dir, s.dir, "sample_le dir", REL, i);
+    t.vec(o.le_l, s.l, "sample_le l", l_tol, i);
+    t.val(o.le_pdf_pos, s.pdf_pos, "sample_le pdf_pos", REL, i);
+    t.val(o.le_pdf_dir, s.pdf_dir, "sample_le pdf_dir", REL, i);
+    let cos_n = if light.is_delta_position() {
+        1.0
+    } else {
+        side.dot(s.dir).abs()
+    };
+    t.val(o.le_cos_n, cos_n, "sample_le cos_n", REL, i);
+    let delta = (o.le_flags >> 1) & 1 != 0;
+    t.check(
+        delta == s.delta_pos,
+        format!(
+            "case {i}: sample_le delta_pos: GPU {delta}, CPU {}",
+            s.delta_pos
+        ),
+    );
+}
+
+/// `le` and `pdf_le` for the case's normal and direction.
+fn compare_le(t: &mut Track, light: &Light, c: &LightProbeCase, o: &LightProbeOut, i: usize) {
+    let n = Vec3::from_array(c.n);
+    let w = Vec3::from_array(c.w);
+    let l_tol = if matches!(light, Light::Spot(_)) {
+        SPOT_REL
+    } else {
+        REL
+    };
+    t.vec(o.emitted, light.le(n, w), "le", l_tol, i);
+    let (pdf_pos, pdf_dir) = light.pdf_le(c.pick, n, w);
+    if light.is_infinite() {
+        t.check(
+            o.pdf_pos == 0.0 && o.pdf_dir == 0.0,
+            format!(
+                "case {i}: WGSL pdf_le of an infinite light is ({}, {})",
+                o.pdf_pos, o.pdf_dir
+            ),
+        );
+        return;
+    }
+    t.val(o.pdf_pos, pdf_pos, "pdf_le pdf_pos", REL, i);
+    t.val(o.pdf_dir, pdf_dir, "pdf_le pdf_dir", REL, i);
+}
+
+/// `LightSet::pick` and `LightSet::area_light`: the same entry, exactly.
+fn compare_pick(t: &mut Track, set: &LightSet, c: &LightProbeCase, o: &LightProbeOut, i: usize) {
+    let (picked, prob) = set.pick(c.u_pick).expect("the scene has lights");
+    let k = set
+        .lights
+        .iter()
+        .position(|l| std::ptr::eq(l, picked))
+        .unwrap();
+    t.check(
+        o.pick_cdf == set.cdf[k] && o.pick_prob == prob,
+        format!(
+            "case {i}: pick({}): GPU (cdf {}, prob {}), CPU light {k} (cdf {}, prob {prob})",
+            c.u_pick, o.pick_cdf, o.pick_prob, set.cdf[k]
+        ),
+    );
+    let area = match set.lights.get(c.light as usize) {
+        Some(Light::Triangle(tl)) => set.area_light(tl.tri).map_or(0.0, |(_, p)| p),
+        _ => 0.0,
+    };
+    t.check(
+        o.area_prob == area,
+        format!(
+            "case {i}: area light probability: GPU {}, CPU {area}",
+            o.area_prob
+        ),
+    );
+}
+
+/// The probe structs match their WGSL twins (no adapter needed).
+#[test]
+fn light_probe_layout_matches_wgsl() {
+    let src = light_probe_source();
+    check_layout::<LightProbeParams>(&src).unwrap();
+    check_layout::<LightProbeCase>(&src).unwrap();
+    check_layout::<LightProbeOut>(&src).unwrap();
+}
+
+/// Every light type through WGSL and Rust on the same cases (module docs).
+#[test]
+fn light_twin_parity() {
+    let Some(ctx) = gpu_context("light_twin_parity") else {
+        return;
+    };
+    let scene = all_lights_scene();
+    let set = LightSet::build(&scene);
+    let kinds: Vec<&str> = set
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Triangle(t) if t.two_sided => "triangle (two-sided)",
+            Light::Triangle(_) => "triangle (one-sided)",
+            Light::Point(_) => "point",
+            Light::Spot(_) => "spot",
+            Light::Directional(_) => "directional",
+            Light::Environment(_) => "environment",
+        })
+        .collect();
+    for k in [
+        "triangle (one-sided)",
+        "triangle (two-sided)",
+        "point",
+        "spot",
+        "directional",
+    ] {
+        assert!(kinds.contains(&k), "the scene has no {k} light: {kinds:?}");
+    }
+    let mut cases = Vec::new();
+    for light in 0..=set.lights.len() {
+        cases_of(&set, light, &mut cases);
+    }
+    let outs = run_light_probe(&ctx, &scene, &cases).unwrap();
+    assert_eq!(outs.len(), cases.len());
+    let mut t = Track::default();
+    let (mut li_valid, mut li_none, mut sides) = (0, 0, [0, 0]);
+    let mut spot_li = [0usize; 3];
+    for (i, (c, o)) in cases.iter().zip(&outs).enumerate() {
+        let light = set.lights.get(c.light as usize).unwrap_or(&set.environment);
+        compare_li(&mut t, light, c, o, i);
+        compare_sample_le(&mut t, light, c, o, i);
+        compare_le(&mut t, light, c, o, i);
+        compare_pick(&mut t, &set, c, o, i);
+        if o.li_flags & 1 != 0 {
+            li_valid += 1;
+        } else {
+            li_none += 1;
+        }
+        if let Light::Triangle(tl) = light
+            && tl.two_sided
+        {
+            sides[usize::from(o.u_side < 0.5)] += 1;
+        }
+        if let Light::Spot(s) = light {
+            let to = Vec3::from_array(c.p) - s.position;
+            let cos = to.normalize().dot(s.direction);
+            let zone = if cos >= s.cos_inner {
+                0
+            } else if cos > s.cos_outer {
+                1
+            } else {
+                2
+            };
+            spot_li[zone] += 1;
+        }
+    }
+    eprintln!(
+        "light twin: {} cases, {} comparisons, worst relative error {:.2e} (spot radiance {:.2e}); sample_li valid \
+         {li_valid}, none {li_none}; two-sided sides (front, back) {sides:?}; spot points \
+         (inside, ramp, outside) {spot_li:?}",
+        cases.len(),
+        t.compared,
+        t.worst,
+        t.worst_spot
+    );
+    assert!(
+        t.failures.is_empty(),
+        "{} light twin mismatches:\n{}",
+        t.n_fail,
+        t.failures.join("\n")
+    );
+    // The cases reach what they are meant to reach.
+    assert!(
+        li_none > 0 && li_valid > 0,
+        "sample_li: {li_valid} valid, {li_none} none"
+    );
+    assert!(
+        sides[0] > 0 && sides[1] > 0,
+        "two-sided light: sides {sides:?}"
+    );
+    assert!(spot_li.iter().all(|&n| n > 0), "spot zones {spot_li:?}");
+}
