@@ -9,7 +9,6 @@ use super::{GpuContext, upload};
 use crate::scene::Scene;
 use crate::scene::light::LightSet;
 use anyhow::Result;
-use eframe::wgpu;
 use wgpu::util::DeviceExt;
 
 /// Evaluate the WGSL lights of `scene` (packed as the renderer packs them: `LightSet::build`,

@@ -7,7 +7,6 @@ use super::GpuContext;
 use super::layout::GpuLayout;
 use crate::film::{ToneMap, exposure_scale};
 use anyhow::{Context as _, Result};
-use eframe::wgpu;
 
 const TONEMAP_WGSL: &str = include_str!("../shaders/tonemap.wgsl");
 

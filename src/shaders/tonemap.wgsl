@@ -4,7 +4,7 @@
 // with egui-wgpu, which then samples it exactly like its own (sRGB) textures, so the screen
 // shows the same bytes as `film::to_srgb8` / the CPU backend.
 //
-// Formulas are the twins of `film::ToneMap::apply` and `film::linear_to_srgb` (Rust):
+// Formulas are the twins of `film::ToneMap::apply` and `math::color::linear_to_srgb` (Rust):
 // - Reinhard x/(1+x): Reinhard et al. 2002, "Photographic Tone Reproduction for Digital
 //   Images".
 // - ACES filmic fit: Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
