@@ -6,6 +6,7 @@
 //! `Interaction` and `PathState`.
 
 use super::interaction::{Bounce, Interaction, SurfaceHit, surface};
+use super::medium::medium_transmittance;
 use super::path_state::PathState;
 use super::spectral::Spectral;
 use crate::bsdf::{BxDF, TransportMode};
@@ -191,14 +192,10 @@ impl<'a> Integrator<'a> {
         let c = f * wi.z.abs() * sp.c(ls.l) * (w / ls.pdf);
         // Absorption along the shadow ray (a light inside absorbing glass).
         let medium = st.medium_towards(self.scene, it, ls.wi);
-        match super::medium::medium_transmittance(
-            self.scene,
-            medium,
-            (ls.p_light - it.hit.p).length(),
-            sp,
-        ) {
-            Some(tr) if !ls.infinite => c * tr,
-            _ => c,
+        if ls.infinite || medium.is_none() {
+            return c;
         }
+        let t = (ls.p_light - it.hit.p).length();
+        medium_transmittance(self.scene, medium, t, sp).map_or(c, |tr| c * tr)
     }
 }

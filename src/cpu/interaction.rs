@@ -115,6 +115,7 @@ pub struct Interaction {
 impl Interaction {
     /// The interaction of a ray travelling along `d` with `hit`; `None` when the path ends
     /// there (one-sided back face, or an emitter, which is black otherwise).
+    #[inline(always)]
     pub fn new(scene: &Scene, hit: &SurfaceHit, d: Vec3, sp: &Spectral) -> Option<Interaction> {
         let mat = &scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
@@ -147,7 +148,7 @@ impl Interaction {
     }
 
     /// Sample the BSDF and check the event against the geometric normal.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, uc: f32, u2: Vec2, mode: TransportMode) -> Bounce {
         let Some(s) = self.bsdf.sample(self.wo, uc, u2, mode) else {
             return Bounce::Absorbed;

@@ -110,6 +110,7 @@ impl Bdpt<'_> {
         sp: &Spectral,
     ) -> Option<Color> {
         let m = v.medium_towards(self.pt.scene, w);
+        m?;
         medium_transmittance(self.pt.scene, m, d2.sqrt(), sp)
     }
 

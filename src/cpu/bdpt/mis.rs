@@ -48,13 +48,13 @@ impl Bdpt<'_> {
 
     /// The reverse densities of the connection vertices of strategy (s, t): returns the
     /// modified copies of (y_{s-1}, y_{s-2}) and (z_{t-1}, z_{t-2}).
-    fn connection_densities(
+    fn connection_densities<'v>(
         &self,
-        light: &[Vertex],
-        cam: &[Vertex],
+        light: &[Vertex<'v>],
+        cam: &[Vertex<'v>],
         t: usize,
         pdf_cam_y: Option<f32>,
-    ) -> ([Vertex; 2], [Vertex; 2]) {
+    ) -> ([Vertex<'v>; 2], [Vertex<'v>; 2]) {
         let s = light.len();
         let mut lv: [Vertex; 2] = [light.last().copied().unwrap_or(cam[0]); 2];
         let mut cv: [Vertex; 2] = [cam[t - 1]; 2];

@@ -70,7 +70,7 @@ impl<'a> Bdpt<'a> {
     /// an escaping camera subpath to `l` (no strategy samples it: weight 1).
     fn camera_path(
         &self,
-        cam: &mut Vec<Vertex>,
+        cam: &mut Vec<Vertex<'a>>,
         (x, y, j): (u32, u32, glam::Vec2),
         max_depth: usize,
         sampler: &mut Sampler,

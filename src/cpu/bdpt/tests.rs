@@ -69,7 +69,7 @@ fn random_path(bd: &Bdpt, r: &Renderer, rng: &mut Sampler, k: usize) -> Option<V
         .collect();
     let (light0, pick0) = r.lights.area_light(lt).expect("emissive triangle");
     full[0].kind = Kind::Light {
-        light: *light0,
+        light: light0,
         pick: pick0,
     };
     full[0].bsdf = None;

@@ -12,11 +12,12 @@ use crate::scene::light::Light;
 use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Kind {
+pub(super) enum Kind<'a> {
     Camera,
-    /// Light subpath origin: the light and its selection probability.
+    /// Light subpath origin: the light (in the scene's `LightSet`) and its selection
+    /// probability. A reference keeps the vertex small: MIS copies vertices often.
     Light {
-        light: Light,
+        light: &'a Light,
         pick: f32,
     },
     Surface,
@@ -24,8 +25,8 @@ pub(super) enum Kind {
 
 /// One vertex of a camera or light subpath.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Vertex {
-    pub kind: Kind,
+pub(super) struct Vertex<'a> {
+    pub kind: Kind<'a>,
     pub p: Vec3,
     /// Geometric and shading normal, oriented to the side the subpath arrived from for opaque
     /// double-sided materials (outward for dielectrics); zero for camera/point lights; the
@@ -55,9 +56,9 @@ pub(super) struct Vertex {
     pub medium: Medium,
 }
 
-impl Vertex {
+impl<'a> Vertex<'a> {
     /// A vertex with everything but its kind, position and throughput zeroed.
-    pub fn new(kind: Kind, p: Vec3, beta: Color, pdf_fwd: f32, class: Symbol) -> Vertex {
+    pub fn new(kind: Kind<'a>, p: Vec3, beta: Color, pdf_fwd: f32, class: Symbol) -> Vertex<'a> {
         Vertex {
             kind,
             p,
@@ -78,7 +79,7 @@ impl Vertex {
     }
 
     /// The vertex of a walk arriving at `it` with state `st`.
-    pub fn surface(it: &Interaction, st: &PathState) -> Vertex {
+    pub fn surface(it: &Interaction, st: &PathState) -> Vertex<'a> {
         Vertex {
             ng: it.ng,
             ns: it.ns,
@@ -93,9 +94,9 @@ impl Vertex {
     }
 
     /// The light of a light-subpath origin.
-    pub fn light(&self) -> Option<(&Light, f32)> {
-        match &self.kind {
-            Kind::Light { light, pick } => Some((light, *pick)),
+    pub fn light(&self) -> Option<(&'a Light, f32)> {
+        match self.kind {
+            Kind::Light { light, pick } => Some((light, pick)),
             _ => None,
         }
     }

@@ -11,14 +11,14 @@ use crate::math::{Color, rng::Sampler};
 use crate::paths::Symbol;
 use glam::Vec3;
 
-impl Bdpt<'_> {
+impl<'a> Bdpt<'a> {
     /// Random walk from `o` in direction `d` with state `st` and solid-angle pdf `pdf_w` of
     /// that direction (PBR 3rd ed. §16.3.2 structure). Appends vertices to `path`; returns the
     /// throughput, collapse flag and direction of a ray that escaped the scene.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn walk(
         &self,
-        path: &mut Vec<Vertex>,
+        path: &mut Vec<Vertex<'a>>,
         (mut o, mut d): (Vec3, Vec3),
         mut st: PathState,
         mut pdf_w: f32,
@@ -90,7 +90,7 @@ impl Bdpt<'_> {
     /// Start a light subpath: pick a light, sample an emitted ray from it and walk.
     pub(super) fn light_path(
         &self,
-        path: &mut Vec<Vertex>,
+        path: &mut Vec<Vertex<'a>>,
         max_verts: usize,
         sampler: &mut Sampler,
         sp: &Spectral,
@@ -99,16 +99,14 @@ impl Bdpt<'_> {
         let u_pos = sampler.next_2d();
         let u_dir = sampler.next_2d();
         let u_side = sampler.next_1d();
-        let Some((light, pick)) = self.pt.lights.pick(ul) else {
+        let lights: &'a crate::scene::light::LightSet = self.pt.lights;
+        let Some((light, pick)) = lights.pick(ul) else {
             return;
         };
         let Some(le) = light.sample_le(u_pos, u_dir, u_side, pick) else {
             return;
         };
-        let kind = Kind::Light {
-            light: *light,
-            pick,
-        };
+        let kind = Kind::Light { light, pick };
         if le.infinite {
             // Only the s = 1 strategy connects to a light at infinity, along −n.
             path.push(Vertex {
