@@ -103,6 +103,51 @@ pub struct BsdfSample {
     pub eta_rel: f32,
 }
 
+impl BsdfSample {
+    /// A sample of a non-delta lobe (pbrt-v4 `BSDFSample(f, wi, pdf, flags, eta)`): value `f`,
+    /// direction `wi`, solid-angle `pdf` and the weight f·|cos θi|/pdf. WGSL twin:
+    /// `bsdf_sample_new`.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        wi: Vec3,
+        f: Color,
+        weight: Color,
+        pdf: f32,
+        event: Event,
+        lobe: Lobe,
+        eta_rel: f32,
+    ) -> BsdfSample {
+        BsdfSample {
+            wi,
+            f,
+            weight,
+            pdf,
+            is_delta: false,
+            event,
+            lobe,
+            eta_rel,
+        }
+    }
+
+    /// A sample of a delta (specular, class S) lobe: no function value, `pdf` is the lobe's
+    /// selection probability and `weight` the throughput factor (pbrt-v4 `BSDFSample` with
+    /// `BxDFFlags::Specular`). WGSL twin: `bsdf_sample_delta`.
+    #[inline]
+    pub fn delta(wi: Vec3, weight: Color, pdf: f32, event: Event, eta_rel: f32) -> BsdfSample {
+        BsdfSample {
+            wi,
+            f: Color::ZERO,
+            weight,
+            pdf,
+            is_delta: true,
+            event,
+            lobe: Lobe::S,
+            eta_rel,
+        }
+    }
+}
+
 /// Per-class BSDF values (for the Heckbert path filter on next-event estimation).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LobeValues {

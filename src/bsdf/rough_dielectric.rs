@@ -143,16 +143,13 @@ impl BxDF for RoughDielectric {
         }
         if self.eta == 1.0 {
             // Index-matched: no interface at all (same as SmoothDielectric).
-            return Some(BsdfSample {
-                wi: -wo,
-                f: Color::ZERO,
-                weight: Color::ONE,
-                pdf: 1.0,
-                is_delta: true,
-                event: Event::Transmit,
-                lobe: Lobe::S,
-                eta_rel: 1.0,
-            });
+            return Some(BsdfSample::delta(
+                -wo,
+                Color::ONE,
+                1.0,
+                Event::Transmit,
+                1.0,
+            ));
         }
         let side = wo.z.signum();
         let wo_up = wo * side;
@@ -179,15 +176,14 @@ impl BxDF for RoughDielectric {
             return None;
         }
         let f = Color::splat(f);
-        Some(BsdfSample {
+        Some(BsdfSample::new(
             wi,
             f,
-            weight: f * (wi.z.abs() / pdf),
+            f * (wi.z.abs() / pdf),
             pdf,
-            is_delta: false,
             event,
-            lobe: Lobe::G,
+            Lobe::G,
             eta_rel,
-        })
+        ))
     }
 }

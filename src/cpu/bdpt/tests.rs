@@ -19,7 +19,7 @@ fn sample_triangle(sc: &Scene, t: u32, u: glam::Vec2) -> (Vec3, Vec3) {
 }
 
 /// A diffuse surface vertex on triangle `t` at `p`, arrived at from `prev`.
-fn surface_vertex(sc: &Scene, t: u32, p: Vec3, prev: Vec3) -> Vertex {
+fn surface_vertex(sc: &Scene, t: u32, p: Vec3, prev: Vec3) -> Vertex<'static> {
     let (_, n) = sample_triangle(sc, t, glam::Vec2::ZERO);
     let m = sc.mesh.tri_material[t as usize];
     let mat = &sc.materials[m as usize];
@@ -36,7 +36,12 @@ fn surface_vertex(sc: &Scene, t: u32, p: Vec3, prev: Vec3) -> Vertex {
 
 /// A random full path of `k` segments: x0 on the light, x1…x(k−1) on diffuse walls facing each
 /// other, then the camera; `None` when the last surface vertex is off the film.
-fn random_path(bd: &Bdpt, r: &Renderer, rng: &mut Sampler, k: usize) -> Option<Vec<Vertex>> {
+fn random_path<'r>(
+    bd: &Bdpt,
+    r: &'r Renderer,
+    rng: &mut Sampler,
+    k: usize,
+) -> Option<Vec<Vertex<'r>>> {
     let sc = &r.scene;
     let mat_of = |t: u32| &sc.materials[sc.mesh.tri_material[t as usize] as usize];
     let diffuse: Vec<u32> = (0..sc.mesh.triangle_count() as u32)
