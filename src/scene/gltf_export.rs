@@ -303,6 +303,7 @@ fn split_color(v: Vec3) -> (Vec3, f32) {
     }
 }
 
+/// glTF material of `m` (metallic-roughness + KHR extensions, recorded in `used`).
 fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
     let (metallic, roughness) = match m.kind {
         MaterialKind::Diffuse => (0.0, 1.0),
@@ -338,28 +339,7 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         }
     }
     if m.is_transmissive() {
-        ext.insert(
-            "KHR_materials_transmission".into(),
-            json!({ "transmissionFactor": 1.0 }),
-        );
-        ext.insert("KHR_materials_ior".into(), json!({ "ior": m.ior }));
-        used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
-        if m.kind == MaterialKind::Glass {
-            let mut v = json!({ "thicknessFactor": 1.0 });
-            if m.attenuation_distance.is_finite() {
-                v["attenuationDistance"] = json!(m.attenuation_distance);
-                v["attenuationColor"] = json!(m.attenuation_color.to_array());
-            }
-            ext.insert("KHR_materials_volume".into(), v);
-            used.push("KHR_materials_volume");
-        }
-        if let Some(abbe) = m.abbe {
-            ext.insert(
-                "KHR_materials_dispersion".into(),
-                json!({ "dispersion": 20.0 / abbe }),
-            );
-            used.push("KHR_materials_dispersion");
-        }
+        transmission_extensions(m, &mut ext, used);
     }
     if m.kind == MaterialKind::MetalRough
         && (m.specular_factor != 1.0 || m.specular_color != Vec3::ONE)
@@ -387,6 +367,37 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         j["extras"] = json!({ "microfacet_distribution": d });
     }
     j
+}
+
+/// KHR_materials_transmission, _ior, _volume (solid glass) and _dispersion of a transmissive
+/// material, recorded in `used`.
+fn transmission_extensions(
+    m: &Material,
+    ext: &mut Map<String, Value>,
+    used: &mut Vec<&'static str>,
+) {
+    ext.insert(
+        "KHR_materials_transmission".into(),
+        json!({ "transmissionFactor": 1.0 }),
+    );
+    ext.insert("KHR_materials_ior".into(), json!({ "ior": m.ior }));
+    used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
+    if m.kind == MaterialKind::Glass {
+        let mut v = json!({ "thicknessFactor": 1.0 });
+        if m.attenuation_distance.is_finite() {
+            v["attenuationDistance"] = json!(m.attenuation_distance);
+            v["attenuationColor"] = json!(m.attenuation_color.to_array());
+        }
+        ext.insert("KHR_materials_volume".into(), v);
+        used.push("KHR_materials_volume");
+    }
+    if let Some(abbe) = m.abbe {
+        ext.insert(
+            "KHR_materials_dispersion".into(),
+            json!({ "dispersion": 20.0 / abbe }),
+        );
+        used.push("KHR_materials_dispersion");
+    }
 }
 
 /// Wrap JSON and binary chunks into a GLB container (glTF 2.0 §4.4).
