@@ -244,22 +244,14 @@ struct Parts {
 
 /// (glTF JSON document, binary chunk).
 fn root_json(scene: &Scene, p: Parts) -> (Value, Vec<u8>) {
-    let Parts {
-        buffers,
-        nodes,
-        meshes,
-        materials,
-        cameras,
-        lights,
-        mut used_ext,
-    } = p;
+    let (buffers, mut used_ext) = (p.buffers, p.used_ext);
     let s = &scene.settings;
     let mut root = json!({
         "asset": { "version": "2.0", "generator": "refract gltf_export" },
         "scene": 0,
         "scenes": [{
             "name": scene.name,
-            "nodes": (0..nodes.len()).collect::<Vec<_>>(),
+            "nodes": (0..p.nodes.len()).collect::<Vec<_>>(),
             "extras": {
                 "render": {
                     "width": s.width, "height": s.height, "max_depth": s.max_depth,
@@ -268,10 +260,10 @@ fn root_json(scene: &Scene, p: Parts) -> (Value, Vec<u8>) {
                 "environment": scene.environment.to_array()
             }
         }],
-        "nodes": nodes,
-        "meshes": meshes,
-        "materials": materials,
-        "cameras": cameras,
+        "nodes": p.nodes,
+        "meshes": p.meshes,
+        "materials": p.materials,
+        "cameras": p.cameras,
         "accessors": buffers.accessors,
         "bufferViews": buffers.views,
         "buffers": [{ "byteLength": buffers.bin.len() }]
@@ -281,9 +273,9 @@ fn root_json(scene: &Scene, p: Parts) -> (Value, Vec<u8>) {
     {
         o.remove("buffers");
     }
-    if !lights.is_empty() {
+    if !p.lights.is_empty() {
         used_ext.push("KHR_lights_punctual");
-        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": lights } });
+        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": p.lights } });
     }
     used_ext.sort_unstable();
     used_ext.dedup();
