@@ -1,6 +1,6 @@
 //! Conductors: the perfect mirror (delta lobe) with constant reflectance.
 
-use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use glam::{Vec2, Vec3};
 
@@ -25,15 +25,12 @@ impl BxDF for Mirror {
         if wo.z <= 0.0 {
             return None;
         }
-        Some(BsdfSample {
-            wi: Vec3::new(-wo.x, -wo.y, wo.z),
-            f: Color::ZERO,
-            weight: self.reflectance,
-            pdf: 1.0,
-            is_delta: true,
-            event: Event::Reflect,
-            lobe: Lobe::S,
-            eta_rel: 1.0,
-        })
+        Some(BsdfSample::delta(
+            Vec3::new(-wo.x, -wo.y, wo.z),
+            self.reflectance,
+            1.0,
+            Event::Reflect,
+            1.0,
+        ))
     }
 }

@@ -1,7 +1,7 @@
 //! Smooth dielectric interface: exact Fresnel, Snell refraction, total internal reflection.
 
 use super::fresnel::fresnel_dielectric_terms;
-use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use glam::{Vec2, Vec3};
 
@@ -30,32 +30,19 @@ impl BxDF for SmoothDielectric {
             return None;
         }
         if self.eta == 1.0 {
-            // Index-matched: no interface at all.
-            return Some(BsdfSample {
-                wi: -wo,
-                f: Color::ZERO,
-                weight: Color::ONE,
-                pdf: 1.0,
-                is_delta: true,
-                event: Event::Transmit,
-                lobe: Lobe::S,
-                eta_rel: 1.0,
-            });
+            return Some(BsdfSample::index_matched(wo));
         }
         let fr = fresnel_dielectric_terms(wo.z, self.eta);
         // TIR (F = 1) must reflect even for uc = 1.0 (the same sin²θt ≥ 1 test decides both).
         if uc < fr.f || fr.f >= 1.0 {
             // Specular reflection (includes TIR, where F = 1).
-            return Some(BsdfSample {
-                wi: Vec3::new(-wo.x, -wo.y, wo.z),
-                f: Color::ZERO,
-                weight: Color::ONE,
-                pdf: fr.f,
-                is_delta: true,
-                event: Event::Reflect,
-                lobe: Lobe::S,
-                eta_rel: 1.0,
-            });
+            return Some(BsdfSample::delta(
+                Vec3::new(-wo.x, -wo.y, wo.z),
+                Color::ONE,
+                fr.f,
+                Event::Reflect,
+                1.0,
+            ));
         }
         // Refraction: Snell's law with the normal flipped to the side of wo.
         // wt = −wo/η' + (cosθi/η' − cosθt) n, PBR 4th ed. eq. (9.19).
@@ -67,15 +54,12 @@ impl BxDF for SmoothDielectric {
             TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
             TransportMode::Importance => 1.0,
         };
-        Some(BsdfSample {
+        Some(BsdfSample::delta(
             wi,
-            f: Color::ZERO,
-            weight: Color::splat(scale),
-            pdf: 1.0 - fr.f,
-            is_delta: true,
-            event: Event::Transmit,
-            lobe: Lobe::S,
+            Color::splat(scale),
+            1.0 - fr.f,
+            Event::Transmit,
             eta_rel,
-        })
+        ))
     }
 }

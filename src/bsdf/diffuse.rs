@@ -41,15 +41,14 @@ impl BxDF for Lambert {
         if pdf <= 0.0 {
             return None;
         }
-        Some(BsdfSample {
+        Some(BsdfSample::new(
             wi,
-            f: self.albedo * FRAC_1_PI,
-            weight: self.albedo,
+            self.albedo * FRAC_1_PI,
+            self.albedo,
             pdf,
-            is_delta: false,
-            event: Event::Reflect,
-            lobe: Lobe::D,
-            eta_rel: 1.0,
-        })
+            Event::Reflect,
+            Lobe::D,
+            1.0,
+        ))
     }
 }

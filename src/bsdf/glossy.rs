@@ -81,15 +81,14 @@ impl BxDF for RoughConductor {
             return None;
         }
         let f = self.reflectance * f;
-        Some(BsdfSample {
+        Some(BsdfSample::new(
             wi,
             f,
-            weight: f * (wi.z / pdf),
+            f * (wi.z / pdf),
             pdf,
-            is_delta: false,
-            event: Event::Reflect,
-            lobe: Lobe::G,
-            eta_rel: 1.0,
-        })
+            Event::Reflect,
+            Lobe::G,
+            1.0,
+        ))
     }
 }

@@ -251,15 +251,14 @@ impl BxDF for MetalRough {
         if !f.is_finite() {
             return None;
         }
-        Some(BsdfSample {
+        Some(BsdfSample::new(
             wi,
             f,
-            weight: f * (wi.z / pdf),
+            f * (wi.z / pdf),
             pdf,
-            is_delta: false,
-            event: Event::Reflect,
+            Event::Reflect,
             lobe,
-            eta_rel: 1.0,
-        })
+            1.0,
+        ))
     }
 }

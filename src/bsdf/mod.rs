@@ -103,6 +103,56 @@ pub struct BsdfSample {
     pub eta_rel: f32,
 }
 
+impl BsdfSample {
+    /// A sample of a non-delta lobe: value f, direction wi, solid-angle pdf, weight f|cos θi|/pdf,
+    /// event, Heckbert lobe and relative IOR (pbrt-v4 `BSDFSample(f, wi, pdf, flags, eta)`).
+    #[inline]
+    pub fn new(
+        wi: Vec3,
+        f: Color,
+        weight: Color,
+        pdf: f32,
+        event: Event,
+        lobe: Lobe,
+        eta_rel: f32,
+    ) -> BsdfSample {
+        BsdfSample {
+            wi,
+            f,
+            weight,
+            pdf,
+            is_delta: false,
+            event,
+            lobe,
+            eta_rel,
+        }
+    }
+
+    /// A sample of a delta lobe (specular, [`Lobe::S`]): f is not a function value (0), `pdf` is
+    /// the lobe's selection probability and `weight` the throughput factor (pbrt-v4
+    /// `BSDFSample` with `BxDFFlags::Specular`).
+    #[inline]
+    pub fn delta(wi: Vec3, weight: Color, pdf: f32, event: Event, eta_rel: f32) -> BsdfSample {
+        BsdfSample {
+            wi,
+            f: Color::ZERO,
+            weight,
+            pdf,
+            is_delta: true,
+            event,
+            lobe: Lobe::S,
+            eta_rel,
+        }
+    }
+
+    /// An index-matched interface (η = 1): no interface at all, the sample passes straight
+    /// through with weight 1.
+    #[inline]
+    pub fn index_matched(wo: Vec3) -> BsdfSample {
+        BsdfSample::delta(-wo, Color::ONE, 1.0, Event::Transmit, 1.0)
+    }
+}
+
 /// Per-class BSDF values (for the Heckbert path filter on next-event estimation).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LobeValues {

@@ -142,17 +142,7 @@ impl BxDF for RoughDielectric {
             return None;
         }
         if self.eta == 1.0 {
-            // Index-matched: no interface at all (same as SmoothDielectric).
-            return Some(BsdfSample {
-                wi: -wo,
-                f: Color::ZERO,
-                weight: Color::ONE,
-                pdf: 1.0,
-                is_delta: true,
-                event: Event::Transmit,
-                lobe: Lobe::S,
-                eta_rel: 1.0,
-            });
+            return Some(BsdfSample::index_matched(wo));
         }
         let side = wo.z.signum();
         let wo_up = wo * side;
@@ -179,15 +169,14 @@ impl BxDF for RoughDielectric {
             return None;
         }
         let f = Color::splat(f);
-        Some(BsdfSample {
+        Some(BsdfSample::new(
             wi,
             f,
-            weight: f * (wi.z.abs() / pdf),
+            f * (wi.z.abs() / pdf),
             pdf,
-            is_delta: false,
             event,
-            lobe: Lobe::G,
+            Lobe::G,
             eta_rel,
-        })
+        ))
     }
 }

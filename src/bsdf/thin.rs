@@ -1,7 +1,7 @@
 //! Thin-walled dielectric: a glass sheet with two parallel interfaces and no bending.
 
 use super::fresnel::fresnel_dielectric;
-use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use glam::{Vec2, Vec3};
 
@@ -59,27 +59,21 @@ impl BxDF for ThinDielectric {
         // R' = 1 (TIR at the first face) must reflect even for uc = 1.0.
         if uc < r || r >= 1.0 {
             // Specular reflection about the normal. PBR 4th ed. §9.3.1.
-            return Some(BsdfSample {
-                wi: Vec3::new(-wo.x, -wo.y, wo.z),
-                f: Color::ZERO,
-                weight: Color::ONE,
-                pdf: r,
-                is_delta: true,
-                event: Event::Reflect,
-                lobe: Lobe::S,
-                eta_rel: 1.0,
-            });
+            return Some(BsdfSample::delta(
+                Vec3::new(-wo.x, -wo.y, wo.z),
+                Color::ONE,
+                r,
+                Event::Reflect,
+                1.0,
+            ));
         }
         // Straight pass-through: the two refractions cancel. PBR 4th ed. §9.5.
-        Some(BsdfSample {
-            wi: -wo,
-            f: Color::ZERO,
-            weight: Color::ONE,
-            pdf: 1.0 - r,
-            is_delta: true,
-            event: Event::Transmit,
-            lobe: Lobe::S,
-            eta_rel: 1.0,
-        })
+        Some(BsdfSample::delta(
+            -wo,
+            Color::ONE,
+            1.0 - r,
+            Event::Transmit,
+            1.0,
+        ))
     }
 }
