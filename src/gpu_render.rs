@@ -2,7 +2,6 @@
 //! main.rs so the CLI stays small).
 
 use anyhow::Result;
-use indicatif::{ProgressBar, ProgressStyle};
 use refract::film;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
 use refract::render::{Device, RenderOptions};
@@ -79,15 +78,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
             ""
         }
     );
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(spp as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = super::spp_progress_bar(spp, args.quiet);
     let img = r.render_with(spp, args.time_budget, |d| bar.set_position(d))?;
     bar.finish_and_clear();
     let stats = r.stats()?;

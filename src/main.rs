@@ -338,15 +338,7 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         spp,
         opts.max_depth
     );
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(spp as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = spp_progress_bar(spp, args.quiet);
     let (film, stats) =
         pool.install(|| renderer.render(&opts, spp, args.time_budget, |d| bar.set_position(d)));
     bar.finish_and_clear();
@@ -367,6 +359,20 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         stats.dropped
     );
     Ok(())
+}
+
+/// The render commands' progress bar over `spp` samples per pixel (hidden when `quiet`).
+fn spp_progress_bar(spp: u32, quiet: bool) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(spp as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
 }
 
 fn bench(args: &BenchArgs) -> Result<()> {

@@ -30,14 +30,7 @@ impl BxDF for SmoothDielectric {
             return None;
         }
         if self.eta == 1.0 {
-            // Index-matched: no interface at all.
-            return Some(BsdfSample::delta(
-                -wo,
-                Color::ONE,
-                1.0,
-                Event::Transmit,
-                1.0,
-            ));
+            return Some(BsdfSample::index_matched(wo));
         }
         let fr = fresnel_dielectric_terms(wo.z, self.eta);
         // TIR (F = 1) must reflect even for uc = 1.0 (the same sin²θt ≥ 1 test decides both).

@@ -104,11 +104,9 @@ pub struct BsdfSample {
 }
 
 impl BsdfSample {
-    /// A sample of a non-delta lobe (pbrt-v4 `BSDFSample(f, wi, pdf, flags, eta)`): value `f`,
-    /// direction `wi`, solid-angle `pdf` and the weight f·|cos θi|/pdf. WGSL twin:
-    /// `bsdf_sample_new`.
+    /// A sample of a non-delta lobe: value f, direction wi, solid-angle pdf, weight f|cos θi|/pdf,
+    /// event, Heckbert lobe and relative IOR (pbrt-v4 `BSDFSample(f, wi, pdf, flags, eta)`).
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         wi: Vec3,
         f: Color,
@@ -130,9 +128,9 @@ impl BsdfSample {
         }
     }
 
-    /// A sample of a delta (specular, class S) lobe: no function value, `pdf` is the lobe's
-    /// selection probability and `weight` the throughput factor (pbrt-v4 `BSDFSample` with
-    /// `BxDFFlags::Specular`). WGSL twin: `bsdf_sample_delta`.
+    /// A sample of a delta lobe (specular, [`Lobe::S`]): f is not a function value (0), `pdf` is
+    /// the lobe's selection probability and `weight` the throughput factor (pbrt-v4
+    /// `BSDFSample` with `BxDFFlags::Specular`).
     #[inline]
     pub fn delta(wi: Vec3, weight: Color, pdf: f32, event: Event, eta_rel: f32) -> BsdfSample {
         BsdfSample {
@@ -145,6 +143,13 @@ impl BsdfSample {
             lobe: Lobe::S,
             eta_rel,
         }
+    }
+
+    /// An index-matched interface (η = 1): no interface at all, the sample passes straight
+    /// through with weight 1.
+    #[inline]
+    pub fn index_matched(wo: Vec3) -> BsdfSample {
+        BsdfSample::delta(-wo, Color::ONE, 1.0, Event::Transmit, 1.0)
     }
 }
 

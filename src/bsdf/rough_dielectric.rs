@@ -142,14 +142,7 @@ impl BxDF for RoughDielectric {
             return None;
         }
         if self.eta == 1.0 {
-            // Index-matched: no interface at all (same as SmoothDielectric).
-            return Some(BsdfSample::delta(
-                -wo,
-                Color::ONE,
-                1.0,
-                Event::Transmit,
-                1.0,
-            ));
+            return Some(BsdfSample::index_matched(wo));
         }
         let side = wo.z.signum();
         let wo_up = wo * side;

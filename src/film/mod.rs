@@ -53,14 +53,7 @@ impl Film {
     /// the caller through the return value).
     #[inline]
     pub fn add_to(px: &mut [f64; 3], v: Vec3) -> bool {
-        if sample_is_valid(v) {
-            px[0] += v.x as f64;
-            px[1] += v.y as f64;
-            px[2] += v.z as f64;
-            true
-        } else {
-            false
-        }
+        accumulate(px, v, sample_is_valid(v))
     }
 
     /// Add a spectral-mode sample: a single-wavelength estimate converted to RGB can be
@@ -68,17 +61,11 @@ impl Film {
     /// are dropped here; per-pixel means converge to the in-gamut colour.
     #[inline]
     pub fn add_signed_to(px: &mut [f64; 3], v: Vec3) -> bool {
-        if v.is_finite() {
-            px[0] += v.x as f64;
-            px[1] += v.y as f64;
-            px[2] += v.z as f64;
-            true
-        } else {
-            false
-        }
+        accumulate(px, v, v.is_finite())
     }
 
-    /// Add light-tracing splats (already divided by nothing; `scale` applied here).
+    /// Add a light-tracing splat to pixel (x, y) (false when it lies outside the film or the
+    /// firewall of [`Film::add_to`] drops it).
     pub fn add_splat(&mut self, x: u32, y: u32, v: Vec3) -> bool {
         if x >= self.width || y >= self.height {
             return false;
@@ -89,18 +76,12 @@ impl Film {
 
     /// Mean radiance of pixel (x, y).
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
-        let s = self.sum[(y * self.width + x) as usize];
-        let n = self.spp.max(1) as f64;
-        Vec3::new((s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32)
+        mean(self.sum[(y * self.width + x) as usize], self.spp)
     }
 
     /// Mean radiance image, row-major, top row first.
     pub fn image(&self) -> Vec<Vec3> {
-        let n = self.spp.max(1) as f64;
-        self.sum
-            .iter()
-            .map(|s| Vec3::new((s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32))
-            .collect()
+        self.sum.iter().map(|&s| mean(s, self.spp)).collect()
     }
 
     /// Merge another film of the same size (sums, spp and drop counts add).
@@ -114,4 +95,22 @@ impl Film {
         self.spp += other.spp;
         self.dropped += other.dropped;
     }
+}
+
+/// Add `v` to the pixel sum `px` when `accept`; returns `accept`.
+#[inline]
+fn accumulate(px: &mut [f64; 3], v: Vec3, accept: bool) -> bool {
+    if accept {
+        px[0] += v.x as f64;
+        px[1] += v.y as f64;
+        px[2] += v.z as f64;
+    }
+    accept
+}
+
+/// Mean of a pixel sum over `spp` samples (0 samples: the sum itself).
+#[inline]
+fn mean(s: [f64; 3], spp: u64) -> Vec3 {
+    let n = spp.max(1) as f64;
+    Vec3::new((s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32)
 }

@@ -224,17 +224,26 @@ pub struct Pipelines {
     pub compiled: u32,
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+/// A compute-stage buffer binding of type `ty`.
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
+            ty,
             has_dynamic_offset: false,
             min_binding_size: None,
         },
         count: None,
     }
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, wgpu::BufferBindingType::Storage { read_only })
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, wgpu::BufferBindingType::Uniform)
 }
 
 /// Compile a WGSL module, turning validation errors into `Err` instead of a panic.
@@ -270,16 +279,7 @@ impl Pipelines {
             ctx.info.name
         );
         let module = create_module(ctx, "integrator.wgsl", integrator_source())?;
-        let mut entries = vec![wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }];
+        let mut entries = vec![uniform_entry(0)];
         for b in 1..=5 {
             entries.push(storage_entry(b, true));
         }
@@ -287,16 +287,7 @@ impl Pipelines {
         entries.push(storage_entry(7, false));
         // Texture references + texels (8 storage buffers in all), the path filter (uniform).
         entries.push(storage_entry(8, true));
-        entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 9,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        });
+        entries.push(uniform_entry(9));
         // Light-tracing splats (fixed-point atomics).
         entries.push(storage_entry(10, false));
         let bind_group_layout =

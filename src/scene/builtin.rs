@@ -514,96 +514,17 @@ pub fn prism() -> Scene {
     triangular_prism(&mut m, tri, 0.0, 0.35, 2);
 
     let lay = prism_layout(side, n_d);
-    let to3 = |p: Vec2, y: f32| Vec3::new(p.x, y, p.y);
     // Wall, perpendicular to the deviated beam, facing back towards the prism.
     let wall_c = lay.exit + 0.9 * lay.beam_out;
     rect(
         &mut m,
-        to3(wall_c, 0.3),
-        -to3(lay.beam_out, 0.0),
+        xz_to_3d(wall_c, 0.3),
+        -xz_to_3d(lay.beam_out, 0.0),
         0.6,
         0.6,
         1,
     );
-
-    // Housing: a black box whose front plate has the slit; the emitter sits at the back.
-    let f = to3(lay.beam_in, 0.0); // forward
-    let s = Vec3::new(-lay.beam_in.y, 0.0, lay.beam_in.x); // sideways (horizontal)
-    let slit_c = to3(lay.entry - 0.7 * lay.beam_in, 0.15);
-    let (depth, half_w, half_h) = (0.4, 0.03, 0.12);
-    let (slit_hw, slit_hh) = (0.006, 0.1);
-    let back_c = slit_c - depth * f;
-    let hm = 3;
-    // Side, top and bottom walls (double-sided black quads).
-    quad(
-        &mut m,
-        back_c - half_w * s - half_h * Vec3::Y,
-        depth * f,
-        2.0 * half_h * Vec3::Y,
-        hm,
-    );
-    quad(
-        &mut m,
-        back_c + half_w * s - half_h * Vec3::Y,
-        2.0 * half_h * Vec3::Y,
-        depth * f,
-        hm,
-    );
-    quad(
-        &mut m,
-        back_c - half_w * s + half_h * Vec3::Y,
-        depth * f,
-        2.0 * half_w * s,
-        hm,
-    );
-    quad(
-        &mut m,
-        back_c - half_w * s - half_h * Vec3::Y,
-        2.0 * half_w * s,
-        depth * f,
-        hm,
-    );
-    // Back plate.
-    quad(
-        &mut m,
-        back_c - half_w * s - half_h * Vec3::Y,
-        2.0 * half_h * Vec3::Y,
-        2.0 * half_w * s,
-        hm,
-    );
-    // Front plate around the slit: left, right, top and bottom strips.
-    let fp = slit_c;
-    let corner = fp - half_w * s - half_h * Vec3::Y;
-    quad(
-        &mut m,
-        corner,
-        (half_w - slit_hw) * s,
-        2.0 * half_h * Vec3::Y,
-        hm,
-    );
-    quad(
-        &mut m,
-        fp + slit_hw * s - half_h * Vec3::Y,
-        (half_w - slit_hw) * s,
-        2.0 * half_h * Vec3::Y,
-        hm,
-    );
-    quad(
-        &mut m,
-        fp - slit_hw * s + slit_hh * Vec3::Y,
-        2.0 * slit_hw * s,
-        (half_h - slit_hh) * Vec3::Y,
-        hm,
-    );
-    quad(
-        &mut m,
-        fp - slit_hw * s - half_h * Vec3::Y,
-        2.0 * slit_hw * s,
-        (half_h - slit_hh) * Vec3::Y,
-        hm,
-    );
-    // Emitter just in front of the back plate, facing forward.
-    rect(&mut m, back_c + 0.002 * f, f, 0.04, 0.2, 4);
+    slit_housing(&mut m, &lay, 3, 4);
 
     let cam = Camera::look_at(
         Vec3::new(-0.1, 1.2, 1.7),
@@ -619,6 +540,129 @@ pub fn prism() -> Scene {
         Vec3::splat(0.02),
         settings(640, 400),
     )
+}
+
+/// The point (p.x, y, p.y) of the xz-plane point `p` at height `y`.
+fn xz_to_3d(p: Vec2, y: f32) -> Vec3 {
+    Vec3::new(p.x, y, p.y)
+}
+
+/// Box of the prism's light source in its own frame.
+struct Housing {
+    /// Centre of the back plate.
+    back_c: Vec3,
+    /// Forward (along the beam) and sideways (horizontal) unit axes.
+    f: Vec3,
+    s: Vec3,
+    /// Length along `f`; half width along `s`; half height along +Y.
+    depth: f32,
+    half_w: f32,
+    half_h: f32,
+}
+
+/// The prism's light source: a black box (material `hm`) whose front plate has the slit,
+/// 0.7 m before the entry point along the beam; the emitter (material `em`) sits at the back.
+fn slit_housing(m: &mut Mesh, lay: &PrismLayout, hm: u32, em: u32) {
+    let f = xz_to_3d(lay.beam_in, 0.0); // forward
+    let s = Vec3::new(-lay.beam_in.y, 0.0, lay.beam_in.x); // sideways (horizontal)
+    let slit_c = xz_to_3d(lay.entry - 0.7 * lay.beam_in, 0.15);
+    let depth = 0.4;
+    let hb = Housing {
+        back_c: slit_c - depth * f,
+        f,
+        s,
+        depth,
+        half_w: 0.03,
+        half_h: 0.12,
+    };
+    housing_walls(m, &hb, hm);
+    slit_plate(m, &hb, slit_c, hm);
+    // Emitter just in front of the back plate, facing forward.
+    rect(m, hb.back_c + 0.002 * f, f, 0.04, 0.2, em);
+}
+
+/// Side, top and bottom walls and the back plate of the housing (double-sided black quads).
+fn housing_walls(m: &mut Mesh, hb: &Housing, hm: u32) {
+    let Housing {
+        back_c,
+        f,
+        s,
+        depth,
+        half_w,
+        half_h,
+    } = *hb;
+    quad(
+        m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        depth * f,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        m,
+        back_c + half_w * s - half_h * Vec3::Y,
+        2.0 * half_h * Vec3::Y,
+        depth * f,
+        hm,
+    );
+    quad(
+        m,
+        back_c - half_w * s + half_h * Vec3::Y,
+        depth * f,
+        2.0 * half_w * s,
+        hm,
+    );
+    quad(
+        m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        2.0 * half_w * s,
+        depth * f,
+        hm,
+    );
+    // Back plate.
+    quad(
+        m,
+        back_c - half_w * s - half_h * Vec3::Y,
+        2.0 * half_h * Vec3::Y,
+        2.0 * half_w * s,
+        hm,
+    );
+}
+
+/// Front plate of the housing around a 12 mm × 0.2 m slit centred at `fp`: left, right, top
+/// and bottom strips.
+fn slit_plate(m: &mut Mesh, hb: &Housing, fp: Vec3, hm: u32) {
+    let (s, half_w, half_h) = (hb.s, hb.half_w, hb.half_h);
+    let (slit_hw, slit_hh) = (0.006, 0.1);
+    let corner = fp - half_w * s - half_h * Vec3::Y;
+    quad(
+        m,
+        corner,
+        (half_w - slit_hw) * s,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        m,
+        fp + slit_hw * s - half_h * Vec3::Y,
+        (half_w - slit_hw) * s,
+        2.0 * half_h * Vec3::Y,
+        hm,
+    );
+    quad(
+        m,
+        fp - slit_hw * s + slit_hh * Vec3::Y,
+        2.0 * slit_hw * s,
+        (half_h - slit_hh) * Vec3::Y,
+        hm,
+    );
+    quad(
+        m,
+        fp - slit_hw * s - half_h * Vec3::Y,
+        2.0 * slit_hw * s,
+        (half_h - slit_hh) * Vec3::Y,
+        hm,
+    );
 }
 
 /// Caustics: a smooth glass sphere (r = 0.3 m, IOR 1.5) and an upright glass block

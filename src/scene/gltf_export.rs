@@ -5,7 +5,7 @@
 //! the camera and the punctual lights as nodes; `scenes[0].extras.render` and
 //! `.environment`. Textures are not written (built-in scenes have none).
 
-use super::{Material, MaterialKind, PunctualLight, Scene};
+use super::{Material, MaterialKind, Mesh, PunctualLight, Scene};
 use crate::bsdf::MicrofacetDistribution;
 use glam::{Quat, Vec3};
 use serde_json::{Map, Value, json};
@@ -13,91 +13,24 @@ use serde_json::{Map, Value, json};
 /// Binary glTF of `scene`.
 pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
     scene.validate()?;
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views: Vec<Value> = Vec::new();
-    let mut accessors: Vec<Value> = Vec::new();
+    let mut buffers = Buffers::default();
     let mut meshes: Vec<Value> = Vec::new();
     let mut nodes: Vec<Value> = Vec::new();
     let mut used_ext: Vec<&str> = Vec::new();
 
-    // Append `bytes` as a buffer view + accessor; returns the accessor index.
-    let mut add = |bytes: &[u8],
-                   count: usize,
-                   ty: &str,
-                   ctype: u32,
-                   target: u32,
-                   minmax: Option<(Vec3, Vec3)>| {
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
-        }
-        let view = views.len();
-        views.push(json!({
-            "buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target
-        }));
-        bin.extend_from_slice(bytes);
-        let mut acc = json!({
-            "bufferView": view, "componentType": ctype, "count": count, "type": ty
-        });
-        if let Some((lo, hi)) = minmax {
-            acc["min"] = json!(lo.to_array());
-            acc["max"] = json!(hi.to_array());
-        }
-        accessors.push(acc);
-        accessors.len() - 1
-    };
-
-    let mesh = &scene.mesh;
     for (mi, mat) in scene.materials.iter().enumerate() {
-        let tris: Vec<usize> = (0..mesh.indices.len())
-            .filter(|&t| mesh.tri_material[t] as usize == mi)
-            .collect();
-        if tris.is_empty() {
-            continue;
+        if let Some(mesh) = material_mesh(&scene.mesh, mi, &mut buffers) {
+            nodes.push(json!({ "name": mat.name, "mesh": meshes.len() }));
+            meshes.push(json!({
+                "name": mat.name,
+                "primitives": [{
+                    "attributes": {
+                        "POSITION": mesh.position, "NORMAL": mesh.normal, "TEXCOORD_0": mesh.uv
+                    },
+                    "indices": mesh.indices, "material": mi, "mode": 4
+                }]
+            }));
         }
-        let mut remap = vec![u32::MAX; mesh.positions.len()];
-        let mut verts: Vec<usize> = Vec::new();
-        let mut idx: Vec<u32> = Vec::with_capacity(tris.len() * 3);
-        for &t in &tris {
-            for v in mesh.indices[t] {
-                let v = v as usize;
-                if remap[v] == u32::MAX {
-                    remap[v] = verts.len() as u32;
-                    verts.push(v);
-                }
-                idx.push(remap[v]);
-            }
-        }
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        let (mut pos, mut nrm, mut uv) = (Vec::new(), Vec::new(), Vec::new());
-        for &v in &verts {
-            let p = mesh.positions[v];
-            lo = lo.min(p);
-            hi = hi.max(p);
-            pos.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&p.to_array()));
-            nrm.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.normals[v].to_array()));
-            uv.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.uvs[v].to_array()));
-        }
-        let n = verts.len();
-        let a_pos = add(&pos, n, "VEC3", 5126, 34962, Some((lo, hi)));
-        let a_nrm = add(&nrm, n, "VEC3", 5126, 34962, None);
-        let a_uv = add(&uv, n, "VEC2", 5126, 34962, None);
-        let a_idx = add(
-            bytemuck::cast_slice(&idx),
-            idx.len(),
-            "SCALAR",
-            5125,
-            34963,
-            None,
-        );
-        nodes.push(json!({ "name": mat.name, "mesh": meshes.len() }));
-        meshes.push(json!({
-            "name": mat.name,
-            "primitives": [{
-                "attributes": { "POSITION": a_pos, "NORMAL": a_nrm, "TEXCOORD_0": a_uv },
-                "indices": a_idx, "material": mi, "mode": 4
-            }]
-        }));
     }
 
     let materials: Vec<Value> = scene
@@ -106,13 +39,142 @@ pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
         .map(|m| material_json(m, &mut used_ext))
         .collect();
 
-    // Camera: local −Z is the view direction, rotation columns right/up/back.
+    let (camera_node, cameras) = camera_json(scene);
+    nodes.push(camera_node);
+
+    let mut lights: Vec<Value> = Vec::new();
+    for (li, l) in scene.punctual_lights.iter().enumerate() {
+        let (light, node) = light_json(li, l);
+        lights.push(light);
+        nodes.push(node);
+    }
+
+    let (root, bin) = root_json(
+        scene,
+        Parts {
+            buffers,
+            nodes,
+            meshes,
+            materials,
+            cameras,
+            lights,
+            used_ext,
+        },
+    );
+    Ok(glb(&serde_json::to_vec(&root)?, &bin))
+}
+
+/// The binary chunk with its buffer views and accessors, filled in order.
+#[derive(Default)]
+struct Buffers {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Buffers {
+    /// Append `bytes` (4-byte aligned) as a buffer view + accessor; returns the accessor index.
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        ty: &str,
+        ctype: u32,
+        target: u32,
+        minmax: Option<(Vec3, Vec3)>,
+    ) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let view = self.views.len();
+        self.views.push(json!({
+            "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len(), "target": target
+        }));
+        self.bin.extend_from_slice(bytes);
+        let mut acc = json!({
+            "bufferView": view, "componentType": ctype, "count": count, "type": ty
+        });
+        if let Some((lo, hi)) = minmax {
+            acc["min"] = json!(lo.to_array());
+            acc["max"] = json!(hi.to_array());
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+}
+
+/// Accessor indices of one material's primitive.
+struct MeshAccessors {
+    position: usize,
+    normal: usize,
+    uv: usize,
+    indices: usize,
+}
+
+/// Write the triangles of material `mi` (vertices renumbered in first-use order) into
+/// `buffers`; `None` when no triangle uses it.
+fn material_mesh(mesh: &Mesh, mi: usize, buffers: &mut Buffers) -> Option<MeshAccessors> {
+    let (verts, idx) = material_vertices(mesh, mi)?;
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    let (mut pos, mut nrm, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+    for &v in &verts {
+        let p = mesh.positions[v];
+        lo = lo.min(p);
+        hi = hi.max(p);
+        pos.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&p.to_array()));
+        nrm.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.normals[v].to_array()));
+        uv.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&mesh.uvs[v].to_array()));
+    }
+    let n = verts.len();
+    Some(MeshAccessors {
+        position: buffers.accessor(&pos, n, "VEC3", 5126, 34962, Some((lo, hi))),
+        normal: buffers.accessor(&nrm, n, "VEC3", 5126, 34962, None),
+        uv: buffers.accessor(&uv, n, "VEC2", 5126, 34962, None),
+        indices: buffers.accessor(
+            bytemuck::cast_slice(&idx),
+            idx.len(),
+            "SCALAR",
+            5125,
+            34963,
+            None,
+        ),
+    })
+}
+
+/// (mesh vertex of each new vertex, new indices) of the triangles of material `mi`.
+fn material_vertices(mesh: &Mesh, mi: usize) -> Option<(Vec<usize>, Vec<u32>)> {
+    let tris: Vec<usize> = (0..mesh.indices.len())
+        .filter(|&t| mesh.tri_material[t] as usize == mi)
+        .collect();
+    if tris.is_empty() {
+        return None;
+    }
+    let mut remap = vec![u32::MAX; mesh.positions.len()];
+    let mut verts: Vec<usize> = Vec::new();
+    let mut idx: Vec<u32> = Vec::with_capacity(tris.len() * 3);
+    for &t in &tris {
+        for v in mesh.indices[t] {
+            let v = v as usize;
+            if remap[v] == u32::MAX {
+                remap[v] = verts.len() as u32;
+                verts.push(v);
+            }
+            idx.push(remap[v]);
+        }
+    }
+    Some((verts, idx))
+}
+
+/// (camera node, `cameras` array). Camera: local −Z is the view direction, rotation columns
+/// right/up/back.
+fn camera_json(scene: &Scene) -> (Value, Value) {
     let cam = &scene.camera;
     let q = Quat::from_mat3(&cam.rotation).normalize();
-    nodes.push(json!({
+    let node = json!({
         "name": "camera", "camera": 0,
         "translation": cam.position.to_array(), "rotation": q.to_array()
-    }));
+    });
     let s = &scene.settings;
     let cameras = json!([{
         "type": "perspective",
@@ -121,60 +183,75 @@ pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
             "aspectRatio": s.width as f32 / s.height.max(1) as f32
         }
     }]);
+    (node, cameras)
+}
 
-    let mut lights: Vec<Value> = Vec::new();
-    for (li, l) in scene.punctual_lights.iter().enumerate() {
-        let (ty, pos, dir, power) = match *l {
-            PunctualLight::Point {
-                position,
-                intensity,
-            } => ("point", Some(position), None, intensity),
-            PunctualLight::Spot {
-                position,
-                direction,
-                intensity,
-                ..
-            } => ("spot", Some(position), Some(direction), intensity),
-            PunctualLight::Directional {
-                direction,
-                irradiance,
-            } => ("directional", None, Some(direction), irradiance),
-        };
-        let (color, intensity) = split_color(power);
-        let mut lj = json!({ "type": ty, "color": color.to_array(), "intensity": intensity });
-        if let PunctualLight::Spot {
-            cos_inner,
-            cos_outer,
+/// (KHR_lights_punctual light, its node) of punctual light `li`.
+fn light_json(li: usize, l: &PunctualLight) -> (Value, Value) {
+    let (ty, pos, dir, power) = match *l {
+        PunctualLight::Point {
+            position,
+            intensity,
+        } => ("point", Some(position), None, intensity),
+        PunctualLight::Spot {
+            position,
+            direction,
+            intensity,
             ..
-        } = *l
-        {
-            lj["spot"] = json!({
-                "innerConeAngle": cos_inner.clamp(-1.0, 1.0).acos(),
-                "outerConeAngle": cos_outer.clamp(-1.0, 1.0).acos()
-            });
-        }
-        lights.push(lj);
-        let mut node = json!({
-            "name": format!("light{li}"),
-            "extensions": { "KHR_lights_punctual": { "light": li } }
+        } => ("spot", Some(position), Some(direction), intensity),
+        PunctualLight::Directional {
+            direction,
+            irradiance,
+        } => ("directional", None, Some(direction), irradiance),
+    };
+    let (color, intensity) = split_color(power);
+    let mut light = json!({ "type": ty, "color": color.to_array(), "intensity": intensity });
+    if let PunctualLight::Spot {
+        cos_inner,
+        cos_outer,
+        ..
+    } = *l
+    {
+        light["spot"] = json!({
+            "innerConeAngle": cos_inner.clamp(-1.0, 1.0).acos(),
+            "outerConeAngle": cos_outer.clamp(-1.0, 1.0).acos()
         });
-        if let Some(p) = pos {
-            node["translation"] = json!(p.to_array());
-        }
-        if let Some(d) = dir {
-            let r = Quat::from_rotation_arc(Vec3::NEG_Z, d.normalize());
-            node["rotation"] = json!(r.to_array());
-        }
-        nodes.push(node);
     }
+    let mut node = json!({
+        "name": format!("light{li}"),
+        "extensions": { "KHR_lights_punctual": { "light": li } }
+    });
+    if let Some(p) = pos {
+        node["translation"] = json!(p.to_array());
+    }
+    if let Some(d) = dir {
+        let r = Quat::from_rotation_arc(Vec3::NEG_Z, d.normalize());
+        node["rotation"] = json!(r.to_array());
+    }
+    (light, node)
+}
 
+/// Everything [`root_json`] assembles.
+struct Parts {
+    buffers: Buffers,
+    nodes: Vec<Value>,
+    meshes: Vec<Value>,
+    materials: Vec<Value>,
+    cameras: Value,
+    lights: Vec<Value>,
+    used_ext: Vec<&'static str>,
+}
+
+/// (glTF JSON document, binary chunk).
+fn root_json(scene: &Scene, p: Parts) -> (Value, Vec<u8>) {
+    let (buffers, mut used_ext) = (p.buffers, p.used_ext);
     let s = &scene.settings;
     let mut root = json!({
         "asset": { "version": "2.0", "generator": "refract gltf_export" },
         "scene": 0,
         "scenes": [{
             "name": scene.name,
-            "nodes": (0..nodes.len()).collect::<Vec<_>>(),
+            "nodes": (0..p.nodes.len()).collect::<Vec<_>>(),
             "extras": {
                 "render": {
                     "width": s.width, "height": s.height, "max_depth": s.max_depth,
@@ -183,29 +260,29 @@ pub fn export_glb(scene: &Scene) -> anyhow::Result<Vec<u8>> {
                 "environment": scene.environment.to_array()
             }
         }],
-        "nodes": nodes,
-        "meshes": meshes,
-        "materials": materials,
-        "cameras": cameras,
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{ "byteLength": bin.len() }]
+        "nodes": p.nodes,
+        "meshes": p.meshes,
+        "materials": p.materials,
+        "cameras": p.cameras,
+        "accessors": buffers.accessors,
+        "bufferViews": buffers.views,
+        "buffers": [{ "byteLength": buffers.bin.len() }]
     });
-    if bin.is_empty()
+    if buffers.bin.is_empty()
         && let Some(o) = root.as_object_mut()
     {
         o.remove("buffers");
     }
-    if !lights.is_empty() {
+    if !p.lights.is_empty() {
         used_ext.push("KHR_lights_punctual");
-        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": lights } });
+        root["extensions"] = json!({ "KHR_lights_punctual": { "lights": p.lights } });
     }
     used_ext.sort_unstable();
     used_ext.dedup();
     if !used_ext.is_empty() {
         root["extensionsUsed"] = json!(used_ext);
     }
-    Ok(glb(&serde_json::to_vec(&root)?, &bin))
+    (root, buffers.bin)
 }
 
 /// (colour with max component 1, intensity) so that colour × intensity = `v`.
@@ -218,6 +295,7 @@ fn split_color(v: Vec3) -> (Vec3, f32) {
     }
 }
 
+/// glTF material of `m` (metallic-roughness + KHR extensions, recorded in `used`).
 fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
     let (metallic, roughness) = match m.kind {
         MaterialKind::Diffuse => (0.0, 1.0),
@@ -253,28 +331,7 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         }
     }
     if m.is_transmissive() {
-        ext.insert(
-            "KHR_materials_transmission".into(),
-            json!({ "transmissionFactor": 1.0 }),
-        );
-        ext.insert("KHR_materials_ior".into(), json!({ "ior": m.ior }));
-        used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
-        if m.kind == MaterialKind::Glass {
-            let mut v = json!({ "thicknessFactor": 1.0 });
-            if m.attenuation_distance.is_finite() {
-                v["attenuationDistance"] = json!(m.attenuation_distance);
-                v["attenuationColor"] = json!(m.attenuation_color.to_array());
-            }
-            ext.insert("KHR_materials_volume".into(), v);
-            used.push("KHR_materials_volume");
-        }
-        if let Some(abbe) = m.abbe {
-            ext.insert(
-                "KHR_materials_dispersion".into(),
-                json!({ "dispersion": 20.0 / abbe }),
-            );
-            used.push("KHR_materials_dispersion");
-        }
+        transmission_extensions(m, &mut ext, used);
     }
     if m.kind == MaterialKind::MetalRough
         && (m.specular_factor != 1.0 || m.specular_color != Vec3::ONE)
@@ -302,6 +359,37 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         j["extras"] = json!({ "microfacet_distribution": d });
     }
     j
+}
+
+/// KHR_materials_transmission, _ior, _volume (solid glass) and _dispersion of a transmissive
+/// material, recorded in `used`.
+fn transmission_extensions(
+    m: &Material,
+    ext: &mut Map<String, Value>,
+    used: &mut Vec<&'static str>,
+) {
+    ext.insert(
+        "KHR_materials_transmission".into(),
+        json!({ "transmissionFactor": 1.0 }),
+    );
+    ext.insert("KHR_materials_ior".into(), json!({ "ior": m.ior }));
+    used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
+    if m.kind == MaterialKind::Glass {
+        let mut v = json!({ "thicknessFactor": 1.0 });
+        if m.attenuation_distance.is_finite() {
+            v["attenuationDistance"] = json!(m.attenuation_distance);
+            v["attenuationColor"] = json!(m.attenuation_color.to_array());
+        }
+        ext.insert("KHR_materials_volume".into(), v);
+        used.push("KHR_materials_volume");
+    }
+    if let Some(abbe) = m.abbe {
+        ext.insert(
+            "KHR_materials_dispersion".into(),
+            json!({ "dispersion": 20.0 / abbe }),
+        );
+        used.push("KHR_materials_dispersion");
+    }
 }
 
 /// Wrap JSON and binary chunks into a GLB container (glTF 2.0 §4.4).

@@ -97,6 +97,12 @@ fn bsdf_sample_delta(wi: vec3<f32>, weight: vec4<f32>, pdf: f32, event: u32, eta
     return BsdfSample(true, wi, vec4<f32>(0.0), weight, pdf, true, event, LOBE_S, eta_rel);
 }
 
+// An index-matched interface (η = 1): no interface at all, the sample passes straight through
+// with weight 1.
+fn bsdf_sample_index_matched(wo: vec3<f32>) -> BsdfSample {
+    return bsdf_sample_delta(-wo, vec4<f32>(1.0), 1.0, EVENT_TRANSMIT, 1.0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The switch (bsdf::Bsdf)
 

@@ -6,8 +6,7 @@ fn smooth_dielectric_sample(eta: f32, wo: vec3<f32>, uc: f32, mode: u32) -> Bsdf
         return bsdf_sample_none();
     }
     if eta == 1.0 {
-        // Index-matched: no interface at all.
-        return bsdf_sample_delta(-wo, vec4<f32>(1.0), 1.0, EVENT_TRANSMIT, 1.0);
+        return bsdf_sample_index_matched(wo);
     }
     let fr = fresnel_dielectric_terms(wo.z, eta);
     // TIR (F = 1) must reflect even for uc = 1.0 (the same sin²θt ≥ 1 test decides both).

@@ -346,31 +346,18 @@ fn integrator_eta(ps: ptr<function, PathState>, mat: Material) -> f32 {
     return eta;
 }
 
-// What a BSDF-sampling step decided.
-const STEP_CONTINUE: u32 = 0u;
-const STEP_BREAK: u32 = 1u;
-const STEP_POISON: u32 = 2u;
-
 // Continue the path by BSDF sampling at `hit` (PBR 4th ed. §13.4 `PathIntegrator::Li`,
 // "Sample BSDF to get new path direction"): throughput, filter state, light-tracing MIS
 // bookkeeping, medium and the next ray.
 fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Material, on: Oriented, frame: Frame, wo: vec3<f32>, bsdf: Bsdf, uc: f32, u2: vec2<f32>) -> u32 {
     let ng = on.ng;
-    let wo_w = -ps.d;
-    let s = bsdf_sample(bsdf, wo, uc, u2, MODE_RADIANCE);
-    if !s.valid {
-        return STEP_BREAK;
+    let b = interaction_sample(bsdf, frame, ng, -ps.d, wo, uc, u2, MODE_RADIANCE);
+    if b.step != STEP_CONTINUE {
+        return b.step; // STEP_POISON: the firewall drops and counts the sample
     }
-    let wi_w = frame_to_world(frame, s.wi);
-    let side_i = dot3(wi_w, ng);
-    let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
-    if !is_finite_v4(s.weight) {
-        // A broken BSDF value: poison the sample so the firewall drops and counts it.
-        return STEP_POISON;
-    }
-    if !consistent {
-        return STEP_BREAK;
-    }
+    let s = b.s;
+    let wi_w = b.wi_w;
+    let side_i = b.side_i;
     if HAS_FILTER {
         ps.q = dfa_table_step(ps.q, s.lobe + 1u);
         if !dfa_table_can_reach_accept(ps.q) {

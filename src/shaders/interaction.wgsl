@@ -38,6 +38,41 @@ fn event_is_consistent(event: u32, side_o: f32, side_i: f32) -> bool {
     return side_o * side_i < 0.0;
 }
 
+// What a BSDF-sampling step decided (the walks' scatter steps return these too).
+const STEP_CONTINUE: u32 = 0u;
+const STEP_BREAK: u32 = 1u;
+const STEP_POISON: u32 = 2u;
+
+// What a BSDF sample at an interaction leads to (twin of `Bounce`): STEP_CONTINUE along
+// wi_w (world; side_i = ωi·ng); STEP_BREAK when there is no valid direction (no sample, or
+// one inconsistent with the geometric normal); STEP_POISON when the BSDF returned a
+// non-finite weight (the sample must be dropped and counted).
+struct Bounce {
+    step: u32,
+    s: BsdfSample,
+    wi_w: vec3<f32>,
+    side_i: f32,
+}
+
+// Sample the BSDF and check the event against the geometric normal ng (twin of
+// `Interaction::sample`; wo_w = ωo in world space, wo in the shading frame).
+fn interaction_sample(bsdf: Bsdf, frame: Frame, ng: vec3<f32>, wo_w: vec3<f32>, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> Bounce {
+    let s = bsdf_sample(bsdf, wo, uc, u2, mode);
+    if !s.valid {
+        return Bounce(STEP_BREAK, s, vec3<f32>(0.0), 0.0);
+    }
+    let wi_w = frame_to_world(frame, s.wi);
+    let side_i = dot3(wi_w, ng);
+    let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
+    if !is_finite_v4(s.weight) {
+        return Bounce(STEP_POISON, s, wi_w, side_i);
+    }
+    if !consistent {
+        return Bounce(STEP_BREAK, s, wi_w, side_i);
+    }
+    return Bounce(STEP_CONTINUE, s, wi_w, side_i);
+}
+
 // Beer–Lambert transmittance T = exp(−σ_a t) over distance t inside material `mm`'s medium,
 // σ_a = −ln(c)/d (glTF KHR_materials_volume), in the path's colour lanes.
 fn medium_transmittance(mm: Material, t: f32, sp: Spectral) -> vec4<f32> {

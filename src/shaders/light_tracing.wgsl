@@ -319,19 +319,13 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
 fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Material, on: Oriented, frame: Frame, wo: vec3<f32>, bsdf: Bsdf, dispersive: bool, uc: f32, u2: vec2<f32>) -> u32 {
     let ng = on.ng;
     let wo_w = -lw.d;
-    let s = bsdf_sample(bsdf, wo, uc, u2, MODE_IMPORTANCE);
-    if !s.valid {
-        return STEP_BREAK;
+    let b = interaction_sample(bsdf, frame, ng, wo_w, wo, uc, u2, MODE_IMPORTANCE);
+    if b.step != STEP_CONTINUE {
+        return b.step;
     }
-    let wi_w = frame_to_world(frame, s.wi);
-    let side_i = dot3(wi_w, ng);
-    let consistent = event_is_consistent(s.event, dot3(wo_w, ng), side_i);
-    if !is_finite_v4(s.weight) {
-        return STEP_POISON;
-    }
-    if !consistent {
-        return STEP_BREAK;
-    }
+    let s = b.s;
+    let wi_w = b.wi_w;
+    let side_i = b.side_i;
     lw.beta *= s.weight * shading_correction(wo_w, wi_w, on.ns, ng);
     if dispersive && !lw.collapsed {
         // Only the hero wavelength follows this direction.

@@ -113,8 +113,7 @@ fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode:
         return bsdf_sample_none();
     }
     if b.eta == 1.0 {
-        // Index-matched: no interface at all (same as SmoothDielectric).
-        return bsdf_sample_delta(-wo, vec4<f32>(1.0), 1.0, EVENT_TRANSMIT, 1.0);
+        return bsdf_sample_index_matched(wo);
     }
     var side = 1.0;
     if wo.z < 0.0 {

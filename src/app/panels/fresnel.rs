@@ -2,7 +2,7 @@
 //! (air → glass) and leaving (glass → air), with Brewster and critical angles marked.
 
 use crate::app::ViewerApp;
-use crate::bsdf::fresnel::fresnel_dielectric_terms;
+use crate::bsdf::fresnel::{FresnelTerms, fresnel_dielectric_terms};
 use eframe::egui::{self, Color32};
 use egui_plot::{Line, LineStyle, Plot, PlotPoints, VLine};
 
@@ -43,26 +43,31 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .on_hover_text(
             "Fresnel equations: the fraction of light reflected depends on angle and polarisation.",
         );
+    fresnel_plot(ui, eta);
+    angle_notes(ui, eta);
+}
+
+/// Blue for light entering the glass, orange for light leaving it.
+const BLUE: Color32 = Color32::from_rgb(90, 160, 255);
+const ORANGE: Color32 = Color32::from_rgb(255, 150, 60);
+
+/// F, r_p² and r_s² against the angle of incidence, entering and leaving glass of index `eta`,
+/// with the Brewster and critical angles marked.
+fn fresnel_plot(ui: &mut egui::Ui, eta: f32) {
     const STEPS: usize = 180;
-    let curve =
-        |leaving: bool, f: fn(&crate::bsdf::fresnel::FresnelTerms) -> f32| -> Vec<[f64; 2]> {
-            (0..=STEPS)
-                .map(|i| {
-                    let deg = 90.0 * i as f32 / STEPS as f32;
-                    let c = deg.to_radians().cos();
-                    let t = fresnel_dielectric_terms(if leaving { -c } else { c }, eta);
-                    [deg as f64, f(&t) as f64]
-                })
-                .collect()
-        };
-    let par = |t: &crate::bsdf::fresnel::FresnelTerms| t.r_par * t.r_par;
-    let perp = |t: &crate::bsdf::fresnel::FresnelTerms| t.r_perp * t.r_perp;
-    let unpol = |t: &crate::bsdf::fresnel::FresnelTerms| t.f;
-    let blue = Color32::from_rgb(90, 160, 255);
-    let orange = Color32::from_rgb(255, 150, 60);
-    let brewster_in = brewster_deg(1.0, eta);
-    let brewster_out = brewster_deg(eta, 1.0);
-    let critical = critical_deg(eta, 1.0);
+    let curve = |leaving: bool, f: fn(&FresnelTerms) -> f32| -> Vec<[f64; 2]> {
+        (0..=STEPS)
+            .map(|i| {
+                let deg = 90.0 * i as f32 / STEPS as f32;
+                let c = deg.to_radians().cos();
+                let t = fresnel_dielectric_terms(if leaving { -c } else { c }, eta);
+                [deg as f64, f(&t) as f64]
+            })
+            .collect()
+    };
+    let par = |t: &FresnelTerms| t.r_par * t.r_par;
+    let perp = |t: &FresnelTerms| t.r_perp * t.r_perp;
+    let unpol = |t: &FresnelTerms| t.f;
     Plot::new("fresnel")
         .height(190.0)
         .include_x(0.0)
@@ -75,41 +80,27 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .allow_zoom(false)
         .allow_scroll(false)
         .show(ui, |p| {
-            p.line(
-                Line::new("F entering", PlotPoints::from(curve(false, unpol)))
-                    .color(blue)
-                    .width(2.0),
-            );
-            p.line(
-                Line::new("r_p² entering", PlotPoints::from(curve(false, par)))
-                    .color(blue)
-                    .style(LineStyle::dashed_dense()),
-            );
-            p.line(
-                Line::new("r_s² entering", PlotPoints::from(curve(false, perp)))
-                    .color(blue)
-                    .style(LineStyle::dotted_dense()),
-            );
-            p.line(
-                Line::new("F leaving", PlotPoints::from(curve(true, unpol)))
-                    .color(orange)
-                    .width(2.0),
-            );
-            p.line(
-                Line::new("r_p² leaving", PlotPoints::from(curve(true, par)))
-                    .color(orange)
-                    .style(LineStyle::dashed_dense()),
-            );
-            p.line(
-                Line::new("r_s² leaving", PlotPoints::from(curve(true, perp)))
-                    .color(orange)
-                    .style(LineStyle::dotted_dense()),
-            );
-            p.vline(VLine::new("Brewster (entering)", brewster_in).color(blue.gamma_multiply(0.6)));
+            for (leaving, colour, side) in [(false, BLUE, "entering"), (true, ORANGE, "leaving")] {
+                let line = |label: &str, f: fn(&FresnelTerms) -> f32| {
+                    Line::new(
+                        format!("{label} {side}"),
+                        PlotPoints::from(curve(leaving, f)),
+                    )
+                    .color(colour)
+                };
+                p.line(line("F", unpol).width(2.0));
+                p.line(line("r_p²", par).style(LineStyle::dashed_dense()));
+                p.line(line("r_s²", perp).style(LineStyle::dotted_dense()));
+            }
             p.vline(
-                VLine::new("Brewster (leaving)", brewster_out).color(orange.gamma_multiply(0.6)),
+                VLine::new("Brewster (entering)", brewster_deg(1.0, eta))
+                    .color(BLUE.gamma_multiply(0.6)),
             );
-            if let Some(c) = critical {
+            p.vline(
+                VLine::new("Brewster (leaving)", brewster_deg(eta, 1.0))
+                    .color(ORANGE.gamma_multiply(0.6)),
+            );
+            if let Some(c) = critical_deg(eta, 1.0) {
                 p.vline(
                     VLine::new("critical angle", c)
                         .color(Color32::from_rgb(230, 80, 80))
@@ -117,9 +108,15 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 );
             }
         });
+}
+
+/// The legend, R₀ and the Brewster and critical angles of glass of index `eta` in words.
+fn angle_notes(ui: &mut egui::Ui, eta: f32) {
+    let brewster_in = brewster_deg(1.0, eta);
+    let brewster_out = brewster_deg(eta, 1.0);
     ui.horizontal_wrapped(|ui| {
-        ui.colored_label(blue, "blue: entering (air to glass)");
-        ui.colored_label(orange, "orange: leaving (glass to air)");
+        ui.colored_label(BLUE, "blue: entering (air to glass)");
+        ui.colored_label(ORANGE, "orange: leaving (glass to air)");
     });
     ui.label(
         "solid: F = (r_p² + r_s²)/2 · dashed: r_p² (parallel, p) · dotted: r_s² (perpendicular, s)",
@@ -135,7 +132,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     .on_hover_text("At 0° both polarisations reflect the same fraction.");
     ui.label(format!("Brewster angle: {brewster_in:.1}° entering, {brewster_out:.1}° leaving"))
         .on_hover_text("At tanθ_B = n₂/n₁ the parallel polarisation is not reflected at all (r_p = 0): polarising filters use this.");
-    match critical {
+    match critical_deg(eta, 1.0) {
         Some(c) => ui.label(format!("critical angle (leaving): {c:.1}° — total internal reflection beyond"))
             .on_hover_text("Leaving a denser medium, beyond sinθ_c = 1/n no refracted ray exists and all light is reflected."),
         None => ui.label("no critical angle (n = 1: index-matched, no reflection)"),

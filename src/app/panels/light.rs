@@ -3,14 +3,33 @@
 
 use crate::app::{Edit, ViewerApp};
 use crate::math::color::{blackbody_rgb, luminance};
-use crate::scene::edits::MainLight;
+use crate::scene::edits::{LightEdit, MainLight};
 use eframe::egui::{self, Slider, SliderClamping};
+use glam::Vec3;
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let main = MainLight::find(&app.base);
     let mut light = app.settings.light.clone();
     let l = &mut light;
+    intensity_slider(ui, l);
+    colour_controls(ui, l);
+    match &main {
+        Some(m) => main_light_controls(ui, l, m, &app.base.materials[m.material].name),
+        None => {
+            ui.label(egui::RichText::new("No area light in this scene.").weak());
+        }
+    }
+    environment_slider(ui, l, app.base.environment);
+    if l.intensity.is_nan() {
+        l.intensity = 1.0;
+    }
+    if light != app.settings.light {
+        app.push(Edit::Light(light));
+    }
+}
 
+/// The scale on every light's radiance.
+fn intensity_slider(ui: &mut egui::Ui, l: &mut LightEdit) {
     ui.add(
         Slider::new(&mut l.intensity, 0.0..=20.0)
             .text("Intensity ×")
@@ -18,7 +37,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             .clamping(SliderClamping::Always),
     )
     .on_hover_text("Scales the radiance of every light; the image scales linearly with it (light transport is linear).");
+}
 
+/// Light colour: a linear RGB factor or a black-body temperature.
+fn colour_controls(ui: &mut egui::Ui, l: &mut LightEdit) {
     let mut use_temp = l.temperature_k.is_some();
     ui.horizontal(|ui| {
         ui.label("Colour");
@@ -54,60 +76,54 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
         }
     }
+}
 
-    match &main {
-        Some(m) => {
-            ui.label(format!(
-                "Main area light: '{}'",
-                app.base.materials[m.material].name
-            ));
-            ui.add(
-                Slider::new(&mut l.size, 0.1..=4.0)
-                    .text("Size ×")
-                    .logarithmic(true)
-                    .clamping(SliderClamping::Always),
-            )
-            .on_hover_text("Scales the light about its centre at constant radiance: bigger lights give more light and softer shadows.");
-            let mut el = l.elevation_deg.unwrap_or(m.elevation_deg);
-            let mut az = l.azimuth_deg.unwrap_or(m.azimuth_deg);
-            let r1 = ui
-                .add(Slider::new(&mut el, -90.0..=90.0).text("Elevation °").clamping(SliderClamping::Always))
-                .on_hover_text("Height of the light seen from the scene centre; it keeps facing the centre, so shadows swing.");
-            let r2 = ui
-                .add(
-                    Slider::new(&mut az, -180.0..=180.0)
-                        .text("Azimuth °")
-                        .clamping(SliderClamping::Always),
-                )
-                .on_hover_text(
-                    "Direction of the light around the vertical axis through the scene centre.",
-                );
-            if r1.changed() && el.is_finite() {
-                l.elevation_deg = Some(el);
-                l.azimuth_deg.get_or_insert(m.azimuth_deg);
-            }
-            if r2.changed() && az.is_finite() {
-                l.azimuth_deg = Some(az);
-                l.elevation_deg.get_or_insert(m.elevation_deg);
-            }
-            if ui
-                .button("Reset size and position")
-                .on_hover_text("Put the main light back where the scene had it.")
-                .clicked()
-            {
-                l.size = 1.0;
-                l.elevation_deg = None;
-                l.azimuth_deg = None;
-            }
-        }
-        None => {
-            ui.label(egui::RichText::new("No area light in this scene.").weak());
-        }
+/// Size, elevation and azimuth of the main area light `m` (material `name`).
+fn main_light_controls(ui: &mut egui::Ui, l: &mut LightEdit, m: &MainLight, name: &str) {
+    ui.label(format!("Main area light: '{name}'"));
+    ui.add(
+        Slider::new(&mut l.size, 0.1..=4.0)
+            .text("Size ×")
+            .logarithmic(true)
+            .clamping(SliderClamping::Always),
+    )
+    .on_hover_text("Scales the light about its centre at constant radiance: bigger lights give more light and softer shadows.");
+    let mut el = l.elevation_deg.unwrap_or(m.elevation_deg);
+    let mut az = l.azimuth_deg.unwrap_or(m.azimuth_deg);
+    let r1 = ui
+        .add(Slider::new(&mut el, -90.0..=90.0).text("Elevation °").clamping(SliderClamping::Always))
+        .on_hover_text("Height of the light seen from the scene centre; it keeps facing the centre, so shadows swing.");
+    let r2 = ui
+        .add(
+            Slider::new(&mut az, -180.0..=180.0)
+                .text("Azimuth °")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Direction of the light around the vertical axis through the scene centre.");
+    if r1.changed() && el.is_finite() {
+        l.elevation_deg = Some(el);
+        l.azimuth_deg.get_or_insert(m.azimuth_deg);
     }
+    if r2.changed() && az.is_finite() {
+        l.azimuth_deg = Some(az);
+        l.elevation_deg.get_or_insert(m.elevation_deg);
+    }
+    if ui
+        .button("Reset size and position")
+        .on_hover_text("Put the main light back where the scene had it.")
+        .clicked()
+    {
+        l.size = 1.0;
+        l.elevation_deg = None;
+        l.azimuth_deg = None;
+    }
+}
 
+/// Radiance of the uniform environment (default: the luminance of the scene's own).
+fn environment_slider(ui: &mut egui::Ui, l: &mut LightEdit, scene_environment: Vec3) {
     let mut env = l
         .environment
-        .unwrap_or_else(|| luminance(app.base.environment));
+        .unwrap_or_else(|| luminance(scene_environment));
     if ui
         .add(
             Slider::new(&mut env, 0.0..=10.0)
@@ -119,11 +135,5 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         && env.is_finite()
     {
         l.environment = Some(env.max(0.0));
-    }
-    if l.intensity.is_nan() {
-        l.intensity = 1.0;
-    }
-    if light != app.settings.light {
-        app.push(Edit::Light(light));
     }
 }
