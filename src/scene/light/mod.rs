@@ -83,6 +83,23 @@ pub struct LiSample {
     pub infinite: bool,
 }
 
+impl LiSample {
+    /// Illumination `l` from the delta position `p_light` along `wi`, picked with probability
+    /// `pick` (point and spot lights: no density over the light).
+    #[inline]
+    pub fn delta_position(l: Vec3, wi: Vec3, pick: f32, p_light: Vec3) -> LiSample {
+        LiSample {
+            l,
+            wi,
+            pdf: pick,
+            p_light,
+            n_light: Vec3::ZERO,
+            is_delta: true,
+            infinite: false,
+        }
+    }
+}
+
 /// The origin and direction of a light subpath (pbrt-v4 `LightLeSample`).
 #[derive(Clone, Copy, Debug)]
 pub struct LeSample {

@@ -18,15 +18,12 @@ impl PointLight {
     #[inline]
     pub fn sample_li(&self, p: Vec3, pick: f32) -> Option<LiSample> {
         let (wi, d2) = super::towards_position(p, self.position)?;
-        Some(LiSample {
-            l: self.intensity / d2,
+        Some(LiSample::delta_position(
+            self.intensity / d2,
             wi,
-            pdf: pick,
-            p_light: self.position,
-            n_light: Vec3::ZERO,
-            is_delta: true,
-            infinite: false,
-        })
+            pick,
+            self.position,
+        ))
     }
 
     /// Uniform direction on the sphere (PBR 4th ed. §12.1 `PointLight::SampleLe`).

@@ -36,15 +36,12 @@ impl SpotLight {
         if fall <= 0.0 {
             return None;
         }
-        Some(LiSample {
-            l: self.intensity * fall / d2,
+        Some(LiSample::delta_position(
+            self.intensity * fall / d2,
             wi,
-            pdf: pick,
-            p_light: self.position,
-            n_light: Vec3::ZERO,
-            is_delta: true,
-            infinite: false,
-        })
+            pick,
+            self.position,
+        ))
     }
 
     /// Intensity towards `w` (unit, away from the light).
