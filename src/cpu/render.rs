@@ -157,26 +157,33 @@ impl Renderer {
             .enumerate()
             .map(|(y, row)| {
                 let mut dropped = 0u64;
+                let mut scratch = super::bdpt::Scratch::new();
                 for (x, px) in row.iter_mut().enumerate() {
                     let pixel = y as u32 * w + x as u32;
                     for s in first_spp..first_spp + count {
                         let mut sampler = Sampler::new(pixel, s, seed);
                         let mut bad_splat = false;
-                        let v = bd.sample(x as u32, y as u32, &mut sampler, &mut |sx, sy, v| {
-                            let ok = if integ.spectral {
-                                v.is_finite()
-                            } else {
-                                crate::film::sample_is_valid(v)
-                            };
-                            if ok {
-                                let i = 3 * (sy as usize * w as usize + sx as usize);
-                                add(i, v.x as f64);
-                                add(i + 1, v.y as f64);
-                                add(i + 2, v.z as f64);
-                            } else {
-                                bad_splat = true;
-                            }
-                        });
+                        let v = bd.sample(
+                            x as u32,
+                            y as u32,
+                            &mut sampler,
+                            &mut |sx, sy, v| {
+                                let ok = if integ.spectral {
+                                    v.is_finite()
+                                } else {
+                                    crate::film::sample_is_valid(v)
+                                };
+                                if ok {
+                                    let i = 3 * (sy as usize * w as usize + sx as usize);
+                                    add(i, v.x as f64);
+                                    add(i + 1, v.y as f64);
+                                    add(i + 2, v.z as f64);
+                                } else {
+                                    bad_splat = true;
+                                }
+                            },
+                            &mut scratch,
+                        );
                         let ok = if integ.spectral {
                             Film::add_signed_to(px, v)
                         } else {

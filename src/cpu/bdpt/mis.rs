@@ -113,22 +113,22 @@ impl Bdpt<'_> {
             return 1.0; // only (0,2) exists for paths of one segment (see `sample`)
         }
         let (lv, cv) = self.connection_densities(light, cam, t, pdf_cam_y);
-        let cam_at = |i: usize| -> Vertex {
+        let cam_at = |i: usize| -> &Vertex {
             if i == t - 1 {
-                cv[0]
+                &cv[0]
             } else if t >= 2 && i == t - 2 {
-                cv[1]
+                &cv[1]
             } else {
-                cam[i]
+                &cam[i]
             }
         };
-        let light_at = |i: usize| -> Vertex {
+        let light_at = |i: usize| -> &Vertex {
             if i == s - 1 {
-                lv[0]
+                &lv[0]
             } else if s >= 2 && i == s - 2 {
-                lv[1]
+                &lv[1]
             } else {
-                light[i]
+                &light[i]
             }
         };
         let mut sum = 0.0f32;

@@ -50,6 +50,22 @@ pub struct Bdpt<'a> {
 
 const MAX_VERTS: usize = 66;
 
+/// The two subpaths' vertex buffers, reused from sample to sample (no allocation per sample).
+#[derive(Default)]
+pub struct Scratch<'a> {
+    cam: Vec<Vertex<'a>>,
+    light: Vec<Vertex<'a>>,
+}
+
+impl Scratch<'_> {
+    pub fn new() -> Self {
+        Scratch {
+            cam: Vec::with_capacity(MAX_VERTS),
+            light: Vec::with_capacity(MAX_VERTS),
+        }
+    }
+}
+
 impl<'a> Bdpt<'a> {
     pub fn new(
         pt: &'a Integrator<'a>,
@@ -88,6 +104,10 @@ impl<'a> Bdpt<'a> {
             1.0,
             Symbol::E,
         ));
+        if self.mode == BdptMode::LightTracing {
+            // Pure light tracing connects only to the camera vertex (t = 1).
+            return Color::ZERO;
+        }
         // Camera subpath: at most max_depth + 1 vertices (max_depth segments).
         let cam_max = (max_depth + 1).min(MAX_VERTS);
         let escaped = self.walk(
@@ -123,16 +143,18 @@ impl<'a> Bdpt<'a> {
         y: u32,
         sampler: &mut Sampler,
         splat: &mut dyn FnMut(u32, u32, Vec3),
+        scratch: &mut Scratch<'a>,
     ) -> Vec3 {
         let max_depth = self.pt.max_depth.max(1) as usize;
-        let mut cam: Vec<Vertex> = Vec::with_capacity(MAX_VERTS);
-        let mut light: Vec<Vertex> = Vec::with_capacity(MAX_VERTS);
+        let Scratch { cam, light } = scratch;
+        cam.clear();
+        light.clear();
         let j = sampler.next_2d();
         // Hero wavelengths shared by both subpaths (scenes with dispersion only).
         let sp = &Spectral::new(self.pt.spectral, || sampler.next_1d());
-        let mut l = self.camera_path(&mut cam, (x, y, j), max_depth, sampler, sp);
+        let mut l = self.camera_path(cam, (x, y, j), max_depth, sampler, sp);
         let mut ls = sampler.with_dim(1 << 16);
-        self.light_path(&mut light, max_depth.min(MAX_VERTS), &mut ls, sp);
+        self.light_path(light, max_depth.min(MAX_VERTS), &mut ls, sp);
         // A delta-position light is never seen directly through a pinhole.
         let delta_light = light.first().is_some_and(|v| v.is_delta_light());
         for t in 1..=cam.len() {
@@ -146,7 +168,7 @@ impl<'a> Bdpt<'a> {
                     if s == 0 || (s == 1 && (self.mode == BdptMode::Full || delta_light)) {
                         continue;
                     }
-                    if let Some((px, py, v)) = self.connect_camera(&light[..s], &cam, sp) {
+                    if let Some((px, py, v)) = self.connect_camera(&light[..s], cam, sp) {
                         splat(px, py, sp.to_rgb(v));
                     }
                 } else if self.mode == BdptMode::Full {
