@@ -206,7 +206,11 @@ pub fn bench_scene_cpu(
     let ref_noise = rel_mse(&a, &b) / 4.0;
     let mut points = Vec::new();
     let mut sums = Vec::new();
-    let gpu_runs = if o.gpu { runs(&o.estimators, &r.scene, true) } else { Vec::new() };
+    let gpu_runs = if o.gpu {
+        runs(&o.estimators, &r.scene, true)
+    } else {
+        Vec::new()
+    };
     for run in &gpu_runs {
         match measure_gpu(
             &r.scene,
@@ -224,7 +228,11 @@ pub fn bench_scene_cpu(
             Err(e) => eprintln!("  GPU {} skipped on {spec}: {e:#}", run.label()),
         }
     }
-    let cpu_runs = if o.cpu { runs(&o.estimators, &r.scene, false) } else { Vec::new() };
+    let cpu_runs = if o.cpu {
+        runs(&o.estimators, &r.scene, false)
+    } else {
+        Vec::new()
+    };
     for run in &cpu_runs {
         eprintln!("  measuring {} …", run.label());
         let (p, s) = measure(&r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);

@@ -407,7 +407,10 @@ fn spp_progress_bar(spp: Option<u32>, quiet: bool) -> ProgressBar {
             ProgressBar::new(n as u64),
             "{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}",
         ),
-        None => (ProgressBar::new_spinner(), "{spinner} {pos} spp  {elapsed_precise}"),
+        None => (
+            ProgressBar::new_spinner(),
+            "{spinner} {pos} spp  {elapsed_precise}",
+        ),
     };
     bar.set_style(
         ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
