@@ -1,6 +1,8 @@
 //! The `auto` estimator rule on every built-in scene, the CLI's report of its choice, and time
 //! budgets that fill the time (issue 19, parts 1 and 2).
 
+mod common_scenes;
+
 use refract::bench::{Run, runs};
 use refract::render::Estimator;
 use refract::render::settings::{CaptureInfo, ViewerSettings};
@@ -240,6 +242,46 @@ fn with_spp_and_a_budget_the_first_reached_wins() {
     assert!(spp < 1_000_000_000 && secs >= 0.95, "{err}");
     assert!(
         secs <= 1.0 + 2.0 * pass_s + 0.5 && wall <= 1.0 + 2.0 * pass_s + 1.0,
+        "overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
+    );
+}
+
+/// On the GPU `auto` runs what the viewer's GPU backend runs for the scene (lt+pt for a
+/// caustic), and a time budget alone fills the budget there too.
+#[test]
+fn gpu_auto_and_time_budget() {
+    if common_scenes::gpu_context("gpu_auto_and_time_budget").is_none() {
+        return;
+    }
+    let out = tmp("gpu.exr");
+    let (ok, err, wall) = refract(&[
+        "render",
+        "--scene",
+        "builtin:caustic",
+        "--device",
+        "gpu",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--time-budget",
+        "2s",
+        "--quiet",
+        "--out",
+        &out,
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("estimator auto: lt+pt (glass and a small light: caustics)")
+            && err.contains("estimator lt+pt"),
+        "{err}"
+    );
+    let (spp, secs, pass) = budget_log(&err);
+    let pass_s = secs * pass as f64 / spp as f64;
+    assert!(secs >= 1.9 && spp > 0, "stopped early: {err}");
+    // Start-up on the GPU includes creating the device and compiling the kernels.
+    assert!(
+        secs <= 2.0 + 2.0 * pass_s + 0.5 && wall <= 2.0 + 2.0 * pass_s + 20.0,
         "overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
     );
 }
