@@ -32,7 +32,8 @@ pub struct BenchOptions {
     /// Samples per pixel of the reference (split over two halves).
     pub ref_spp: u32,
     pub cache_dir: PathBuf,
-    /// Estimators to measure (each against the same reference).
+    /// Estimators to measure (each against the same reference); `auto` is resolved per scene
+    /// and device ([`runs`]).
     pub estimators: Vec<Estimator>,
     /// Estimator of the reference (bdpt converges far faster on caustics).
     pub ref_estimator: Estimator,
@@ -198,9 +199,6 @@ pub fn bench_scene_cpu(
     // `auto` means the estimator the scene's features pick.
     let mut ro = o.clone();
     ro.ref_estimator = ro.ref_estimator.resolve(&r.scene);
-    for e in &mut ro.estimators {
-        *e = e.resolve(&r.scene);
-    }
     let o = &ro;
     let (a, b) = reference(&r, spec, &opts, o)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
@@ -208,20 +206,18 @@ pub fn bench_scene_cpu(
     let ref_noise = rel_mse(&a, &b) / 4.0;
     let mut points = Vec::new();
     let mut sums = Vec::new();
-    for &est in o.estimators.iter().filter(|_| o.gpu) {
-        let ge = match est {
-            Estimator::Path | Estimator::LtPt => est,
-            e => {
-                eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
-                continue;
-            }
-        };
+    let gpu_runs = if o.gpu {
+        runs(&o.estimators, &r.scene, true)
+    } else {
+        Vec::new()
+    };
+    for run in &gpu_runs {
         match measure_gpu(
             &r.scene,
             spec,
             o,
             filter.as_ref(),
-            ge,
+            run,
             &reference,
             ref_noise,
         ) {
@@ -229,22 +225,82 @@ pub fn bench_scene_cpu(
                 points.extend(p);
                 sums.push(s);
             }
-            Err(e) => eprintln!("  GPU {ge} skipped on {spec}: {e:#}"),
+            Err(e) => eprintln!("  GPU {} skipped on {spec}: {e:#}", run.label()),
         }
     }
-    for &est in o.estimators.iter().filter(|_| o.cpu) {
-        if est == Estimator::LtPt {
-            eprintln!(
-                "  CPU: lt+pt is the GPU estimator (the CPU's bdpt is its superset), skipped"
-            );
-            continue;
-        }
-        eprintln!("  measuring {est:?} …");
-        let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, o.ref_spp);
+    let cpu_runs = if o.cpu {
+        runs(&o.estimators, &r.scene, false)
+    } else {
+        Vec::new()
+    };
+    for run in &cpu_runs {
+        eprintln!("  measuring {} …", run.label());
+        let (p, s) = measure(&r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
         points.extend(p);
         sums.push(s);
     }
     Ok((points, sums))
+}
+
+/// One measured run: the estimator the device runs, asked for by name, by `auto`, or both
+/// (then measured once).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Run {
+    pub estimator: Estimator,
+    pub by_name: bool,
+    pub by_auto: bool,
+}
+
+impl Run {
+    /// The run's label: the estimator's name; "auto = X" for `auto` alone, "X = auto" when X is
+    /// also asked for by name.
+    pub fn label(&self) -> String {
+        let e = self.estimator;
+        match (self.by_name, self.by_auto) {
+            (true, true) => format!("{e} = auto"),
+            (false, true) => format!("auto = {e}"),
+            _ => e.to_string(),
+        }
+    }
+}
+
+/// The runs of `asked` on the GPU (`gpu`) or the CPU for `scene`: `auto` resolved by the
+/// scene's features as `render` does (on the CPU its lt+pt is rendered by bdpt, the superset);
+/// estimators the device lacks skipped with a note (bdpt and lt on the GPU, lt+pt by name on
+/// the CPU, whose bdpt covers it).
+pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    for &e in asked {
+        let auto = e == Estimator::Auto;
+        let e = match (e.resolve(scene), gpu) {
+            (Estimator::LtPt, false) if auto => Estimator::Bdpt,
+            (e @ (Estimator::Bdpt | Estimator::Lt), true) => {
+                eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
+                continue;
+            }
+            (Estimator::LtPt, false) => {
+                eprintln!(
+                    "  CPU: lt+pt is the GPU estimator (the CPU's bdpt is its superset), skipped"
+                );
+                continue;
+            }
+            (e, _) => e,
+        };
+        let i = match runs.iter().position(|r| r.estimator == e) {
+            Some(i) => i,
+            None => {
+                runs.push(Run {
+                    estimator: e,
+                    by_name: false,
+                    by_auto: false,
+                });
+                runs.len() - 1
+            }
+        };
+        runs[i].by_auto |= auto;
+        runs[i].by_name |= !auto;
+    }
+    runs
 }
 
 /// A GPU estimator's curve: batches up to each power of two, image read back at each point
@@ -255,7 +311,7 @@ fn measure_gpu(
     spec: &str,
     o: &BenchOptions,
     filter: Option<&crate::paths::PathFilter>,
-    estimator: Estimator,
+    run: &Run,
     reference: &[Vec3],
     ref_noise: f64,
 ) -> Result<(Vec<BenchPoint>, BenchSummary)> {
@@ -263,9 +319,9 @@ fn measure_gpu(
     go.seed = RUN_SEED;
     let mut r = crate::gpu::GpuRenderer::new(scene.clone(), go)?;
     r.set_filter(filter);
-    r.set_estimator(estimator)?;
+    r.set_estimator(run.estimator)?;
     let device = format!("gpu ({})", r.adapter_info().name);
-    let name = estimator.to_string();
+    let name = run.label();
     eprintln!("  measuring {name} on {device} …");
     let pixels = (o.width * o.height) as f64;
     let mut points = Vec::new();
@@ -310,13 +366,13 @@ fn measure(
     spec: &str,
     o: &BenchOptions,
     mut opts: RenderOptions,
-    est: Estimator,
+    run: &Run,
     reference: &[Vec3],
     ref_noise: f64,
     ref_spp: u32,
 ) -> (Vec<BenchPoint>, BenchSummary) {
-    let estimator = est.to_string();
-    opts.estimator = est;
+    let estimator = run.label();
+    opts.estimator = run.estimator;
     opts.seed = RUN_SEED;
     let pixels = (opts.width * opts.height) as f64;
     let mut film = Film::new(opts.width, opts.height);

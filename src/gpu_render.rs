@@ -58,13 +58,13 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
     };
     let (bvh_time, depth, nodes) = r.bvh_info();
     eprintln!(
-        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {} spp, max depth {}, estimator {}{}{}",
+        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {}, max depth {}, estimator {}{}{}",
         scene.name,
         scene.mesh.triangle_count(),
         bvh_time.as_secs_f64() * 1e3,
         opts.width,
         opts.height,
-        spp,
+        super::spp_text(spp, args.time_budget),
         opts.max_depth,
         r.effective_estimator(),
         if filter.is_accept_all() {
@@ -79,7 +79,9 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         }
     );
     let bar = super::spp_progress_bar(spp, args.quiet);
-    let img = r.render_with(spp, args.time_budget, |d| bar.set_position(d))?;
+    let img = r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
+        bar.set_position(d)
+    })?;
     bar.finish_and_clear();
     let stats = r.stats()?;
     film::save_image(
@@ -99,5 +101,6 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         stats.segments_per_sec() / 1e6,
         stats.dropped
     );
+    super::budget_report(args.time_budget, stats.spp, r.batch_spp());
     Ok(true)
 }

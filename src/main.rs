@@ -55,8 +55,10 @@ struct BenchArgs {
     /// Reference cache folder.
     #[arg(long, default_value = "target/bench-cache")]
     cache: PathBuf,
-    /// Estimators to measure: path, bdpt, lt (CPU), lt+pt (GPU).
-    #[arg(long, num_args = 1.., default_values_t = [Estimator::Path, Estimator::Bdpt],
+    /// Estimators to measure: auto (picked by the scene's features, as `render` does), path,
+    /// bdpt, lt (CPU), lt+pt (GPU). A run of `auto` is labelled "auto = X", or "X = auto" when
+    /// X is also asked for by name (measured once).
+    #[arg(long, num_args = 1.., default_values_t = [Estimator::Auto, Estimator::Path, Estimator::Bdpt],
         value_parser = Estimator::parser())]
     estimators: Vec<Estimator>,
     /// Estimator of the cached reference (bdpt converges much faster on caustics).
@@ -101,7 +103,8 @@ struct RenderArgs {
     /// spp; flags given explicitly override it.
     #[arg(long)]
     settings: Option<PathBuf>,
-    /// Samples per pixel (default: the sidecar's, else the scene's extras.render.spp).
+    /// Samples per pixel (default: the sidecar's, else the scene's extras.render.spp; with
+    /// --time-budget alone, as many as the budget allows).
     #[arg(long)]
     spp: Option<u32>,
     /// Output file (.exr or .png).
@@ -123,7 +126,9 @@ struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Stop after this much time (e.g. 10s, 2m, 500ms), keeping the samples done.
+    /// Render for this much time (e.g. 10s, 2m, 500ms) and keep the samples done: alone, until
+    /// the budget is spent; with --spp, whichever comes first. The last pass may overrun the
+    /// budget by at most one pass.
     #[arg(long, value_parser = parse_duration)]
     time_budget: Option<Duration>,
     /// Exposure in stops for PNG output (default 0).
@@ -138,9 +143,10 @@ struct RenderArgs {
     paths: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
     /// strategies), lt (pure light tracing), lt+pt (GPU: light tracing and path tracing
-    /// combined by MIS; the CPU runs bdpt for it), auto (picked by the scene's features).
-    #[arg(long, default_value = "path", value_parser = Estimator::parser())]
-    estimator: Estimator,
+    /// combined by MIS; the CPU runs bdpt for it), auto (picked by the scene's features, the
+    /// viewer's rule; the default, unless a --settings sidecar names one).
+    #[arg(long, value_parser = Estimator::parser())]
+    estimator: Option<Estimator>,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
@@ -187,7 +193,8 @@ fn parse_tonemap(s: &str) -> Result<ToneMap> {
 
 /// Values of the render command resolved from flags and the settings sidecar.
 struct Job {
-    spp: u32,
+    /// Samples per pixel; None: as many as `--time-budget` allows.
+    spp: Option<u32>,
     tone: ToneMap,
     exposure: f32,
     seed: u32,
@@ -268,12 +275,14 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
             s.height
         );
     }
-    let spp = match (args.spp, sidecar_spp) {
-        (Some(n), _) => n,
-        (None, Some(n)) => u32::try_from(n).unwrap_or(u32::MAX),
-        (None, None) => s.spp,
+    let spp = match (args.spp, args.time_budget, sidecar_spp) {
+        (Some(n), _, _) => Some(n),
+        // A time budget alone is not capped by the sidecar's or the scene's spp.
+        (None, Some(_), _) => None,
+        (None, None, Some(n)) => Some(u32::try_from(n).unwrap_or(u32::MAX)),
+        (None, None, None) => Some(s.spp),
     };
-    if spp == 0 {
+    if spp == Some(0) {
         bail!("--spp must be at least 1");
     }
     if args.threads == Some(0) {
@@ -290,8 +299,12 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         .unwrap_or_default();
     let filter = refract::paths::PathFilter::parse(&paths)
         .map_err(|e| anyhow::anyhow!("invalid --paths '{paths}': {e}"))?;
-    let (estimator, why) = args.estimator.resolve_why(&scene);
-    if args.estimator == Estimator::Auto {
+    let choice = args
+        .estimator
+        .or(sidecar.as_ref().map(|s| s.render.estimator))
+        .unwrap_or(Estimator::Auto);
+    let (estimator, why) = choice.resolve_why(&scene);
+    if choice == Estimator::Auto {
         eprintln!("estimator auto: {estimator} ({why})");
     }
     let job = Job {
@@ -329,18 +342,21 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
     }
 
     eprintln!(
-        "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {} spp, max depth {}",
+        "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {}, max depth {}",
         renderer.scene.name,
         renderer.scene.mesh.triangle_count(),
         renderer.bvh.build_time.as_secs_f64() * 1e3,
         opts.width,
         opts.height,
-        spp,
+        spp_text(spp, args.time_budget),
         opts.max_depth
     );
     let bar = spp_progress_bar(spp, args.quiet);
-    let (film, stats) =
-        pool.install(|| renderer.render(&opts, spp, args.time_budget, |d| bar.set_position(d)));
+    let (film, stats) = pool.install(|| {
+        renderer.render(&opts, spp.unwrap_or(u32::MAX), args.time_budget, |d| {
+            bar.set_position(d)
+        })
+    });
     bar.finish_and_clear();
     film::save_image(
         &args.out,
@@ -358,19 +374,46 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         stats.samples_per_sec() / 1e6,
         stats.dropped
     );
+    budget_report(args.time_budget, stats.spp, opts.pass_spp());
     Ok(())
 }
 
-/// The render commands' progress bar over `spp` samples per pixel (hidden when `quiet`).
-fn spp_progress_bar(spp: u32, quiet: bool) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(spp as u64)
+/// The samples asked for, as the render commands log them: "64 spp", or "spp until 2s" for a
+/// time budget alone.
+fn spp_text(spp: Option<u32>, budget: Option<Duration>) -> String {
+    match (spp, budget) {
+        (Some(n), _) => format!("{n} spp"),
+        (None, Some(b)) => format!("spp until {b:?}"),
+        (None, None) => "spp unbounded".to_owned(),
+    }
+}
+
+/// With a time budget, one line on how far it got: the spp reached and the pass size (the
+/// most the last pass can overrun the budget by).
+fn budget_report(budget: Option<Duration>, spp: u64, pass_spp: u32) {
+    if let Some(b) = budget {
+        eprintln!("time budget {b:?}: {spp} spp reached in passes of {pass_spp} spp");
+    }
+}
+
+/// The render commands' progress bar over `spp` samples per pixel, a counter of samples
+/// when only a time budget bounds them (hidden when `quiet`).
+fn spp_progress_bar(spp: Option<u32>, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let (bar, template) = match spp {
+        Some(n) => (
+            ProgressBar::new(n as u64),
+            "{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}",
+        ),
+        None => (
+            ProgressBar::new_spinner(),
+            "{spinner} {pos} spp  {elapsed_precise}",
+        ),
     };
     bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar
 }

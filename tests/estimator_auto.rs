@@ -1,0 +1,287 @@
+//! The `auto` estimator rule on every built-in scene, the CLI's report of its choice, and time
+//! budgets that fill the time (issue 19, parts 1 and 2).
+
+mod common_scenes;
+
+use refract::bench::{Run, runs};
+use refract::render::Estimator;
+use refract::render::settings::{CaptureInfo, ViewerSettings};
+use refract::scene::Scene;
+use std::process::Command;
+use std::time::Instant;
+
+fn load(name: &str) -> Scene {
+    Scene::load(&format!("builtin:{name}")).expect("built-in scene")
+}
+
+/// What `auto` picks for each built-in (the README states the same list): lt+pt for glass lit
+/// by a small or punctual light, path tracing otherwise.
+#[test]
+fn auto_picks_the_documented_estimator_for_each_builtin() {
+    let expect = [
+        ("cornell-glass", Estimator::Path),
+        ("glass-slab", Estimator::Path),
+        ("furnace", Estimator::Path),
+        ("rough-glass", Estimator::Path),
+        ("prism", Estimator::LtPt),
+        ("caustic", Estimator::LtPt),
+        ("materials", Estimator::Path),
+    ];
+    for (name, e) in expect {
+        let (got, why) = Estimator::Auto.resolve_why(&load(name));
+        assert_eq!(got, e, "{name}: auto chose {got} ({why})");
+        assert!(!why.is_empty(), "{name}: no reason given");
+    }
+    let caustic = load("caustic");
+    for e in [
+        Estimator::Path,
+        Estimator::Bdpt,
+        Estimator::Lt,
+        Estimator::LtPt,
+    ] {
+        assert_eq!(e.resolve(&caustic), e, "an explicit {e} is kept");
+    }
+}
+
+/// The bench measures `auto` once per device, as `render` resolves it: merged with the same
+/// estimator asked for by name, bdpt for lt+pt on the CPU; runs keep the order asked.
+#[test]
+fn bench_runs_resolve_auto_per_scene_and_device() {
+    let asked = [Estimator::Auto, Estimator::Path, Estimator::Bdpt];
+    let labels = |scene: &str, gpu: bool| -> Vec<String> {
+        runs(&asked, &load(scene), gpu)
+            .iter()
+            .map(Run::label)
+            .collect()
+    };
+    assert_eq!(labels("caustic", false), ["bdpt = auto", "path"]);
+    assert_eq!(labels("furnace", false), ["path = auto", "bdpt"]);
+    assert_eq!(labels("caustic", true), ["auto = lt+pt", "path"]);
+    assert_eq!(labels("furnace", true), ["path = auto"]);
+    let lone = runs(&[Estimator::Auto], &load("prism"), false);
+    assert_eq!(lone.len(), 1);
+    assert_eq!(
+        (lone[0].estimator, lone[0].label()),
+        (Estimator::Bdpt, "auto = bdpt".into())
+    );
+}
+
+/// Run the binary: (success, stderr, wall seconds).
+fn refract(args: &[&str]) -> (bool, String, f64) {
+    let t = Instant::now();
+    let out = Command::new(env!("CARGO_BIN_EXE_refract"))
+        .args(args)
+        .output()
+        .expect("run refract");
+    let wall = t.elapsed().as_secs_f64();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        wall,
+    )
+}
+
+fn tmp(name: &str) -> String {
+    let d = std::env::temp_dir().join(format!("refract-auto-{}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d.join(name).display().to_string()
+}
+
+/// With default flags the log names the estimator `auto` chose and why; an explicit one is
+/// used as given, without that line.
+#[test]
+fn cli_reports_the_auto_choice_and_its_reason() {
+    let out = tmp("auto.exr");
+    let small = ["--spp", "1", "--width", "8", "--height", "8", "--quiet"];
+    let base = ["render", "--device", "cpu", "--out", &out];
+    for (scene, line) in [
+        (
+            "builtin:caustic",
+            "estimator auto: lt+pt (glass and a small light: caustics)",
+        ),
+        (
+            "builtin:materials",
+            "estimator auto: path (no glass: path tracing)",
+        ),
+    ] {
+        let args: Vec<&str> = base
+            .iter()
+            .chain(&small)
+            .copied()
+            .chain(["--scene", scene])
+            .collect();
+        let (ok, err, _) = refract(&args);
+        assert!(ok, "{err}");
+        assert!(err.contains(line), "{scene}: '{line}' not in {err}");
+    }
+    let args: Vec<&str> = base
+        .iter()
+        .chain(&small)
+        .copied()
+        .chain(["--scene", "builtin:caustic", "--estimator", "path"])
+        .collect();
+    let (ok, err, _) = refract(&args);
+    assert!(ok && !err.contains("estimator auto"), "{err}");
+}
+
+/// (spp reached, render seconds, spp per pass) from the render log.
+fn budget_log(err: &str) -> (u64, f64, u64) {
+    let wrote = err
+        .lines()
+        .find(|l| l.starts_with("wrote "))
+        .unwrap_or_else(|| panic!("no 'wrote' line: {err}"));
+    let after = wrote.split(" — ").nth(1).expect("— in the wrote line");
+    let mut words = after.split_whitespace();
+    let spp: u64 = words.next().and_then(|w| w.parse().ok()).expect("spp");
+    let secs: f64 = words.nth(2).and_then(|w| w.parse().ok()).expect("seconds");
+    let budget = err
+        .lines()
+        .find(|l| l.starts_with("time budget "))
+        .unwrap_or_else(|| panic!("no 'time budget' line: {err}"));
+    let pass: u64 = budget
+        .split("passes of ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|w| w.parse().ok())
+        .expect("pass spp");
+    assert!(budget.contains(&format!("{spp} spp reached")), "{budget}");
+    (spp, secs, pass)
+}
+
+/// `--time-budget` alone renders until the budget is spent (overrunning it by at most about
+/// one pass), well past the scene's and a sidecar's spp, and writes the samples done.
+#[test]
+fn a_time_budget_alone_fills_the_budget() {
+    let out = tmp("budget.exr");
+    let sidecar = tmp("budget.json");
+    let mut s = ViewerSettings::for_scene("builtin:furnace");
+    s.capture = Some(CaptureInfo {
+        width: 16,
+        height: 16,
+        spp: 4,
+        dropped: 0,
+        device: "cpu".into(),
+        elapsed_s: 0.1,
+        png: "x.png".into(),
+        exr: "x.exr".into(),
+    });
+    s.save(std::path::Path::new(&sidecar)).expect("sidecar");
+    let scene_spp = load("furnace").settings.spp as u64;
+    let size = [
+        "--width", "16", "--height", "16", "--device", "cpu", "--quiet",
+    ];
+    for extra in [
+        ["--scene", "builtin:furnace"],
+        ["--settings", sidecar.as_str()],
+    ] {
+        let args: Vec<&str> = ["render", "--time-budget", "2s", "--out", &out]
+            .iter()
+            .chain(&size)
+            .chain(&extra)
+            .copied()
+            .collect();
+        let (ok, err, wall) = refract(&args);
+        assert!(ok, "{err}");
+        let (spp, secs, pass) = budget_log(&err);
+        let pass_s = secs * pass as f64 / spp as f64;
+        assert!(
+            wall >= 1.9 && secs >= 1.9,
+            "{extra:?}: stopped early, {secs} s ({wall} s wall)"
+        );
+        assert!(
+            secs <= 2.0 + 2.0 * pass_s + 0.5 && wall <= 2.0 + 2.0 * pass_s + 1.0,
+            "{extra:?}: overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
+        );
+        assert!(spp > scene_spp.max(4), "{extra:?}: only {spp} spp in 2 s");
+        let (w, h, img) = refract::film::load_exr(std::path::Path::new(&out)).expect("exr");
+        assert_eq!((w, h), (16, 16));
+        let mean = img.iter().map(|p| p.y).sum::<f32>() / img.len() as f32;
+        assert!(mean > 0.01 && mean.is_finite(), "{extra:?}: mean {mean}");
+    }
+}
+
+/// With both `--spp` and `--time-budget` the smaller wins.
+#[test]
+fn with_spp_and_a_budget_the_first_reached_wins() {
+    let out = tmp("both.exr");
+    let base = [
+        "render",
+        "--scene",
+        "builtin:furnace",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--device",
+        "cpu",
+        "--quiet",
+        "--out",
+        &out,
+    ];
+    // The spp first: 8 spp long before 30 s.
+    let args: Vec<&str> = base
+        .iter()
+        .copied()
+        .chain(["--spp", "8", "--time-budget", "30s"])
+        .collect();
+    let (ok, err, wall) = refract(&args);
+    assert!(ok, "{err}");
+    let (spp, _, _) = budget_log(&err);
+    assert_eq!(spp, 8, "{err}");
+    assert!(wall < 20.0, "8 spp took {wall} s");
+    // The budget first: 1 s long before 10⁹ spp.
+    let args: Vec<&str> = base
+        .iter()
+        .copied()
+        .chain(["--spp", "1000000000", "--time-budget", "1s"])
+        .collect();
+    let (ok, err, wall) = refract(&args);
+    assert!(ok, "{err}");
+    let (spp, secs, pass) = budget_log(&err);
+    let pass_s = secs * pass as f64 / spp as f64;
+    assert!(spp < 1_000_000_000 && secs >= 0.95, "{err}");
+    assert!(
+        secs <= 1.0 + 2.0 * pass_s + 0.5 && wall <= 1.0 + 2.0 * pass_s + 1.0,
+        "overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
+    );
+}
+
+/// On the GPU `auto` runs what the viewer's GPU backend runs for the scene (lt+pt for a
+/// caustic), and a time budget alone fills the budget there too.
+#[test]
+fn gpu_auto_and_time_budget() {
+    if common_scenes::gpu_context("gpu_auto_and_time_budget").is_none() {
+        return;
+    }
+    let out = tmp("gpu.exr");
+    let (ok, err, wall) = refract(&[
+        "render",
+        "--scene",
+        "builtin:caustic",
+        "--device",
+        "gpu",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--time-budget",
+        "2s",
+        "--quiet",
+        "--out",
+        &out,
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("estimator auto: lt+pt (glass and a small light: caustics)")
+            && err.contains("estimator lt+pt"),
+        "{err}"
+    );
+    let (spp, secs, pass) = budget_log(&err);
+    let pass_s = secs * pass as f64 / spp as f64;
+    assert!(secs >= 1.9 && spp > 0, "stopped early: {err}");
+    // Start-up on the GPU includes creating the device and compiling the kernels.
+    assert!(
+        secs <= 2.0 + 2.0 * pass_s + 0.5 && wall <= 2.0 + 2.0 * pass_s + 20.0,
+        "overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
+    );
+}
