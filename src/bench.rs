@@ -40,15 +40,18 @@ pub struct BenchOptions {
     pub cpu: bool,
     /// Measure the GPU renderer (path and lt+pt; skipped with a message if no adapter).
     pub gpu: bool,
-    /// Heckbert path filter applied to the reference and every run (None = all paths), e.g.
-    /// `LS+DE` to measure the caustic component alone.
-    pub paths: Option<String>,
+    /// Heckbert path classes, each measured on its own (its own reference and runs), e.g.
+    /// `LS+DE` for the caustic alone and `LS+DS+E` for its mirror image; empty = one run on
+    /// all paths.
+    pub paths: Vec<String>,
 }
 
 /// One point of an error-vs-time curve.
 #[derive(Clone, Debug)]
 pub struct BenchPoint {
     pub scene: String,
+    /// The Heckbert class measured (`all` without a filter).
+    pub paths: String,
     pub device: String,
     pub estimator: String,
     pub spp: u64,
@@ -63,6 +66,7 @@ pub struct BenchPoint {
 #[derive(Clone, Debug)]
 pub struct BenchSummary {
     pub scene: String,
+    pub paths: String,
     pub device: String,
     pub estimator: String,
     pub samples_per_sec: f64,
@@ -178,7 +182,7 @@ fn reference(
     Ok((a, b))
 }
 
-/// Run the benchmark for one scene on the CPU renderer, every requested estimator.
+/// Run the benchmark for one scene, every requested path class, device and estimator.
 pub fn bench_scene_cpu(
     spec: &str,
     o: &BenchOptions,
@@ -187,14 +191,38 @@ pub fn bench_scene_cpu(
     scene.settings.width = o.width;
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;
+    let classes: Vec<Option<&str>> = if o.paths.is_empty() {
+        vec![None]
+    } else {
+        o.paths.iter().map(|p| Some(p.as_str())).collect()
+    };
+    let (mut points, mut sums) = (Vec::new(), Vec::new());
+    for class in classes {
+        let (p, s) = bench_class(&r, spec, o, class)?;
+        points.extend(p);
+        sums.extend(s);
+    }
+    Ok((points, sums))
+}
+
+/// One scene restricted to one Heckbert class (`None` = all paths): reference, then every
+/// estimator on every requested device.
+fn bench_class(
+    r: &Renderer,
+    spec: &str,
+    o: &BenchOptions,
+    class: Option<&str>,
+) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
     let mut opts = RenderOptions::from_scene(&r.scene);
-    let filter = o
-        .paths
-        .as_deref()
+    let filter = class
         .map(crate::paths::PathFilter::parse)
         .transpose()
         .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
     opts.set_filter(filter.as_ref());
+    let label = class.unwrap_or("all");
+    if class.is_some() {
+        eprintln!("  path class {label}");
+    }
     // `auto` means the estimator the scene's features pick.
     let mut ro = o.clone();
     ro.ref_estimator = ro.ref_estimator.resolve(&r.scene);
@@ -202,7 +230,7 @@ pub fn bench_scene_cpu(
         *e = e.resolve(&r.scene);
     }
     let o = &ro;
-    let (a, b) = reference(&r, spec, &opts, o)?;
+    let (a, b) = reference(r, spec, &opts, o)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
     // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
     let ref_noise = rel_mse(&a, &b) / 4.0;
@@ -225,7 +253,8 @@ pub fn bench_scene_cpu(
             &reference,
             ref_noise,
         ) {
-            Ok((p, s)) => {
+            Ok((mut p, mut s)) => {
+                label_class(&mut p, &mut s, label);
                 points.extend(p);
                 sums.push(s);
             }
@@ -240,11 +269,20 @@ pub fn bench_scene_cpu(
             continue;
         }
         eprintln!("  measuring {est:?} …");
-        let (p, s) = measure(&r, spec, o, opts, est, &reference, ref_noise, o.ref_spp);
+        let (mut p, mut s) = measure(r, spec, o, opts, est, &reference, ref_noise, o.ref_spp);
+        label_class(&mut p, &mut s, label);
         points.extend(p);
         sums.push(s);
     }
     Ok((points, sums))
+}
+
+/// Tag a measured curve and its summary with the path class it measured.
+fn label_class(points: &mut [BenchPoint], summary: &mut BenchSummary, class: &str) {
+    for p in points {
+        p.paths = class.to_string();
+    }
+    summary.paths = class.to_string();
 }
 
 /// A GPU estimator's curve: batches up to each power of two, image read back at each point
@@ -277,6 +315,7 @@ fn measure_gpu(
         let secs = start.elapsed().as_secs_f64();
         points.push(BenchPoint {
             scene: spec.to_string(),
+            paths: String::new(),
             device: device.clone(),
             estimator: name.clone(),
             spp: done,
@@ -293,6 +332,7 @@ fn measure_gpu(
     }
     let summary = BenchSummary {
         scene: spec.to_string(),
+        paths: String::new(),
         device,
         estimator: name,
         samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
@@ -332,6 +372,7 @@ fn measure(
         let img = film.image();
         points.push(BenchPoint {
             scene: spec.to_string(),
+            paths: String::new(),
             device: "cpu".into(),
             estimator: estimator.clone(),
             spp: done,
@@ -349,6 +390,7 @@ fn measure(
     let sps = points.last().map(|p| p.samples_per_sec).unwrap_or(0.0);
     let summary = BenchSummary {
         scene: spec.to_string(),
+        paths: String::new(),
         device: "cpu".into(),
         estimator,
         samples_per_sec: sps,
@@ -382,11 +424,11 @@ pub fn time_to(points: &[BenchPoint], target: f64) -> Option<f64> {
 
 pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
     let mut s =
-        String::from("scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio\n");
+        String::from("scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio,paths\n");
     for p in points {
         writeln!(
             s,
-            "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6}",
+            "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6},{}",
             csv_field(&p.scene),
             csv_field(&p.device),
             csv_field(&p.estimator),
@@ -395,7 +437,8 @@ pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
             p.samples_per_sec,
             p.rel_mse,
             p.rmse,
-            p.lum_ratio
+            p.lum_ratio,
+            csv_field(&p.paths)
         )?;
     }
     std::fs::write(path, s).with_context(|| format!("cannot write '{}'", path.display()))
@@ -414,15 +457,16 @@ fn csv_field(x: &str) -> String {
 pub fn markdown_table(summaries: &[BenchSummary]) -> String {
     let fmt_t = |t: Option<f64>| t.map_or("not reached".to_string(), |t| format!("{t:.2} s"));
     let mut s = String::from(
-        "| scene | device | estimator | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE, spp) |\n|---|---|---|---|---|---|---|\n",
+        "| scene | device | estimator | paths | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE, spp) |\n|---|---|---|---|---|---|---|---|\n",
     );
     for m in summaries {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.3} | {} | {} | {:.1e} ({} spp) |",
+            "| {} | {} | {} | {} | {:.3} | {} | {} | {:.1e} ({} spp) |",
             m.scene,
             m.device,
             m.estimator,
+            m.paths,
             m.samples_per_sec / 1e6,
             fmt_t(m.t_rel_01),
             fmt_t(m.t_rel_001),
