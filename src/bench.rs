@@ -14,6 +14,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+mod plot;
+pub use plot::plot;
+
 /// Bump when a change alters rendered images (invalidates cached references).
 pub const RENDERER_VERSION: u32 = 1;
 
@@ -475,91 +478,6 @@ pub fn markdown_table(summaries: &[BenchSummary]) -> String {
         );
     }
     s
-}
-
-/// Log-log plot of relMSE against time, one curve per scene/device/estimator.
-pub fn plot(path: &Path, points: &[BenchPoint]) -> Result<()> {
-    use plotters::prelude::*;
-    use plotters::style::{FontStyle, register_font};
-    // Register the font egui ships (no system fonts needed).
-    let _ = register_font(
-        "sans-serif",
-        FontStyle::Normal,
-        epaint_default_fonts::UBUNTU_LIGHT,
-    );
-    let (w, h) = (900u32, 600u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        let finite: Vec<&BenchPoint> = points
-            .iter()
-            .filter(|p| p.rel_mse > 0.0 && p.seconds > 0.0)
-            .collect();
-        anyhow::ensure!(!finite.is_empty(), "nothing to plot");
-        let (t0, t1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.seconds), b.max(p.seconds))
-        });
-        let (e0, e1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.rel_mse), b.max(p.rel_mse))
-        });
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                "refract bench: relative MSE against run time",
-                ("sans-serif", 22),
-            )
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(
-                (t0 * 0.8..t1 * 1.25).log_scale(),
-                (e0 * 0.5..e1 * 2.0).log_scale(),
-            )
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("seconds")
-            .y_desc("relMSE")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        let mut keys: Vec<(String, String, String)> = finite
-            .iter()
-            .map(|p| (p.scene.clone(), p.device.clone(), p.estimator.clone()))
-            .collect();
-        keys.dedup();
-        for (i, k) in keys.iter().enumerate() {
-            let color = Palette99::pick(i).to_rgba();
-            let series: Vec<(f64, f64)> = finite
-                .iter()
-                .filter(|p| (&p.scene, &p.device, &p.estimator) == (&k.0, &k.1, &k.2))
-                .map(|p| (p.seconds, p.rel_mse))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(series.clone(), color.stroke_width(2)))
-                .map_err(|e| anyhow::anyhow!("plot: {e}"))?
-                .label(format!("{} {} {}", k.0, k.1, k.2))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
-            chart
-                .draw_series(
-                    series
-                        .iter()
-                        .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
-                )
-                .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        root.present().map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-    }
-    let img = image::RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
-    img.save(path)
-        .with_context(|| format!("cannot write '{}'", path.display()))
 }
 
 /// Run everything and write `bench.csv`, `bench.png` and `bench.md` into `o.out`.
