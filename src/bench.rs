@@ -1,6 +1,7 @@
-//! `refract bench`: run time against error. For each scene a high-spp reference is rendered
-//! once (two independent halves, cached by scene hash and renderer version), then the renderer
-//! runs progressively and records wall time, samples/s and error at powers-of-two spp.
+//! `refract bench`: run time against error. For each scene and each requested Heckbert path
+//! class a high-spp reference is rendered once (two independent halves, cached by scene hash,
+//! path filter and renderer version), then the renderer runs progressively and records wall
+//! time, samples/s and error at powers-of-two spp.
 //! Error metrics: relative MSE mean((x − ref)² / (ref² + 1e-2)) over pixels and channels,
 //! RMSE, and the luminance ratio; the halves' disagreement gives the reference's noise floor.
 
@@ -426,8 +427,9 @@ pub fn time_to(points: &[BenchPoint], target: f64) -> Option<f64> {
 }
 
 pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
-    let mut s =
-        String::from("scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio,paths\n");
+    let mut s = String::from(
+        "scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio,paths\n",
+    );
     for p in points {
         writeln!(
             s,

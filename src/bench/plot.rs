@@ -163,7 +163,11 @@ fn draw_panel<DB: DrawingBackend>(
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(err)?;
-    let curves = unique(points.iter().map(|p| (p.device.clone(), p.estimator.clone())));
+    let curves = unique(
+        points
+            .iter()
+            .map(|p| (p.device.clone(), p.estimator.clone())),
+    );
     for (device, estimator) in &curves {
         let colour = styles.colour(estimator);
         let series: Vec<(f64, f64)> = points
@@ -225,4 +229,25 @@ fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, styles: &Style
         area.draw(&text(&name, y)).map_err(err)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn device_labels_drop_driver_details() {
+        assert_eq!(
+            device_label("gpu (llvmpipe (LLVM 15.0.6, 256 bits))"),
+            "gpu (llvmpipe)"
+        );
+        assert_eq!(device_label("gpu (NVIDIA H200)"), "gpu (NVIDIA H200)");
+        assert_eq!(device_label("cpu"), "cpu");
+        assert!(is_gpu("gpu (x)") && !is_gpu("cpu"));
+    }
+
+    #[test]
+    fn unique_keeps_first_appearance_order() {
+        assert_eq!(unique([3, 1, 3, 2, 1].into_iter()), vec![3, 1, 2]);
+    }
 }
