@@ -1,6 +1,7 @@
-//! `refract bench`: run time against error. For each scene a high-spp reference is rendered
-//! once (two independent halves, cached by scene hash and renderer version), then the renderer
-//! runs progressively and records wall time, samples/s and error at powers-of-two spp.
+//! `refract bench`: run time against error. For each scene and each requested Heckbert path
+//! class a high-spp reference is rendered once (two independent halves, cached by scene hash,
+//! path filter and renderer version), then the renderer runs progressively and records wall
+//! time, samples/s and error at powers-of-two spp.
 //! Error metrics: relative MSE mean((x − ref)² / (ref² + 1e-2)) over pixels and channels,
 //! RMSE, and the luminance ratio; the halves' disagreement gives the reference's noise floor.
 
@@ -13,6 +14,9 @@ use glam::Vec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+mod plot;
+pub use plot::plot;
 
 /// Bump when a change alters rendered images (invalidates cached references).
 pub const RENDERER_VERSION: u32 = 1;
@@ -41,15 +45,18 @@ pub struct BenchOptions {
     pub cpu: bool,
     /// Measure the GPU renderer (path and lt+pt; skipped with a message if no adapter).
     pub gpu: bool,
-    /// Heckbert path filter applied to the reference and every run (None = all paths), e.g.
-    /// `LS+DE` to measure the caustic component alone.
-    pub paths: Option<String>,
+    /// Heckbert path classes, each measured on its own (its own reference and runs), e.g.
+    /// `LS+DE` for the caustic alone and `LS+DS+E` for its mirror image; empty = one run on
+    /// all paths.
+    pub paths: Vec<String>,
 }
 
 /// One point of an error-vs-time curve.
 #[derive(Clone, Debug)]
 pub struct BenchPoint {
     pub scene: String,
+    /// The Heckbert class measured (`all` without a filter).
+    pub paths: String,
     pub device: String,
     pub estimator: String,
     pub spp: u64,
@@ -64,6 +71,7 @@ pub struct BenchPoint {
 #[derive(Clone, Debug)]
 pub struct BenchSummary {
     pub scene: String,
+    pub paths: String,
     pub device: String,
     pub estimator: String,
     pub samples_per_sec: f64,
@@ -179,7 +187,7 @@ fn reference(
     Ok((a, b))
 }
 
-/// Run the benchmark for one scene on the CPU renderer, every requested estimator.
+/// Run the benchmark for one scene, every requested path class, device and estimator.
 pub fn bench_scene_cpu(
     spec: &str,
     o: &BenchOptions,
@@ -188,19 +196,43 @@ pub fn bench_scene_cpu(
     scene.settings.width = o.width;
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;
+    let classes: Vec<Option<&str>> = if o.paths.is_empty() {
+        vec![None]
+    } else {
+        o.paths.iter().map(|p| Some(p.as_str())).collect()
+    };
+    let (mut points, mut sums) = (Vec::new(), Vec::new());
+    for class in classes {
+        let (p, s) = bench_class(&r, spec, o, class)?;
+        points.extend(p);
+        sums.extend(s);
+    }
+    Ok((points, sums))
+}
+
+/// One scene restricted to one Heckbert class (`None` = all paths): reference, then every
+/// estimator on every requested device.
+fn bench_class(
+    r: &Renderer,
+    spec: &str,
+    o: &BenchOptions,
+    class: Option<&str>,
+) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
     let mut opts = RenderOptions::from_scene(&r.scene);
-    let filter = o
-        .paths
-        .as_deref()
+    let filter = class
         .map(crate::paths::PathFilter::parse)
         .transpose()
         .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
     opts.set_filter(filter.as_ref());
+    let label = class.unwrap_or("all");
+    if class.is_some() {
+        eprintln!("  path class {label}");
+    }
     // `auto` means the estimator the scene's features pick.
     let mut ro = o.clone();
     ro.ref_estimator = ro.ref_estimator.resolve(&r.scene);
     let o = &ro;
-    let (a, b) = reference(&r, spec, &opts, o)?;
+    let (a, b) = reference(r, spec, &opts, o)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
     // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
     let ref_noise = rel_mse(&a, &b) / 4.0;
@@ -221,7 +253,8 @@ pub fn bench_scene_cpu(
             &reference,
             ref_noise,
         ) {
-            Ok((p, s)) => {
+            Ok((mut p, mut s)) => {
+                label_class(&mut p, &mut s, label);
                 points.extend(p);
                 sums.push(s);
             }
@@ -235,7 +268,8 @@ pub fn bench_scene_cpu(
     };
     for run in &cpu_runs {
         eprintln!("  measuring {} …", run.label());
-        let (p, s) = measure(&r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
+        let (mut p, mut s) = measure(r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
+        label_class(&mut p, &mut s, label);
         points.extend(p);
         sums.push(s);
     }
@@ -303,6 +337,14 @@ pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
     runs
 }
 
+/// Tag a measured curve and its summary with the path class it measured.
+fn label_class(points: &mut [BenchPoint], summary: &mut BenchSummary, class: &str) {
+    for p in points {
+        p.paths = class.to_string();
+    }
+    summary.paths = class.to_string();
+}
+
 /// A GPU estimator's curve: batches up to each power of two, image read back at each point
 /// (the readback time is included in the wall time).
 #[allow(clippy::too_many_arguments)]
@@ -333,6 +375,7 @@ fn measure_gpu(
         let secs = start.elapsed().as_secs_f64();
         points.push(BenchPoint {
             scene: spec.to_string(),
+            paths: String::new(),
             device: device.clone(),
             estimator: name.clone(),
             spp: done,
@@ -349,6 +392,7 @@ fn measure_gpu(
     }
     let summary = BenchSummary {
         scene: spec.to_string(),
+        paths: String::new(),
         device,
         estimator: name,
         samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
@@ -388,6 +432,7 @@ fn measure(
         let img = film.image();
         points.push(BenchPoint {
             scene: spec.to_string(),
+            paths: String::new(),
             device: "cpu".into(),
             estimator: estimator.clone(),
             spp: done,
@@ -405,6 +450,7 @@ fn measure(
     let sps = points.last().map(|p| p.samples_per_sec).unwrap_or(0.0);
     let summary = BenchSummary {
         scene: spec.to_string(),
+        paths: String::new(),
         device: "cpu".into(),
         estimator,
         samples_per_sec: sps,
@@ -437,12 +483,13 @@ pub fn time_to(points: &[BenchPoint], target: f64) -> Option<f64> {
 }
 
 pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
-    let mut s =
-        String::from("scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio\n");
+    let mut s = String::from(
+        "scene,device,estimator,spp,seconds,samples_per_sec,rel_mse,rmse,lum_ratio,paths\n",
+    );
     for p in points {
         writeln!(
             s,
-            "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6}",
+            "{},{},{},{},{:.6},{:.1},{:.6e},{:.6e},{:.6},{}",
             csv_field(&p.scene),
             csv_field(&p.device),
             csv_field(&p.estimator),
@@ -451,7 +498,8 @@ pub fn write_csv(path: &Path, points: &[BenchPoint]) -> Result<()> {
             p.samples_per_sec,
             p.rel_mse,
             p.rmse,
-            p.lum_ratio
+            p.lum_ratio,
+            csv_field(&p.paths)
         )?;
     }
     std::fs::write(path, s).with_context(|| format!("cannot write '{}'", path.display()))
@@ -470,15 +518,16 @@ fn csv_field(x: &str) -> String {
 pub fn markdown_table(summaries: &[BenchSummary]) -> String {
     let fmt_t = |t: Option<f64>| t.map_or("not reached".to_string(), |t| format!("{t:.2} s"));
     let mut s = String::from(
-        "| scene | device | estimator | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE, spp) |\n|---|---|---|---|---|---|---|\n",
+        "| scene | device | estimator | paths | M samples/s | time to relMSE 0.01 | time to relMSE 0.001 | reference noise (relMSE, spp) |\n|---|---|---|---|---|---|---|---|\n",
     );
     for m in summaries {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.3} | {} | {} | {:.1e} ({} spp) |",
+            "| {} | {} | {} | {} | {:.3} | {} | {} | {:.1e} ({} spp) |",
             m.scene,
             m.device,
             m.estimator,
+            m.paths,
             m.samples_per_sec / 1e6,
             fmt_t(m.t_rel_01),
             fmt_t(m.t_rel_001),
@@ -487,91 +536,6 @@ pub fn markdown_table(summaries: &[BenchSummary]) -> String {
         );
     }
     s
-}
-
-/// Log-log plot of relMSE against time, one curve per scene/device/estimator.
-pub fn plot(path: &Path, points: &[BenchPoint]) -> Result<()> {
-    use plotters::prelude::*;
-    use plotters::style::{FontStyle, register_font};
-    // Register the font egui ships (no system fonts needed).
-    let _ = register_font(
-        "sans-serif",
-        FontStyle::Normal,
-        epaint_default_fonts::UBUNTU_LIGHT,
-    );
-    let (w, h) = (900u32, 600u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        let finite: Vec<&BenchPoint> = points
-            .iter()
-            .filter(|p| p.rel_mse > 0.0 && p.seconds > 0.0)
-            .collect();
-        anyhow::ensure!(!finite.is_empty(), "nothing to plot");
-        let (t0, t1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.seconds), b.max(p.seconds))
-        });
-        let (e0, e1) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-            (a.min(p.rel_mse), b.max(p.rel_mse))
-        });
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                "refract bench: relative MSE against run time",
-                ("sans-serif", 22),
-            )
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(
-                (t0 * 0.8..t1 * 1.25).log_scale(),
-                (e0 * 0.5..e1 * 2.0).log_scale(),
-            )
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc("seconds")
-            .y_desc("relMSE")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        let mut keys: Vec<(String, String, String)> = finite
-            .iter()
-            .map(|p| (p.scene.clone(), p.device.clone(), p.estimator.clone()))
-            .collect();
-        keys.dedup();
-        for (i, k) in keys.iter().enumerate() {
-            let color = Palette99::pick(i).to_rgba();
-            let series: Vec<(f64, f64)> = finite
-                .iter()
-                .filter(|p| (&p.scene, &p.device, &p.estimator) == (&k.0, &k.1, &k.2))
-                .map(|p| (p.seconds, p.rel_mse))
-                .collect();
-            chart
-                .draw_series(LineSeries::new(series.clone(), color.stroke_width(2)))
-                .map_err(|e| anyhow::anyhow!("plot: {e}"))?
-                .label(format!("{} {} {}", k.0, k.1, k.2))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
-            chart
-                .draw_series(
-                    series
-                        .iter()
-                        .map(|&(x, y)| Circle::new((x, y), 3, color.filled())),
-                )
-                .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-        root.present().map_err(|e| anyhow::anyhow!("plot: {e}"))?;
-    }
-    let img = image::RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
-    img.save(path)
-        .with_context(|| format!("cannot write '{}'", path.display()))
 }
 
 /// Run everything and write `bench.csv`, `bench.png` and `bench.md` into `o.out`.

@@ -70,9 +70,10 @@ struct BenchArgs {
     /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
     #[arg(long)]
     quick: bool,
-    /// Heckbert path filter for the reference and every run, e.g. 'LS+DE' (the caustic alone).
-    #[arg(long)]
-    paths: Option<String>,
+    /// Heckbert path classes, each benched on its own, e.g. 'LS+DE' 'LS+DS+E' (the caustic
+    /// alone and its mirror image); default: all paths.
+    #[arg(long, num_args = 1..)]
+    paths: Vec<String>,
     #[arg(long)]
     threads: Option<usize>,
 }
@@ -434,7 +435,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
         }
     }
     let (cpu, gpu) = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
-    if let Some(p) = &args.paths {
+    for p in &args.paths {
         refract::paths::PathFilter::parse(p).map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
     }
     if args.ref_spp < 2 {

@@ -197,3 +197,54 @@ fn bench_writes_csv_plot_and_table() {
         "reference not cached: {err2}"
     );
 }
+
+/// Several Heckbert classes in one run: each (scene, estimator, class) is its own row in
+/// bench.md and its own curve in bench.csv (last column `paths`).
+#[test]
+fn bench_measures_each_path_class() {
+    let out = tmp("bench-classes");
+    let cache = tmp("bench-classes-cache");
+    let (ok, stdout, err) = refract(&[
+        "bench",
+        "--scenes",
+        "builtin:caustic-mirror",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--ref-spp",
+        "8",
+        "--budget",
+        "100ms",
+        "--estimators",
+        "path",
+        "--paths",
+        "LS+DE",
+        "LS+DS+E",
+        "--out",
+        &out,
+        "--cache",
+        &cache,
+    ]);
+    assert!(ok, "{err}");
+    for class in ["LS+DE", "LS+DS+E"] {
+        assert!(
+            stdout.contains(&format!(
+                "| builtin:caustic-mirror | cpu | path | {class} |"
+            )),
+            "{stdout}"
+        );
+    }
+    let csv = std::fs::read_to_string(format!("{out}/bench.csv")).expect("csv");
+    assert!(csv.lines().next().unwrap().ends_with(",paths"), "{csv}");
+    let classes: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|r| r.rsplit(',').next().unwrap())
+        .collect();
+    assert!(
+        classes.contains(&"LS+DE") && classes.contains(&"LS+DS+E"),
+        "{csv}"
+    );
+    assert!(std::path::Path::new(&format!("{out}/bench.png")).exists());
+}
