@@ -28,6 +28,10 @@ pub struct Hit {
 /// The acceleration structure of one scene.
 pub struct Bvh {
     pub cwbvh: CwBvh,
+    /// Power of two the traversal scales ray directions by (see `direction_scale`).
+    dir_scale: f32,
+    /// Power of two the ray-offset constants scale with (see `offset_scale`).
+    offset_scale: f32,
     leaf_tris: Vec<LeafTri>,
     /// Scene triangle index for each leaf slot (= `cwbvh.primitive_indices`).
     leaf_to_tri: Vec<u32>,
@@ -156,8 +160,16 @@ impl Bvh {
             cwbvh,
             leaf_tris,
             leaf_to_tri,
+            dir_scale: direction_scale(mesh),
+            offset_scale: offset_scale(mesh),
             build_time: start.elapsed(),
         }
+    }
+
+    /// The scene's ray-offset scale (`offset_scale`), for `offset_ray_origin`.
+    #[inline]
+    pub fn offset_scale(&self) -> f32 {
+        self.offset_scale
     }
 
     /// Closest hit along `origin + t·dir` for t in (0, tmax).
@@ -166,26 +178,29 @@ impl Bvh {
         if self.leaf_tris.is_empty() {
             return None;
         }
+        let (k, inv_k) = (self.dir_scale, 1.0 / self.dir_scale);
         let o: Vec3A = origin.into();
         let d: Vec3A = dir.into();
         let wr = WatertightRay::new(o, d);
-        let ray = Ray::new(o, d, 0.0, tmax);
+        // Distances in the traversal are in units of the scaled direction: t' = t / k (exact).
+        let ray = traversal_ray(o, d, k, tmax * inv_k);
         let mut hit = RayHit::none();
         let (mut b1, mut b2) = (0.0f32, 0.0f32);
         let leaf_tris = &self.leaf_tris;
         self.cwbvh.ray_traverse(ray, &mut hit, |r, id| {
-            match wr.intersect(&leaf_tris[id], r.tmax) {
+            match wr.intersect(&leaf_tris[id], r.tmax * k) {
                 Some((t, u, v)) => {
                     b1 = u;
                     b2 = v;
-                    t
+                    t * inv_k
                 }
                 None => f32::INFINITY,
             }
         });
-        if hit.t < tmax && hit.primitive_id != obvhs::ray::INVALID_ID {
+        let t = hit.t * k;
+        if t < tmax && hit.primitive_id != obvhs::ray::INVALID_ID {
             Some(Hit {
-                t: hit.t,
+                t,
                 tri: self.leaf_to_tri[hit.primitive_id as usize],
                 b1,
                 b2,
@@ -201,29 +216,84 @@ impl Bvh {
         if self.leaf_tris.is_empty() {
             return false;
         }
+        let (k, inv_k) = (self.dir_scale, 1.0 / self.dir_scale);
         let o: Vec3A = origin.into();
         let d: Vec3A = dir.into();
         let wr = WatertightRay::new(o, d);
-        let ray = Ray::new(o, d, 0.0, tmax);
+        let ray = traversal_ray(o, d, k, tmax * inv_k);
         let leaf_tris = &self.leaf_tris;
-        !self
-            .cwbvh
-            .ray_traverse_miss(ray, |r, id| match wr.intersect(&leaf_tris[id], r.tmax) {
-                Some((t, _, _)) => t,
+        !self.cwbvh.ray_traverse_miss(ray, |r, id| {
+            match wr.intersect(&leaf_tris[id], r.tmax * k) {
+                Some((t, _, _)) => t * inv_k,
                 None => f32::INFINITY,
-            })
+            }
+        })
+    }
+}
+
+/// The ray obvhs traverses: direction scaled by k, −0.0 components made +0.0, and the
+/// inverse direction computed here. obvhs' `Ray::new` replaces 1/x by ±1/ε for |x| ≤ ε
+/// (ε = 1.19e-7) — wrong for small but valid components (and with k < 1 every component is
+/// small) — and takes the octant from `x < 0` but the inverse's sign from `signum`, which
+/// disagree for −0.0 (a ray along exactly (−0, −0, −1) missed everything). Here 1/x is exact
+/// down to |x| = 1e-30 (then ±1e30, finite: no 0·∞ = NaN on slab planes) with the sign of x.
+#[inline(always)]
+fn traversal_ray(o: Vec3A, d: Vec3A, k: f32, tmax: f32) -> Ray {
+    let dir = d * k + Vec3A::ZERO;
+    let inv = |x: f32| {
+        1.0 / if x.abs() < 1e-30 {
+            1e-30f32.copysign(x)
+        } else {
+            x
+        }
+    };
+    Ray {
+        origin: o,
+        direction: dir,
+        inv_direction: Vec3A::new(inv(dir.x), inv(dir.y), inv(dir.z)),
+        tmin: 0.0,
+        tmax,
+    }
+}
+
+/// obvhs' CWBVH node test culls boxes closer than a fixed 1e-4 along the ray (its `EPSILON`),
+/// which loses every hit within 1e-4 m: a scene scaled to 1e-4 renders 20–40% dark, one at
+/// 1e-5 black. Traversing with the direction scaled by k (a power of two, so t' = t/k is exact)
+/// moves that cut-off to 1e-4·k. k makes it 2⁻¹⁶ of the scene's extent (k ≤ 1: large scenes
+/// keep their rays; ray/box maths stays exact up to the power of two).
+fn direction_scale(mesh: &Mesh) -> f32 {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for p in &mesh.positions {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let extent = (hi - lo).max_element();
+    if !extent.is_finite() || extent <= 0.0 {
+        return 1.0;
+    }
+    // 1e-4 · k ≤ extent · 2⁻¹⁶  ⇔  k ≤ extent · 2⁻¹⁶ / 1e-4.
+    let k = extent * (1.0 / 65536.0) / 1e-4;
+    if k >= 1.0 {
+        1.0
+    } else {
+        // The largest power of two ≤ k, kept out of the subnormals.
+        f32::from_bits(k.max(f32::MIN_POSITIVE * 1024.0).to_bits() & 0xff80_0000)
     }
 }
 
 /// Offset a ray origin off a surface along the geometric normal `n` (pointing to the side
 /// the ray leaves towards), by a few ULPs of the position's magnitude so that it works at any
 /// scene scale. Wächter & Binder 2019, "A Fast and Robust Method for Avoiding
-/// Self-Intersection", Ray Tracing Gems ch. 6, listing 6-1.
+/// Self-Intersection", Ray Tracing Gems ch. 6, listing 6-1, with its two constants for
+/// coordinates near zero (`ORIGIN`, `FLOAT_SCALE`, tuned for scenes of unit size) multiplied
+/// by the scene's power-of-two `scale` (`offset_scale`), so the near-zero offset follows the
+/// scene (a fixed 2⁻¹⁶ m threw rays out of a scene 1e-5 m across).
 #[inline]
-pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+pub fn offset_ray_origin(p: Vec3, n: Vec3, scale: f32) -> Vec3 {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
     const INT_SCALE: f32 = 256.0;
+    let (origin, float_scale) = (ORIGIN * scale, FLOAT_SCALE * scale);
     let off = |p: f32, n: f32| -> f32 {
         let of_i = (INT_SCALE * n) as i32;
         let bits = p.to_bits() as i32;
@@ -233,11 +303,31 @@ pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
             bits.wrapping_add(of_i)
         };
         let pi = f32::from_bits(moved as u32);
-        if p.abs() < ORIGIN {
-            p + FLOAT_SCALE * n
+        if p.abs() < origin {
+            p + float_scale * n
         } else {
             pi
         }
     };
     Vec3::new(off(p.x, n.x), off(p.y, n.y), off(p.z, n.z))
+}
+
+/// The power of two the ray-offset constants scale with: 2^⌊log₂(extent/2)⌋ of the mesh's
+/// largest bounding-box side for scenes under 4 m (so a scene 1e-6 m across keeps its rays),
+/// and 1 above (the constants are absolute floors for coordinates near zero: growing them with
+/// the scene would step over thin features near the origin, e.g. a 0.1 mm slab in a 100 m
+/// scene); 1 for an empty or degenerate mesh.
+pub fn offset_scale(mesh: &Mesh) -> f32 {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for p in &mesh.positions {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let half = 0.5 * (hi - lo).max_element();
+    if !half.is_finite() || half <= 0.0 {
+        return 1.0;
+    }
+    let clamped = half.clamp(2f32.powi(-100), 1.0);
+    // The largest power of two ≤ `clamped` (clear the mantissa).
+    f32::from_bits(clamped.to_bits() & 0xff80_0000)
 }

@@ -113,7 +113,7 @@ impl<'a> Integrator<'a> {
             if st.depth + 1 >= self.max_depth {
                 break;
             }
-            let Some(it) = Interaction::new(scene, &hit, d, &sp) else {
+            let Some(it) = Interaction::new(scene, &hit, d, &sp, self.bvh.offset_scale()) else {
                 break;
             };
             st.arrive(&it);

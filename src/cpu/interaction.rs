@@ -80,10 +80,10 @@ pub fn event_is_consistent(event: Event, side_o: f32, side_i: f32) -> bool {
 }
 
 /// A ray origin at `p` pushed off the surface to the side of `ng` that `side_i` (= ω·ng)
-/// selects (Wächter & Binder 2019, via `offset_ray_origin`).
+/// selects (Wächter & Binder 2019, via `offset_ray_origin`, at the scene's offset `scale`).
 #[inline]
-pub fn offset_ray_origin_towards(p: Vec3, ng: Vec3, side_i: f32) -> Vec3 {
-    offset_ray_origin(p, if side_i > 0.0 { ng } else { -ng })
+pub fn offset_ray_origin_towards(p: Vec3, ng: Vec3, side_i: f32, scale: f32) -> Vec3 {
+    offset_ray_origin(p, if side_i > 0.0 { ng } else { -ng }, scale)
 }
 
 /// What a BSDF sample at an interaction leads to.
@@ -110,13 +110,21 @@ pub struct Interaction {
     pub bsdf: Bsdf,
     /// The BSDF depends on the wavelength (dispersive glass in a spectral path).
     pub dispersive: bool,
+    /// The scene's ray-offset scale (`Bvh::offset_scale`).
+    pub offset_scale: f32,
 }
 
 impl Interaction {
     /// The interaction of a ray travelling along `d` with `hit`; `None` when the path ends
     /// there (one-sided back face, or an emitter, which is black otherwise).
     #[inline(always)]
-    pub fn new(scene: &Scene, hit: &SurfaceHit, d: Vec3, sp: &Spectral) -> Option<Interaction> {
+    pub fn new(
+        scene: &Scene,
+        hit: &SurfaceHit,
+        d: Vec3,
+        sp: &Spectral,
+        offset_scale: f32,
+    ) -> Option<Interaction> {
         let mat = &scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
         let (ng, ns) = orient_normals(mat, hit, front)?;
@@ -144,6 +152,7 @@ impl Interaction {
             wo: frame.to_local(wo_w),
             bsdf,
             dispersive,
+            offset_scale,
         })
     }
 
@@ -167,7 +176,7 @@ impl Interaction {
     /// Origin of a ray leaving along `w` (world), offset to the side `w` goes to.
     #[inline]
     pub fn spawn(&self, w: Vec3) -> Vec3 {
-        offset_ray_origin_towards(self.hit.p, self.ng, w.dot(self.ng))
+        offset_ray_origin_towards(self.hit.p, self.ng, w.dot(self.ng), self.offset_scale)
     }
 
     /// Can light pass from `wo_w` to `w` here (same side, or a BSDF that transmits)?
@@ -193,7 +202,8 @@ impl Interaction {
         let target = if nl == Vec3::ZERO {
             pl
         } else {
-            offset_ray_origin(pl, if nl.dot(-ls.wi) > 0.0 { nl } else { -nl })
+            let n = if nl.dot(-ls.wi) > 0.0 { nl } else { -nl };
+            offset_ray_origin(pl, n, self.offset_scale)
         };
         (origin, target - origin, 1.0)
     }

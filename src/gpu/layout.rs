@@ -144,7 +144,8 @@ gpu_struct! {
         pub w_old: f32,
         pub w_new: f32,
         pub debug_pixel: u32,
-        pub _pad: u32,
+        /// The scene's ray-offset scale (`bvh::offset_scale`).
+        pub offset_scale: f32,
     }
 }
 

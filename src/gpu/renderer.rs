@@ -331,7 +331,7 @@ impl GpuRenderer {
             w_old: (n / (n + k)) as f32,
             w_new: (1.0 / (n + k)) as f32,
             debug_pixel: self.debug_pixel,
-            _pad: 0,
+            offset_scale: self.bvh.offset_scale,
         }
     }
 

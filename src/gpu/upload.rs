@@ -28,6 +28,8 @@ pub struct GpuBvh {
     pub slot_of_tri: Vec<u32>,
     pub depth: u32,
     pub build_time: Duration,
+    /// The ray-offset scale of the scene (`bvh::offset_scale`, the CPU's rule).
+    pub offset_scale: f32,
 }
 
 /// Build an obvhs BVH2 over the scene's triangles and repack its nodes.
@@ -54,6 +56,7 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
                 first_index: 0,
             }],
             build_time: start.elapsed(),
+            offset_scale: 1.0,
             ..Default::default()
         });
     }
@@ -112,6 +115,7 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
         slot_of_tri,
         depth,
         build_time: start.elapsed(),
+        offset_scale: crate::bvh::offset_scale(mesh),
     })
 }
 

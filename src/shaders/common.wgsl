@@ -180,7 +180,12 @@ fn mis_weight3(r_a: f32, r_b: f32) -> f32 {
 // ---------------------------------------------------------------------------------------------
 // Ray offsets (bvh::offset_ray_origin)
 
-// One coordinate of `offset_ray_origin` (ORIGIN = 1/32, FLOAT_SCALE = 1/65536, INT_SCALE = 256).
+// The scene's ray-offset scale (bvh::offset_scale): kernels that trace a scene set it from
+// their params first; the maths probes keep 1.
+var<private> OFFSET_SCALE: f32 = 1.0;
+
+// One coordinate of `offset_ray_origin` (ORIGIN = 1/32, FLOAT_SCALE = 1/65536, both times the
+// scene's OFFSET_SCALE; INT_SCALE = 256).
 fn offset_ray_origin_1(p: f32, n: f32) -> f32 {
     let of_i = i32(256.0 * n);
     let bits = bitcast<i32>(p);
@@ -190,8 +195,8 @@ fn offset_ray_origin_1(p: f32, n: f32) -> f32 {
     } else {
         moved = bits + of_i;
     }
-    if abs(p) < 1.0 / 32.0 {
-        return p + (1.0 / 65536.0) * n;
+    if abs(p) < (1.0 / 32.0) * OFFSET_SCALE {
+        return p + ((1.0 / 65536.0) * OFFSET_SCALE) * n;
     }
     return bitcast<f32>(moved);
 }

@@ -35,7 +35,8 @@ struct Params {
     w_new: f32,
     // linear pixel index whose first sample of the batch is recorded in `stats.debug`
     debug_pixel: u32,
-    _pad: u32,
+    // the scene's ray-offset scale (bvh::offset_scale), copied into OFFSET_SCALE
+    offset_scale: f32,
 }
 
 struct Stats {
@@ -481,6 +482,7 @@ fn camera_ray_dir(sx: f32, sy: f32) -> vec3<f32> {
 
 @compute @workgroup_size(8, 8, 1)
 fn render(@builtin(global_invocation_id) gid: vec3<u32>) {
+    OFFSET_SCALE = params.offset_scale;
     let x = gid.x;
     let y = gid.y;
     let w = params.width;

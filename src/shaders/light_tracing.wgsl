@@ -444,6 +444,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3<u32>) {
     if !HAS_LT {
         return;
     }
+    OFFSET_SCALE = params.offset_scale;
     let x = gid.x;
     let y = gid.y;
     if x >= params.width || y >= params.height {

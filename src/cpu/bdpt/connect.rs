@@ -89,12 +89,12 @@ impl Bdpt<'_> {
     fn visible(&self, a: &Vertex, b: &Vertex) -> bool {
         let d = b.p - a.p;
         let oa = if a.on_surface() {
-            offset_ray_origin_towards(a.p, a.ng, a.ng.dot(d))
+            offset_ray_origin_towards(a.p, a.ng, a.ng.dot(d), self.pt.bvh.offset_scale())
         } else {
             a.p
         };
         let ob = if b.on_surface() {
-            offset_ray_origin_towards(b.p, b.ng, b.ng.dot(-d))
+            offset_ray_origin_towards(b.p, b.ng, b.ng.dot(-d), self.pt.bvh.offset_scale())
         } else {
             b.p
         };
@@ -238,7 +238,8 @@ impl Bdpt<'_> {
             return Color::ZERO;
         }
         let vis = if infinite {
-            let o = offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy));
+            let o =
+                offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy), self.pt.bvh.offset_scale());
             !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
         } else {
             self.visible(&z, &y)

@@ -35,7 +35,7 @@ impl<'a> Bdpt<'a> {
             let hit = self.pt.surface(&h);
             st.attenuate(scene, hit.t, sp);
             let prev = path.len() - 1;
-            let Some(it) = Interaction::new(scene, &hit, d, sp) else {
+            let Some(it) = Interaction::new(scene, &hit, d, sp, self.pt.bvh.offset_scale()) else {
                 // Emitters and black back faces end the walk but an emitter still counts as
                 // a vertex (s = 0 strategies hit it), with its raw normals.
                 if scene.materials[hit.material as usize].is_emissive() {
@@ -135,7 +135,7 @@ impl<'a> Bdpt<'a> {
             (le.p, 1.0)
         } else {
             (
-                offset_ray_origin_towards(le.p, le.n, le.dir.dot(le.n)),
+                offset_ray_origin_towards(le.p, le.n, le.dir.dot(le.n), self.pt.bvh.offset_scale()),
                 le.n.dot(le.dir).abs(),
             )
         };
