@@ -22,9 +22,11 @@
 //! settings and environment).
 
 mod accessor;
+mod buffers;
 mod cameras;
 mod decode;
 mod extras;
+mod files;
 mod lights;
 mod materials;
 mod mesh;
@@ -58,7 +60,7 @@ pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
 /// Load a `.gltf` or `.glb` file.
 pub fn load_path(path: &Path) -> anyhow::Result<Scene> {
     let bytes =
-        std::fs::read(path).map_err(|e| anyhow!("cannot read scene '{}': {e}", path.display()))?;
+        files::read_regular_file(path, files::MAX_FILE_BYTES, "scene").map_err(|e| anyhow!(e))?;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -77,10 +79,9 @@ pub fn load_slice(bytes: &[u8], base: Option<&Path>, name: &str) -> anyhow::Resu
         .map_err(|e| anyhow!("'{name}' is not valid glTF: {e}"))?;
     let root = gltf.document.as_json();
     uri::check_uris(root)?;
-    let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone()).map_err(|e| {
-        anyhow!("cannot load the buffers of '{name}': {e} (missing or short buffer?)")
-    })?;
-    let buffers: Vec<&[u8]> = buffers.iter().map(|b| b.0.as_slice()).collect();
+    let buffers = buffers::load_buffers(root, gltf.blob.clone(), base)
+        .map_err(|e| anyhow!("cannot load the buffers of '{name}': {e}"))?;
+    let buffers: Vec<&[u8]> = buffers.iter().map(|b| b.as_slice()).collect();
     let mut loader = Loader {
         root,
         buffers,

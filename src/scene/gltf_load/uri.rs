@@ -1,4 +1,5 @@
-//! URIs: percent-decoding of relative paths and base64 `data:` payloads.
+//! URIs: percent-decoding of relative paths and base64 `data:` payloads; image files are
+//! read through `files` (regular files inside the scene's folder only).
 
 use anyhow::bail;
 use gltf::json;
@@ -18,7 +19,7 @@ pub(super) fn check_uris(root: &json::Root) -> anyhow::Result<()> {
 }
 
 /// Percent-decode a relative URI (invalid escapes are kept literally); None if not UTF-8.
-fn percent_decode(s: &str) -> Option<String> {
+pub(super) fn percent_decode(s: &str) -> Option<String> {
     let b = s.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
@@ -39,7 +40,7 @@ fn percent_decode(s: &str) -> Option<String> {
 }
 
 /// Minimal standard base64 decoder for `data:` image URIs (padding and whitespace tolerated).
-fn base64_decode(s: &str) -> Option<Vec<u8>> {
+pub(super) fn base64_decode(s: &str) -> Option<Vec<u8>> {
     let mut out = Vec::with_capacity(s.len() / 4 * 3);
     let mut acc = 0u32;
     let mut bits = 0u32;
@@ -82,6 +83,8 @@ pub(super) fn image_bytes(uri: &str, base: Option<&Path>, ii: usize) -> Result<V
         let rel = percent_decode(rel).ok_or_else(|| format!("image {ii}: bad URI"))?;
         let base =
             base.ok_or_else(|| format!("image {ii}: external file '{rel}' but no base directory"))?;
-        std::fs::read(base.join(&rel)).map_err(|e| format!("image '{rel}': {e}"))
+        let what = format!("image {ii}");
+        let path = super::files::resolve_inside(base, &rel, &what)?;
+        super::files::read_regular_file(&path, super::files::MAX_FILE_BYTES, &what)
     }
 }

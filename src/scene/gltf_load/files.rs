@@ -1,0 +1,58 @@
+//! Reading the files a glTF names, safely: only regular files (a FIFO would block forever,
+//! `/dev/zero` would never end), never more bytes than the caller allows, and — for URIs —
+//! only inside the scene's folder (a downloaded glTF must not read `/etc/passwd` or
+//! `../../.ssh/id_rsa` into a texture).
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// The most bytes a scene file, one buffer or one image file may have (a clear error beyond;
+/// far above any real scene's files).
+pub const MAX_FILE_BYTES: u64 = 4 << 30;
+
+/// The contents of the regular file `path`, at most `max` bytes; `what` names it in errors.
+pub fn read_regular_file(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, String> {
+    let shown = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read {what} '{shown}': {e}"))?;
+    if !meta.is_file() {
+        return Err(format!(
+            "cannot read {what} '{shown}': not a regular file (a directory, device or pipe)"
+        ));
+    }
+    if meta.len() > max {
+        return Err(format!(
+            "{what} '{shown}' is {} bytes, more than the {max} allowed",
+            meta.len()
+        ));
+    }
+    let file =
+        std::fs::File::open(path).map_err(|e| format!("cannot read {what} '{shown}': {e}"))?;
+    let mut bytes = Vec::new();
+    file.take(max + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read {what} '{shown}': {e}"))?;
+    if bytes.len() as u64 > max {
+        return Err(format!(
+            "{what} '{shown}' grew beyond {max} bytes while being read"
+        ));
+    }
+    Ok(bytes)
+}
+
+/// The file a relative URI `rel` (already percent-decoded) names inside the folder `base`;
+/// an error if it resolves outside it (absolute paths, `..`, symbolic links out of it).
+pub fn resolve_inside(base: &Path, rel: &str, what: &str) -> Result<PathBuf, String> {
+    let full = base.join(rel);
+    let canon = std::fs::canonicalize(&full)
+        .map_err(|e| format!("cannot read {what} '{}': {e}", full.display()))?;
+    let canon_base = std::fs::canonicalize(base)
+        .map_err(|e| format!("cannot read the scene's folder '{}': {e}", base.display()))?;
+    if !canon.starts_with(&canon_base) {
+        return Err(format!(
+            "{what} URI '{rel}' points outside the scene's folder '{}' (refused: a glTF may \
+             only read files next to it)",
+            base.display()
+        ));
+    }
+    Ok(canon)
+}

@@ -1,0 +1,150 @@
+//! Files a hostile or broken glTF may name (issue 16, "hangs and unbounded reads"): only
+//! regular files are read (a FIFO would block forever, `/dev/zero` never ends), never more
+//! than `byteLength` (and a shorter file is an error), and URIs only inside the scene's folder
+//! (absolute paths, `..` and symbolic links out of it are refused). Every case is an error or
+//! a warning naming its source, never a hang or a panic.
+
+use refract::scene::Scene;
+use refract::scene::gltf_load::load_path;
+use std::path::{Path, PathBuf};
+
+/// A fresh folder for one test.
+fn folder(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("refract-hostile-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// The 36 bytes of one triangle's positions.
+fn triangle_bytes() -> Vec<u8> {
+    [[0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect()
+}
+
+/// A .gltf with one triangle whose buffer is `uri` of `byte_length` bytes, and optionally a
+/// base-colour texture from `image_uri`.
+fn gltf(dir: &Path, uri: &str, byte_length: usize, image_uri: Option<&str>) -> PathBuf {
+    let texture = image_uri.map_or(String::new(), |u| {
+        format!(
+            r#","images":[{{"uri":"{u}"}}],"textures":[{{"source":0}}],
+            "materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}]"#
+        )
+    });
+    let material = if image_uri.is_some() {
+        r#","material":0"#
+    } else {
+        ""
+    };
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}{material}}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}}],
+        "buffers":[{{"uri":"{uri}","byteLength":{byte_length}}}]{texture}}}"#
+    );
+    let p = dir.join("scene.gltf");
+    std::fs::write(&p, json).expect("write gltf");
+    p
+}
+
+fn err(p: &Path) -> String {
+    match load_path(p) {
+        Ok(_) => panic!("{} loaded", p.display()),
+        Err(e) => format!("{e:#}"),
+    }
+}
+
+#[test]
+fn a_good_file_loads_and_a_longer_buffer_is_cut_to_byte_length() {
+    let d = folder("good");
+    let mut bytes = triangle_bytes();
+    std::fs::write(d.join("tri.bin"), &bytes).expect("bin");
+    let s = load_path(&gltf(&d, "tri.bin", 36, None)).expect("a valid file loads");
+    assert_eq!(s.mesh.triangle_count(), 1);
+    bytes.extend([0xffu8; 64]);
+    std::fs::write(d.join("long.bin"), &bytes).expect("bin");
+    let s = load_path(&gltf(&d, "long.bin", 36, None)).expect("extra bytes are ignored");
+    assert_eq!(s.mesh.triangle_count(), 1);
+}
+
+#[test]
+fn a_short_buffer_is_an_error_naming_byte_length() {
+    let d = folder("short");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let e = err(&gltf(&d, "tri.bin", 1000, None));
+    assert!(
+        e.contains("buffer 0") && e.contains("byteLength is 1000"),
+        "{e}"
+    );
+}
+
+#[test]
+fn pipes_and_devices_are_refused_without_reading() {
+    let d = folder("fifo");
+    let fifo = d.join("pipe.bin");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        // Opening a FIFO for reading would block forever: it must be refused before that.
+        let e = err(&gltf(&d, "pipe.bin", 36, None));
+        assert!(
+            e.contains("not a regular file") && e.contains("pipe.bin"),
+            "{e}"
+        );
+        let e = format!(
+            "{:#}",
+            Scene::load(&fifo.display().to_string()).expect_err("a FIFO as the scene")
+        );
+        assert!(e.contains("not a regular file"), "{e}");
+    } else {
+        eprintln!("SKIP fifo half: no mkfifo");
+    }
+    let e = format!(
+        "{:#}",
+        Scene::load("/dev/zero").expect_err("/dev/zero as the scene")
+    );
+    assert!(
+        e.contains("not a regular file") && e.contains("/dev/zero"),
+        "{e}"
+    );
+}
+
+#[test]
+fn uris_outside_the_scene_folder_are_refused() {
+    let d = folder("outside");
+    let inner = d.join("scene");
+    std::fs::create_dir_all(&inner).expect("dir");
+    std::fs::write(d.join("secret.bin"), triangle_bytes()).expect("secret");
+    for uri in ["../secret.bin", "/dev/zero", "%2E%2E/secret.bin"] {
+        let e = err(&gltf(&inner, uri, 36, None));
+        assert!(
+            e.contains("outside the scene's folder") || e.contains("not a regular file"),
+            "{uri}: {e}"
+        );
+    }
+    let abs = d.join("secret.bin");
+    let e = err(&gltf(&inner, &abs.display().to_string(), 36, None));
+    assert!(e.contains("outside the scene's folder"), "absolute: {e}");
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(d.join("secret.bin"), inner.join("link.bin")).expect("symlink");
+        let e = err(&gltf(&inner, "link.bin", 36, None));
+        assert!(e.contains("outside the scene's folder"), "symlink: {e}");
+    }
+}
+
+#[test]
+fn an_image_outside_the_folder_is_refused_with_a_warning() {
+    let d = folder("image");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let s = load_path(&gltf(&d, "tri.bin", 36, Some("/etc/hostname")))
+        .expect("the geometry still loads");
+    let w = s.warnings.join("\n");
+    assert!(
+        w.contains("outside the scene's folder") && w.contains("image 0"),
+        "{w}"
+    );
+}
