@@ -148,3 +148,45 @@ fn an_image_outside_the_folder_is_refused_with_a_warning() {
         "{w}"
     );
 }
+
+/// One policy for "nothing to render": a scene whose every triangle is dropped (zero area) is
+/// an error saying so, like one whose primitives are all skipped (before: black, exit 0).
+#[test]
+fn a_scene_whose_triangles_are_all_dropped_is_an_error() {
+    let d = folder("degenerate");
+    let collinear: Vec<u8> = [[0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    std::fs::write(d.join("tri.bin"), collinear).expect("bin");
+    let e = err(&gltf(&d, "tri.bin", 36, None));
+    assert!(
+        e.contains("no usable triangles") && e.contains("zero-area"),
+        "{e}"
+    );
+}
+
+/// `KHR_materials_ior` that is not a positive finite number is an error naming its JSON
+/// pointer (README: invalid IOR is an error; before: a warning and 1.5).
+#[test]
+fn a_non_positive_ior_is_an_error_naming_its_json_pointer() {
+    let d = folder("ior");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let p = gltf(&d, "tri.bin", 36, None);
+    let text = std::fs::read_to_string(&p).expect("gltf");
+    for bad in ["-1.0", "0.0"] {
+        let json = text.replace(
+            r#""buffers""#,
+            &format!(
+                r#""extensionsUsed":["KHR_materials_ior"],"materials":[{{"extensions":{{"KHR_materials_ior":{{"ior":{bad}}}}}}}],"buffers""#
+            ),
+        );
+        std::fs::write(&p, json).expect("gltf");
+        let e = err(&p);
+        assert!(
+            e.contains("/materials/0/extensions/KHR_materials_ior/ior"),
+            "ior {bad}: {e}"
+        );
+    }
+}

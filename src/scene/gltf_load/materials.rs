@@ -29,7 +29,9 @@ impl Loader<'_> {
                     return Ok(d);
                 }
                 // glTF default material: base colour 1, metallic 1, roughness 1.
-                let m = self.convert_material(usize::MAX, &json::Material::default());
+                let m = self
+                    .convert_material(usize::MAX, &json::Material::default())
+                    .map_err(|e| format!("{e:#}"))?;
                 let id = self.materials.len() as u32;
                 self.materials.push(Material {
                     name: "default".into(),
@@ -41,7 +43,11 @@ impl Loader<'_> {
         }
     }
 
-    pub(super) fn convert_material(&mut self, i: usize, m: &json::Material) -> Material {
+    pub(super) fn convert_material(
+        &mut self,
+        i: usize,
+        m: &json::Material,
+    ) -> anyhow::Result<Material> {
         let name = m.name.clone().unwrap_or_else(|| format!("material{i}"));
         let pbr = &m.pbr_metallic_roughness;
         let (base_color, metallic, roughness) = self.pbr_factors(pbr, &name);
@@ -50,7 +56,7 @@ impl Loader<'_> {
             .and_then(|e| e.transmission.as_ref())
             .map(|t| t.transmission_factor.0)
             .unwrap_or(0.0);
-        let ior = self.ior(ext, &name);
+        let ior = self.ior(ext, &name, i)?;
         let volume = self.volume(ext, &name);
         let emission = self.emission(m, ext, &name);
         let spec = ext.and_then(|e| e.specular.as_ref());
@@ -103,7 +109,7 @@ impl Loader<'_> {
             mat.base_color_texture = None;
             mat.metallic_roughness_texture = None;
         }
-        mat
+        Ok(mat)
     }
 
     /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
@@ -135,19 +141,31 @@ impl Loader<'_> {
         (base_color, metallic, roughness)
     }
 
-    /// `KHR_materials_ior` (1.5 when absent or invalid).
-    fn ior(&mut self, ext: Option<&json::extensions::material::Material>, name: &str) -> f32 {
-        let mut ior = ext
+    /// `KHR_materials_ior` (1.5 when absent). Not a positive finite number: an error naming the
+    /// JSON pointer (README: invalid IOR is an error); between 0 and 1 (no real dielectric
+    /// against air): a warning, and 1.5.
+    fn ior(
+        &mut self,
+        ext: Option<&json::extensions::material::Material>,
+        name: &str,
+        i: usize,
+    ) -> anyhow::Result<f32> {
+        let ior = ext
             .and_then(|e| e.ior.as_ref())
             .map(|i| i.ior.0)
             .unwrap_or(1.5);
-        if !(ior.is_finite() && ior >= 1.0) {
+        anyhow::ensure!(
+            ior.is_finite() && ior > 0.0,
+            "material {i} ('{name}'): /materials/{i}/extensions/KHR_materials_ior/ior is {ior}; \
+             an index of refraction must be a positive finite number"
+        );
+        if ior < 1.0 {
             self.warnings.push(format!(
                 "material '{name}': IOR {ior} is not ≥ 1; using 1.5"
             ));
-            ior = 1.5;
+            return Ok(1.5);
         }
-        ior
+        Ok(ior)
     }
 
     /// `KHR_materials_volume` (no attenuation when absent or invalid).

@@ -161,7 +161,7 @@ impl Loader<'_> {
         let environment = extras::parse_environment(settings_value.as_ref())?;
 
         for (i, m) in root.materials.iter().enumerate() {
-            let mat = self.convert_material(i, m);
+            let mat = self.convert_material(i, m)?;
             self.material_map.push(self.materials.len() as u32);
             self.materials.push(mat);
         }
@@ -182,7 +182,16 @@ impl Loader<'_> {
                     self.skipped_primitives
                 );
             }
-            self.warnings.push("the scene has no triangles".into());
+            // One policy for "nothing to render": an error with the reason, whatever emptied it.
+            if self.dropped_triangles > 0 {
+                bail!(
+                    "'{name}' has no usable triangles: all {} were dropped as zero-area or non-finite",
+                    self.dropped_triangles
+                );
+            }
+            bail!(
+                "'{name}' has no triangles to render (no mesh is reachable from the scene's nodes)"
+            );
         }
 
         let camera = match self.camera {
