@@ -190,3 +190,49 @@ fn a_non_positive_ior_is_an_error_naming_its_json_pointer() {
         );
     }
 }
+
+/// `text` with `from` replaced by `to` (which must be present).
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "{from} not in the file");
+    text.replacen(from, to, 1)
+}
+
+/// Values that would silently break the render are errors naming their JSON source:
+/// emission that overflows f32 light power, `extras` nested beyond what can be read (before,
+/// every render setting in it was dropped silently), and a projective node matrix (a warning
+/// and the node skipped — here the only node, so nothing is left to render).
+#[test]
+fn silently_broken_values_name_their_source() {
+    let d = folder("values");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let p = gltf(&d, "tri.bin", 36, None);
+    let text = std::fs::read_to_string(&p).expect("gltf");
+    let hot = edit(
+        &text,
+        r#""buffers""#,
+        r#""materials":[{"emissiveFactor":[1,1,1],"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":3e38}}}],"buffers""#,
+    );
+    std::fs::write(&p, hot).expect("gltf");
+    let e = err(&p);
+    assert!(
+        e.contains("/materials/0/emissiveFactor") && e.contains("overflows"),
+        "{e}"
+    );
+    let deep = format!("{}1{}", "[".repeat(200), "]".repeat(200));
+    let nested = edit(
+        &text,
+        r#""scenes":[{"nodes":[0]}]"#,
+        &format!(r#""scenes":[{{"nodes":[0],"extras":{{"render":{{"width":0}},"deep":{deep}}}}}]"#),
+    );
+    std::fs::write(&p, nested).expect("gltf");
+    let e = err(&p);
+    assert!(e.contains("/scenes/0/extras"), "{e}");
+    let projective = edit(
+        &text,
+        r#""nodes":[{"mesh":0}]"#,
+        r#""nodes":[{"mesh":0,"matrix":[1,0,0,0.5, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]"#,
+    );
+    std::fs::write(&p, projective).expect("gltf");
+    let e = err(&p);
+    assert!(e.contains("no triangles"), "{e}");
+}

@@ -6,10 +6,16 @@ use glam::Vec3;
 use gltf::json;
 use serde_json::Value;
 
-pub(super) fn extras_value(extras: &json::Extras) -> Option<Value> {
-    extras
-        .as_ref()
-        .and_then(|raw| serde_json::from_str::<Value>(raw.get()).ok())
+/// The `extras` object at JSON pointer `at`, parsed; an error naming `at` when it cannot be
+/// (it nests deeper than serde_json's 128 levels, say) instead of silently losing every
+/// setting in it.
+pub(super) fn extras_value(extras: &json::Extras, at: &str) -> anyhow::Result<Option<Value>> {
+    let Some(raw) = extras.as_ref() else {
+        return Ok(None);
+    };
+    serde_json::from_str::<Value>(raw.get())
+        .map(Some)
+        .map_err(|e| anyhow!("{at} cannot be read: {e}"))
 }
 
 fn get_u32(obj: &Value, key: &str) -> anyhow::Result<Option<u32>> {

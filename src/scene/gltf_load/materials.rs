@@ -9,6 +9,10 @@ use gltf::json;
 use gltf::json::validation::Checked;
 use serde_json::Value;
 
+/// The largest emitted radiance a material may have (far above any real light; beyond ~1e36
+/// the light distribution's power sums overflow f32).
+const MAX_EMISSION: f32 = 1e20;
+
 /// `KHR_materials_volume` as the scene contract uses it.
 struct Volume {
     thickness: f32,
@@ -58,7 +62,7 @@ impl Loader<'_> {
             .unwrap_or(0.0);
         let ior = self.ior(ext, &name, i)?;
         let volume = self.volume(ext, &name);
-        let emission = self.emission(m, ext, &name);
+        let emission = self.emission(m, ext, &name, i)?;
         let spec = ext.and_then(|e| e.specular.as_ref());
         let specular_factor = spec.map(|s| s.specular_factor.0).unwrap_or(1.0);
         let specular_color = spec
@@ -66,7 +70,7 @@ impl Loader<'_> {
             .unwrap_or(Vec3::ONE);
         self.warn_ignored_features(m, ext);
         let abbe = self.dispersion_abbe(ext, &name);
-        let distribution = self.microfacet_distribution(m, &name);
+        let distribution = self.microfacet_distribution(m, &name, i)?;
 
         let base_color_texture = pbr
             .base_color_texture
@@ -201,7 +205,8 @@ impl Loader<'_> {
         m: &json::Material,
         ext: Option<&json::extensions::material::Material>,
         name: &str,
-    ) -> Vec3 {
+        i: usize,
+    ) -> anyhow::Result<Vec3> {
         let strength = ext
             .and_then(|e| e.emissive_strength.as_ref())
             .map(|s| s.emissive_strength.0)
@@ -212,7 +217,16 @@ impl Loader<'_> {
                 .push(format!("material '{name}': invalid emission; ignored"));
             emission = Vec3::ZERO;
         }
-        emission
+        // Radiance this large overflows f32 in the light's power (π·L·A) and the image: the
+        // light would silently render black.
+        anyhow::ensure!(
+            emission.max_element() <= MAX_EMISSION,
+            "material {i} ('{name}'): emission {} (/materials/{i}/emissiveFactor × \
+             KHR_materials_emissive_strength) is above {MAX_EMISSION:e}, where f32 light \
+             power overflows",
+            emission.max_element()
+        );
+        Ok(emission)
     }
 
     /// One warning each for the material features the contract ignores.
@@ -281,9 +295,10 @@ impl Loader<'_> {
         &mut self,
         m: &json::Material,
         name: &str,
-    ) -> MicrofacetDistribution {
+        i: usize,
+    ) -> anyhow::Result<MicrofacetDistribution> {
         let mut distribution = MicrofacetDistribution::Ggx;
-        if let Some(x) = extras_value(&m.extras) {
+        if let Some(x) = extras_value(&m.extras, &format!("/materials/{i}/extras"))? {
             match x.get("microfacet_distribution") {
                 None => {}
                 Some(Value::String(s)) if s.eq_ignore_ascii_case("ggx") => {}
@@ -295,7 +310,7 @@ impl Loader<'_> {
                 )),
             }
         }
-        distribution
+        Ok(distribution)
     }
 
     /// The contract's material kind from transmission, volume thickness and the

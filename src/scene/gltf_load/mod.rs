@@ -153,10 +153,10 @@ impl Loader<'_> {
                 "skins and animations are ignored (the scene is loaded in its rest pose)".into(),
             );
         }
-        let settings_value = root
-            .scenes
-            .first()
-            .and_then(|s| extras::extras_value(&s.extras));
+        let settings_value = match root.scenes.first() {
+            Some(s) => extras::extras_value(&s.extras, "/scenes/0/extras")?,
+            None => None,
+        };
         let settings = extras::parse_render_settings(settings_value.as_ref())?;
         let environment = extras::parse_environment(settings_value.as_ref())?;
 

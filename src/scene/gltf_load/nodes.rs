@@ -102,6 +102,13 @@ impl Loader<'_> {
 /// A node's local matrix: `matrix` if present, else T · R · S.
 fn node_local_matrix(node: &json::Node) -> Result<Mat4, String> {
     let m = if let Some(m) = node.matrix {
+        // glTF: a node matrix is an affine TRS; a projective bottom row cannot be one.
+        if m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0 || m[15] != 1.0 {
+            return Err(format!(
+                "matrix is not affine (its last row is [{}, {}, {}, {}], must be [0, 0, 0, 1])",
+                m[3], m[7], m[11], m[15]
+            ));
+        }
         Mat4::from_cols_array(&m)
     } else {
         let t = Vec3::from(node.translation.unwrap_or([0.0; 3]));
