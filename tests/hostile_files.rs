@@ -236,3 +236,74 @@ fn silently_broken_values_name_their_source() {
     let e = err(&p);
     assert!(e.contains("no triangles"), "{e}");
 }
+
+/// Budgets checked before allocating (issue 16, class 2): 100,000 nodes instancing one
+/// 1,000-triangle mesh (100 M triangles, more than the 100 M budget allows with the mesh's own
+/// node) and an accessor without a buffer view claiming 2²⁸ vec3 (3 GiB of zeros) are errors
+/// naming the budget, quickly and without the memory.
+#[test]
+fn budgets_are_checked_before_allocating() {
+    let d = folder("budget");
+    let tris = 1000usize;
+    let bytes: Vec<u8> = (0..tris)
+        .flat_map(|t| {
+            let x = t as f32;
+            [[x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x, 1.0, 0.0]]
+        })
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    std::fs::write(d.join("mesh.bin"), &bytes).expect("bin");
+    let n = 100_001;
+    let nodes: Vec<String> = (0..n).map(|_| r#"{"mesh":0}"#.to_string()).collect();
+    let list: Vec<String> = (0..n).map(|i| i.to_string()).collect();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":{},"type":"VEC3","min":[0,0,0],"max":[1001,1,0]}}],
+        "bufferViews":[{{"buffer":0,"byteLength":{}}}],"buffers":[{{"uri":"mesh.bin","byteLength":{}}}]}}"#,
+        list.join(","),
+        nodes.join(","),
+        3 * tris,
+        bytes.len(),
+        bytes.len()
+    );
+    let p = d.join("instances.gltf");
+    std::fs::write(&p, json).expect("gltf");
+    let t0 = std::time::Instant::now();
+    let e = err(&p);
+    assert!(e.contains("triangles after instancing"), "{e}");
+    assert!(t0.elapsed().as_secs_f64() < 10.0, "took {:?}", t0.elapsed());
+    // An accessor of 2^28 zero vec3 (no buffer view).
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let p = gltf(&d, "tri.bin", 36, None);
+    let text = std::fs::read_to_string(&p).expect("gltf");
+    let huge = edit(
+        &text,
+        r#""attributes":{"POSITION":0}"#,
+        r#""attributes":{"POSITION":0,"NORMAL":1}"#,
+    );
+    let huge = edit(
+        &huge,
+        r#""accessors":["#,
+        r#""accessors":[{"componentType":5126,"count":268435456,"type":"VEC3"},"#,
+    );
+    // The new accessor is index 0; the positions move to 1.
+    let huge = huge.replacen(
+        r#""POSITION":0,"NORMAL":1"#,
+        r#""POSITION":1,"NORMAL":0"#,
+        1,
+    );
+    std::fs::write(&p, huge).expect("gltf");
+    match load_path(&p) {
+        Err(e) => {
+            eprintln!("huge accessor: {e:#}");
+            let e = format!("{e:#}");
+            assert!(e.contains("accessor 0") && e.contains("allowed"), "{e}")
+        }
+        Ok(s) => {
+            let w = s.warnings.join("\n");
+            assert!(w.contains("accessor 0") && w.contains("allowed"), "{w}");
+        }
+    }
+}

@@ -8,6 +8,24 @@ use gltf::json::validation::Checked;
 /// Largest element count of one accessor we accept.
 const MAX_ACCESSOR_COUNT: u64 = 1 << 28;
 
+/// The most memory one decoded accessor may take (2 GiB: 178 M vec3 positions).
+const MAX_ACCESSOR_BYTES: usize = 2 << 30;
+
+/// A vector for `n` decoded values of 4 bytes, checked against the budget and allocated with
+/// `try_reserve` (an error, never an abort, when memory runs out).
+fn decoded_vec<T>(ai: usize, n: usize) -> Result<Vec<T>, String> {
+    let bytes = n.saturating_mul(4);
+    if bytes > MAX_ACCESSOR_BYTES {
+        return Err(format!(
+            "accessor {ai} would decode to {bytes} bytes, more than the {MAX_ACCESSOR_BYTES} allowed"
+        ));
+    }
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| format!("accessor {ai}: out of memory for {bytes} bytes"))?;
+    Ok(v)
+}
+
 fn comp_size(c: json::accessor::ComponentType) -> usize {
     use json::accessor::ComponentType as C;
     match c {
@@ -200,7 +218,7 @@ impl Loader<'_> {
             ) {
                 return Err(format!("accessor {ai}: indices must be unsigned integers"));
             }
-            let mut v = Vec::with_capacity(count * comps);
+            let mut v: Vec<u32> = decoded_vec(ai, count * comps)?;
             match &strided {
                 Some(s) => {
                     for i in 0..count {
@@ -213,7 +231,7 @@ impl Loader<'_> {
             }
             AccessorData::Uint(v)
         } else {
-            let mut v = Vec::with_capacity(count * comps);
+            let mut v: Vec<f32> = decoded_vec(ai, count * comps)?;
             match &strided {
                 Some(s) => {
                     for i in 0..count {

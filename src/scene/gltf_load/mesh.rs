@@ -26,6 +26,9 @@ struct WorldVertices {
     flip: bool,
 }
 
+/// The most triangles a scene may have after instancing (a large real scene fits).
+pub const MAX_TRIANGLES: u64 = 100_000_000;
+
 impl Loader<'_> {
     pub(super) fn mesh_node(&mut self, ni: usize, mi: usize, world: Mat4) -> anyhow::Result<()> {
         let Some(mesh) = self.root.meshes.get(mi) else {
@@ -39,6 +42,48 @@ impl Loader<'_> {
                 Ok(()) => {}
                 Err(e) => self.skip_primitive(format!("mesh {mi} primitive {pi}: {e}")),
             }
+        }
+        Ok(())
+    }
+
+    /// Triangles a primitive will add (from its accessor counts, nothing decoded).
+    fn primitive_triangles(&self, prim: &json::mesh::Primitive) -> u64 {
+        let count = |a: usize| self.root.accessors.get(a).map_or(0, |a| a.count.0);
+        let vertices = prim
+            .attributes
+            .iter()
+            .find(|(k, _)| matches!(k, Checked::Valid(json::mesh::Semantic::Positions)))
+            .map_or(0, |(_, a)| count(a.value()));
+        prim.indices.map_or(vertices, |i| count(i.value())) / 3
+    }
+
+    /// The scene stays within `MAX_TRIANGLES` after instancing, checked from the accessor
+    /// counts of every node the traversal will reach before anything is decoded (100,000
+    /// nodes instancing one mesh would otherwise build 800 M triangles from a 3 MB file and
+    /// abort on memory).
+    pub(super) fn check_instanced_triangles(&self, roots: &[usize]) -> anyhow::Result<()> {
+        let nodes = &self.root.nodes;
+        let mut visited = vec![false; nodes.len()];
+        let mut stack: Vec<usize> = roots.to_vec();
+        let mut total = 0u64;
+        while let Some(ni) = stack.pop() {
+            let Some(node) = nodes.get(ni).filter(|_| !visited[ni]) else {
+                continue;
+            };
+            visited[ni] = true;
+            if let Some(mesh) = node.mesh.and_then(|m| self.root.meshes.get(m.value())) {
+                total += mesh
+                    .primitives
+                    .iter()
+                    .map(|p| self.primitive_triangles(p))
+                    .sum::<u64>();
+            }
+            anyhow::ensure!(
+                total <= MAX_TRIANGLES,
+                "the scene has more than {MAX_TRIANGLES} triangles after instancing (reached \
+                 at node {ni}): refused before building it"
+            );
+            stack.extend(node.children.iter().flatten().map(|c| c.value()));
         }
         Ok(())
     }

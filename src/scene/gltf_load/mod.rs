@@ -167,6 +167,7 @@ impl Loader<'_> {
         }
 
         let roots = self.scene_roots()?;
+        self.check_instanced_triangles(&roots)?;
         self.traverse(&roots)?;
 
         if self.dropped_triangles > 0 {
