@@ -6,7 +6,7 @@ use gltf::json;
 use gltf::json::validation::Checked;
 
 /// Largest element count of one accessor we accept.
-const MAX_ACCESSOR_COUNT: u64 = 1 << 28;
+pub(super) const MAX_ACCESSOR_COUNT: u64 = 1 << 28;
 
 /// The most memory one decoded accessor may take (2 GiB: 178 M vec3 positions).
 const MAX_ACCESSOR_BYTES: usize = 2 << 30;

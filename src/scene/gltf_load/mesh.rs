@@ -46,9 +46,17 @@ impl Loader<'_> {
         Ok(())
     }
 
-    /// Triangles a primitive will add (from its accessor counts, nothing decoded).
+    /// Triangles a primitive will add (from its accessor counts, nothing decoded; an accessor
+    /// over its own count limit counts 0 here: decoding it reports that error).
     fn primitive_triangles(&self, prim: &json::mesh::Primitive) -> u64 {
-        let count = |a: usize| self.root.accessors.get(a).map_or(0, |a| a.count.0);
+        let count = |a: usize| {
+            self.root
+                .accessors
+                .get(a)
+                .map(|a| a.count.0)
+                .filter(|&c| c <= super::accessor::MAX_ACCESSOR_COUNT)
+                .unwrap_or(0)
+        };
         let vertices = prim
             .attributes
             .iter()
