@@ -10,6 +10,10 @@ pub use tonemap::{ToneMap, exposure_scale, to_srgb8};
 
 use glam::Vec3;
 
+/// The largest film we allocate (2 GiB: 89 M pixels, 8K fits): a clear error beyond, never
+/// an allocation failure (the largest allowed side, 16384², would need 6.4 GB).
+pub const MAX_FILM_BYTES: u64 = 2 << 30;
+
 /// Accumulates radiance samples per pixel in f64 (f32 running sums drift by ~1% at 2²⁰ spp).
 #[derive(Clone, Debug)]
 pub struct Film {
@@ -30,6 +34,11 @@ pub fn sample_is_valid(v: Vec3) -> bool {
 }
 
 impl Film {
+    /// Bytes of the accumulation film of a `width` × `height` image (three f64 per pixel).
+    pub fn bytes_for(width: u32, height: u32) -> u64 {
+        width as u64 * height as u64 * 24
+    }
+
     pub fn new(width: u32, height: u32) -> Film {
         Film {
             width,

@@ -74,6 +74,15 @@ impl RenderOptions {
             self.width,
             self.height
         );
+        let bytes = crate::film::Film::bytes_for(self.width, self.height);
+        anyhow::ensure!(
+            bytes <= crate::film::MAX_FILM_BYTES,
+            "a {}x{} image needs a {:.1} GiB film, more than the {} GiB budget",
+            self.width,
+            self.height,
+            bytes as f64 / (1u64 << 30) as f64,
+            crate::film::MAX_FILM_BYTES >> 30
+        );
         anyhow::ensure!(self.max_depth >= 1, "max_depth must be at least 1");
         Ok(())
     }
