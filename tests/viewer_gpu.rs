@@ -111,9 +111,24 @@ fn gpu_backend_accumulates_and_restarts_on_a_material_edit() {
 
 #[test]
 fn gpu_tone_map_matches_film_to_srgb8() {
-    let Some(mut b) = backend("gpu_tone_map_matches_film_to_srgb8") else {
+    let Some(b) = backend("gpu_tone_map_matches_film_to_srgb8") else {
         return;
     };
+    check_tone_map_matches_film_to_srgb8(b);
+}
+
+/// The tone map without `DownlevelFlags::VIEW_FORMATS` (wgpu's GL backend): the bytes copied
+/// into an `Rgba8UnormSrgb` texture are still those of `film::to_srgb8`.
+#[test]
+fn gpu_tone_map_without_view_formats_matches_film_to_srgb8() {
+    let Some(mut b) = backend("gpu_tone_map_without_view_formats_matches_film_to_srgb8") else {
+        return;
+    };
+    b.force_tone_map_copy().unwrap();
+    check_tone_map_matches_film_to_srgb8(b);
+}
+
+fn check_tone_map_matches_film_to_srgb8(mut b: GpuBackend) {
     load(&mut b, 80, 60);
     let ctx = egui::Context::default();
     step_until(&mut b, "4 spp", |b| b.spp() >= 4);

@@ -13,9 +13,10 @@
 //!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
 //! - [`Backend::display_texture`] tone-maps the accumulation buffer on the GPU
 //!   ([`crate::gpu::tonemap`]) into an `Rgba8Unorm` storage texture holding sRGB-encoded
-//!   bytes; an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's
-//!   own textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the
-//!   CPU path. The tone map reruns only when the generation, the spp or the display settings
+//!   bytes; an `Rgba8UnormSrgb` view of it (on adapters without view formats, such as wgpu's
+//!   GL backend, an `Rgba8UnormSrgb` copy of its bytes) is registered with egui-wgpu (the
+//!   format of egui's own textures), so the screen shows exactly the bytes `film::to_srgb8`
+//!   computes, like the CPU path. The tone map reruns only when the generation, the spp or the display settings
 //!   change, and only while no batch is in flight (it is queued right after a batch finishes,
 //!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
 //!   behind a running batch. (Software drivers such as lavapipe execute a submission before
@@ -249,6 +250,16 @@ impl GpuBackend {
     /// tests and debugging only (the viewer never reads it back).
     pub fn read_display_pixels(&self) -> Result<(u32, u32, Vec<u8>)> {
         self.tonemap.read_pixels(&self.ctx)
+    }
+
+    /// Tone map through the copy into an `Rgba8UnormSrgb` texture, as on adapters without
+    /// `DownlevelFlags::VIEW_FORMATS` (wgpu's GL backend), whatever this adapter supports: for
+    /// tests of that path on any adapter.
+    pub fn force_tone_map_copy(&mut self) -> Result<()> {
+        self.tonemap = ToneMapper::with_view_formats(&self.ctx, false)
+            .context("cannot build the GPU tone-map pipeline")?;
+        self.shown = None;
+        Ok(())
     }
 
     /// Every edit: a new generation with no samples.
