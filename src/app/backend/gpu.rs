@@ -7,7 +7,10 @@
 //! - [`Backend::step`] (UI thread, once per frame) queues at most one batch at a time and never
 //!   waits for the GPU. Completion is signalled by `Queue::on_submitted_work_done`; a helper
 //!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
-//!   fires (and is timed) within about a millisecond, and wakes the UI. The samples per pixel
+//!   fires (and is timed) within about a millisecond, and wakes the UI. On wgpu's GL backend
+//!   there is no helper thread: GL has one context, whose lock the submitting thread holds
+//!   while the driver runs the batch (wgpu-hal panics after waiting 1 s for it), so the UI
+//!   thread polls in each `step` and a batch is timed from before its submission. The samples per pixel
 //!   of the next batch follow the measured time per pixel sample so that a batch takes about
 //!   the frame budget. While the user drags, and when one sample per pixel at full resolution
 //!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
@@ -63,10 +66,18 @@ struct Poller {
 }
 
 impl Poller {
-    fn new(device: wgpu::Device) -> Poller {
+    /// A poller with a helper thread, or (`threaded` false, for GL) without one.
+    fn new(device: wgpu::Device, threaded: bool) -> Poller {
         let busy = Arc::new(AtomicBool::new(false));
         let quit = Arc::new(AtomicBool::new(false));
         let (b, q) = (Arc::clone(&busy), Arc::clone(&quit));
+        if !threaded {
+            return Poller {
+                busy,
+                quit,
+                thread: None,
+            };
+        }
         let thread = std::thread::Builder::new()
             .name("refract-gpu-poll".into())
             .spawn(move || {
@@ -197,7 +208,7 @@ impl GpuBackend {
             pending: None,
             state: Arc::new(AtomicU8::new(MAP_PENDING)),
         };
-        let poller = Poller::new(ctx.device.clone());
+        let poller = Poller::new(ctx.device.clone(), ctx.info.backend != wgpu::Backend::Gl);
         Ok(GpuBackend {
             ctx,
             egui_renderer,
@@ -418,6 +429,13 @@ impl GpuBackend {
                 self.done_spp += b.k as u64;
                 self.elapsed += dt;
             }
+        }
+        // Without a poller thread nobody wakes the UI when the batch finishes: keep stepping.
+        if self.in_flight.is_some()
+            && self.poller.thread.is_none()
+            && let Some(c) = &self.repaint
+        {
+            c.request_repaint();
         }
         let Some(generation) = self.readback.pending else {
             return;
@@ -701,6 +719,7 @@ impl Backend for GpuBackend {
         let k = k.max(1);
         // Mark busy before the callback can possibly run.
         self.poller.kick();
+        let before = Instant::now();
         r.dispatch(k);
         let done = Arc::new(Mutex::new(None));
         {
@@ -719,7 +738,11 @@ impl Backend for GpuBackend {
             k,
             pixels,
             generation,
-            submitted: Instant::now(),
+            // Without a poller thread (GL) the driver may run the batch inside the submission.
+            submitted: match self.poller.thread {
+                Some(_) => Instant::now(),
+                None => before,
+            },
             done,
         });
     }
