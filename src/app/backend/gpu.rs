@@ -181,12 +181,7 @@ impl GpuBackend {
         rs: &egui_wgpu::RenderState,
         repaint: Option<egui::Context>,
     ) -> Result<GpuBackend> {
-        let ctx = GpuContext {
-            adapter: rs.adapter.clone(),
-            device: rs.device.clone(),
-            queue: rs.queue.clone(),
-            info: rs.adapter.get_info(),
-        };
+        let ctx = GpuContext::from_parts(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
         GpuBackend::new(ctx, Arc::clone(&rs.renderer), repaint)
     }
 
