@@ -353,3 +353,26 @@ fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
     assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
     step_until(&mut b, "2 spp after dispersion", |b| b.spp() >= 2);
 }
+
+/// A GPU error no scope caught (here a buffer over `max_buffer_size` on the backend's device)
+/// switches the viewer to its CPU backend with a message, never a panic.
+#[test]
+fn gpu_error_falls_back_to_the_cpu() {
+    let Some(mut b) = backend("gpu_error_falls_back_to_the_cpu") else {
+        return;
+    };
+    load(&mut b, 32, 24);
+    step_until(&mut b, "1 spp", |b| b.spp() >= 1);
+    let device = b.context().device.clone();
+    let _ = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("over the limit"),
+        size: device.limits().max_buffer_size.saturating_add(4),
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    b.step(Duration::from_millis(8));
+    assert!(b.is_fallback());
+    let msg = b.take_message().expect("a message");
+    assert!(msg.contains("maximum buffer size"), "{msg}");
+    step_until(&mut b, "1 spp on the CPU", |b| b.spp() >= 1);
+}

@@ -30,8 +30,9 @@
 //!   possible); queue order guarantees that a batch already in flight finishes before the
 //!   reset, and its samples are not counted for the new generation.
 //! - A scene or setting the GPU kernel cannot handle (`upload::check_supported`, buffers over
-//!   the limit) switches to a [`CpuBackend`] with a message; the next scene or options change
-//!   tries the GPU again.
+//!   the limit), or a GPU error (error scopes, the device's uncaptured-error handler, device
+//!   loss: [`GpuContext`]), switches to a [`CpuBackend`] with a message; the next scene or
+//!   options change tries the GPU again.
 
 use super::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
 use crate::gpu::tonemap::ToneMapper;
@@ -407,6 +408,11 @@ impl GpuBackend {
     /// Collect a finished batch and the stats readback (never waits).
     fn collect(&mut self) {
         let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        // A GPU error no scope caught (a failed submission, a lost device): the CPU takes over.
+        if let Err(e) = self.ctx.check_errors() {
+            self.enter_fallback(&e);
+            return;
+        }
         let finished = self
             .in_flight
             .as_ref()
@@ -681,6 +687,9 @@ impl Backend for GpuBackend {
         }
         self.budget = frame_budget;
         self.collect();
+        if self.fallback.is_some() {
+            return; // a GPU error: the CPU renders from the next step on
+        }
         if self.in_flight.is_some() {
             return; // at most one batch in flight
         }
