@@ -109,6 +109,13 @@ impl ToneMapper {
     /// A tone mapper that uses an sRGB view format (`view_formats`, which the adapter must
     /// support) or the copy (always possible; tests force it to check it on any adapter).
     pub fn with_view_formats(ctx: &GpuContext, view_formats: bool) -> Result<ToneMapper> {
+        // In error scopes: a validation or out-of-memory error is an `Err`, not a panic.
+        ctx.scoped("cannot build the GPU tone map", || {
+            Self::build(ctx, view_formats)
+        })?
+    }
+
+    fn build(ctx: &GpuContext, view_formats: bool) -> Result<ToneMapper> {
         let device = &ctx.device;
         let module = super::pipeline::create_module(ctx, "tonemap.wgsl", TONEMAP_WGSL.into())?;
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
