@@ -79,9 +79,17 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         }
     );
     let bar = super::spp_progress_bar(spp, args.quiet);
-    let img = r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
+    let img = match r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
         bar.set_position(d)
-    })?;
+    }) {
+        Ok(img) => img,
+        Err(e) if !forced => {
+            bar.finish_and_clear();
+            eprintln!("GPU render failed ({e:#}); rendering on the CPU");
+            return Ok(false);
+        }
+        Err(e) => return Err(e),
+    };
     bar.finish_and_clear();
     let stats = r.stats()?;
     film::save_image(

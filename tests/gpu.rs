@@ -1046,3 +1046,75 @@ fn gpu_scene_scale_invariance() {
         }
     }
 }
+
+/// GPU errors are an `Err`, never a panic: a buffer over `max_buffer_size` and a pipeline with
+/// a missing entry point inside an error scope, the same buffer outside any scope (recorded by
+/// the uncaptured-error handler), a device asking for more than the adapter has, and a
+/// renderer whose image buffers exceed the device's limits.
+#[test]
+fn gpu_errors_are_err_not_panic() {
+    let Some(ctx) = context("gpu_errors_are_err_not_panic") else {
+        return;
+    };
+    let limits = ctx.device.limits();
+    let huge = |label| {
+        ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: limits.max_buffer_size.saturating_add(4),
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    };
+    let err = ctx.scoped("huge buffer", || huge("huge")).unwrap_err();
+    eprintln!("buffer over the limit: {err:#}");
+    ctx.check_errors().unwrap();
+
+    // An invalid shader through the kernels' compile path.
+    let bad = "@compute @workgroup_size(1) fn main() { let x: u32 = 1.5; }";
+    assert!(refract::gpu::pipeline::create_module(&ctx, "bad.wgsl", bad.into()).is_err());
+    let module = refract::gpu::pipeline::create_module(
+        &ctx,
+        "tiny.wgsl",
+        "@compute @workgroup_size(1) fn main() {}".into(),
+    )
+    .unwrap();
+    let err = ctx
+        .scoped("missing entry point", || {
+            ctx.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: None,
+                    layout: None,
+                    module: &module,
+                    entry_point: Some("no_such_entry_point"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+        })
+        .unwrap_err();
+    eprintln!("invalid pipeline: {err:#}");
+
+    // Outside any scope: recorded, reported once by `check_errors` and the next `wait`.
+    let _ = huge("huge, unscoped");
+    let err = ctx.wait().unwrap_err();
+    eprintln!("uncaptured: {err:#}");
+    ctx.wait().unwrap();
+
+    // A device asking for more than the adapter allows.
+    let mut more = ctx.adapter.limits();
+    more.max_storage_buffers_per_shader_stage += 1;
+    assert!(GpuContext::with_limits(ctx.adapter.clone(), more).is_err());
+
+    // A renderer on a device whose buffers are capped at 1 MiB: its 512x512 accumulation
+    // buffer (4 MiB) is over the limit.
+    let mut small_limits = ctx.adapter.limits();
+    small_limits.max_buffer_size = 1 << 20;
+    small_limits.max_storage_buffer_binding_size = 1 << 20;
+    let small_ctx = GpuContext::with_limits(ctx.adapter.clone(), small_limits).unwrap();
+    let mut scene = Scene::load("builtin:cornell-glass").unwrap();
+    small(&mut scene, 512, 512);
+    let opts = RenderOptions::from_scene(&scene);
+    let err = GpuRenderer::with_context(small_ctx, scene, opts)
+        .err()
+        .expect("an Err for buffers over the device's limits");
+    eprintln!("renderer over the limits: {err:#}");
+}

@@ -111,9 +111,24 @@ fn gpu_backend_accumulates_and_restarts_on_a_material_edit() {
 
 #[test]
 fn gpu_tone_map_matches_film_to_srgb8() {
-    let Some(mut b) = backend("gpu_tone_map_matches_film_to_srgb8") else {
+    let Some(b) = backend("gpu_tone_map_matches_film_to_srgb8") else {
         return;
     };
+    check_tone_map_matches_film_to_srgb8(b);
+}
+
+/// The tone map without `DownlevelFlags::VIEW_FORMATS` (wgpu's GL backend): the bytes copied
+/// into an `Rgba8UnormSrgb` texture are still those of `film::to_srgb8`.
+#[test]
+fn gpu_tone_map_without_view_formats_matches_film_to_srgb8() {
+    let Some(mut b) = backend("gpu_tone_map_without_view_formats_matches_film_to_srgb8") else {
+        return;
+    };
+    b.force_tone_map_copy().unwrap();
+    check_tone_map_matches_film_to_srgb8(b);
+}
+
+fn check_tone_map_matches_film_to_srgb8(mut b: GpuBackend) {
     load(&mut b, 80, 60);
     let ctx = egui::Context::default();
     step_until(&mut b, "4 spp", |b| b.spp() >= 4);
@@ -337,4 +352,27 @@ fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
     b.update_material(glass, &m);
     assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
     step_until(&mut b, "2 spp after dispersion", |b| b.spp() >= 2);
+}
+
+/// A GPU error no scope caught (here a buffer over `max_buffer_size` on the backend's device)
+/// switches the viewer to its CPU backend with a message, never a panic.
+#[test]
+fn gpu_error_falls_back_to_the_cpu() {
+    let Some(mut b) = backend("gpu_error_falls_back_to_the_cpu") else {
+        return;
+    };
+    load(&mut b, 32, 24);
+    step_until(&mut b, "1 spp", |b| b.spp() >= 1);
+    let device = b.context().device.clone();
+    let _ = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("over the limit"),
+        size: device.limits().max_buffer_size.saturating_add(4),
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    b.step(Duration::from_millis(8));
+    assert!(b.is_fallback());
+    let msg = b.take_message().expect("a message");
+    assert!(msg.contains("maximum buffer size"), "{msg}");
+    step_until(&mut b, "1 spp on the CPU", |b| b.spp() >= 1);
 }

@@ -1,8 +1,44 @@
 //! The wgpu adapter, device and queue. The device asks for the adapter's own limits
 //! (`required_limits = adapter.limits()`): eframe's defaults are WebGL2-level and too small for
 //! scene buffers.
+//!
+//! GPU errors never panic: every device gets an uncaptured-error handler and a device-lost
+//! callback that record the error (wgpu's default handler panics); [`GpuContext::scoped`]
+//! turns validation and out-of-memory errors of resource and pipeline creation into an `Err`,
+//! and [`GpuContext::wait`] returns the recorded error, or one after [`WAIT_TIMEOUT`].
 
 use anyhow::{Context, Result};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// The longest [`GpuContext::wait`] waits for submitted work before giving up.
+pub const WAIT_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// The first GPU error that no error scope caught (validation, out of memory, device lost).
+pub type ErrorLog = Arc<Mutex<Option<String>>>;
+
+/// Record uncaptured errors and device loss of `device` in the returned log instead of
+/// panicking (wgpu's default handler).
+pub fn install_error_handlers(device: &wgpu::Device) -> ErrorLog {
+    let log: ErrorLog = Arc::default();
+    let l = Arc::clone(&log);
+    device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+        record(&l, format!("GPU error: {e}"));
+    }));
+    let l = Arc::clone(&log);
+    device.set_device_lost_callback(move |reason, msg| {
+        record(&l, format!("GPU device lost ({reason:?}): {msg}"));
+    });
+    log
+}
+
+fn record(log: &ErrorLog, msg: String) {
+    let mut slot = log.lock().unwrap_or_else(|e| e.into_inner());
+    if slot.is_none() {
+        eprintln!("refract: {msg}");
+        *slot = Some(msg);
+    }
+}
 
 /// An adapter with its device and queue (cloning shares them: wgpu handles are
 /// reference-counted).
@@ -12,6 +48,8 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
+    /// Errors no scope caught (see [`install_error_handlers`]).
+    pub errors: ErrorLog,
 }
 
 impl GpuContext {
@@ -35,20 +73,55 @@ impl GpuContext {
 
     /// Open a device on `adapter` with the adapter's own limits.
     pub fn from_adapter(adapter: wgpu::Adapter) -> Result<GpuContext> {
+        let limits = adapter.limits();
+        Self::with_limits(adapter, limits)
+    }
+
+    /// Open a device on `adapter` with `limits` (an `Err` where the adapter has less).
+    pub fn with_limits(adapter: wgpu::Adapter, limits: wgpu::Limits) -> Result<GpuContext> {
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("refract"),
             required_features: wgpu::Features::empty(),
-            required_limits: adapter.limits(),
+            required_limits: limits,
             ..Default::default()
         }))
         .with_context(|| format!("cannot open a device on GPU adapter '{}'", info.name))?;
-        Ok(GpuContext {
+        Ok(Self::from_parts(adapter, device, queue))
+    }
+
+    /// A context on an existing device (e.g. eframe's), with the error handlers installed.
+    pub fn from_parts(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        let errors = install_error_handlers(&device);
+        GpuContext {
+            info: adapter.get_info(),
             adapter,
             device,
             queue,
-            info,
-        })
+            errors,
+        }
+    }
+
+    /// The recorded uncaptured error, if any, as an `Err` (cleared: reported once).
+    pub fn check_errors(&self) -> Result<()> {
+        match self.errors.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            Some(msg) => Err(anyhow::anyhow!(msg)),
+            None => Ok(()),
+        }
+    }
+
+    /// Run `f` (resource or pipeline creation) in validation and out-of-memory error scopes:
+    /// an error there is an `Err` naming `what`, never a panic.
+    pub fn scoped<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let v = pollster::block_on(validation.pop());
+        let o = pollster::block_on(oom.pop());
+        match v.or(o) {
+            Some(e) => Err(anyhow::anyhow!("{what}: {e}")),
+            None => Ok(value),
+        }
     }
 
     /// True for CPU-emulated adapters (lavapipe, SwiftShader, WARP, llvmpipe GL).
@@ -64,12 +137,16 @@ impl GpuContext {
         )
     }
 
-    /// Block until all submitted GPU work is done.
+    /// Block until all submitted GPU work is done: an `Err` after [`WAIT_TIMEOUT`], when the
+    /// device is lost, or when a GPU error was recorded.
     pub fn wait(&self) -> Result<()> {
         self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| anyhow::anyhow!("GPU device lost while waiting: {e}"))
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: Some(WAIT_TIMEOUT),
+            })
+            .map_err(|e| anyhow::anyhow!("GPU wait failed: {e}"))?;
+        self.check_errors()
     }
 
     /// Copy `size` bytes of `src` back to the CPU (blocking).

@@ -247,11 +247,7 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 /// Compile a WGSL module, turning validation errors into `Err` instead of a panic.
-pub(crate) fn create_module(
-    ctx: &GpuContext,
-    label: &str,
-    source: String,
-) -> Result<wgpu::ShaderModule> {
+pub fn create_module(ctx: &GpuContext, label: &str, source: String) -> Result<wgpu::ShaderModule> {
     // Validate with naga first: a clear error message, and wgpu would panic on a bad module.
     let module = naga::front::wgsl::parse_str(&source)
         .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(&source)))?;

@@ -120,7 +120,8 @@ pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
 
 impl GpuRenderer {
     /// Open the best adapter and prepare `scene`. Errors: no adapter, invalid scene, features
-    /// the GPU kernel lacks, buffers over 128 MiB.
+    /// the GPU kernel lacks, buffers over 128 MiB, validation or out-of-memory errors of the
+    /// device (never a panic).
     pub fn new(scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
         let ctx = GpuContext::new()?;
         Self::with_context(ctx, scene, opts)
@@ -132,15 +133,20 @@ impl GpuRenderer {
         upload::check_supported(&scene)?;
         opts.check()?;
         gpu_estimator(opts.estimator, &scene)?;
-        let mut pipelines = Pipelines::new(&ctx)?;
         let features = scene.features();
         let spec = Self::specialization_for(features, &opts, &scene);
-        Self::compile(&ctx, &mut pipelines, spec);
+        let pipelines = ctx.scoped("cannot compile the GPU kernels", || {
+            let mut pipelines = Pipelines::new(&ctx)?;
+            Self::compile(&ctx, &mut pipelines, spec);
+            anyhow::Ok(pipelines)
+        })??;
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
             Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
-        let bind_group = Self::bind(&ctx, &pipelines, &buffers);
+        let bind_group = ctx.scoped("cannot bind the GPU buffers", || {
+            Self::bind(&ctx, &pipelines, &buffers)
+        })?;
         let r = GpuRenderer {
             ctx,
             scene,
@@ -162,7 +168,21 @@ impl GpuRenderer {
         Ok(r)
     }
 
+    /// [`GpuRenderer::build_buffers`] in error scopes: a validation or out-of-memory error is
+    /// an `Err`.
     fn create_buffers(
+        ctx: &GpuContext,
+        scene: &Scene,
+        bvh: &GpuBvh,
+        light_set: &LightSet,
+        opts: &RenderOptions,
+    ) -> Result<BuiltBuffers> {
+        ctx.scoped("cannot create the GPU buffers", || {
+            Self::build_buffers(ctx, scene, bvh, light_set, opts)
+        })?
+    }
+
+    fn build_buffers(
         ctx: &GpuContext,
         scene: &Scene,
         bvh: &GpuBvh,

@@ -1,7 +1,10 @@
 //! GPU tone mapping for display: the renderer's accumulation buffer (mean radiance) →
 //! exposure → tone curve → sRGB-encoded bytes in an `Rgba8Unorm` storage texture
-//! (`shaders/tonemap.wgsl`, the twin of `film::to_srgb8`). The texture may also be viewed as
-//! `Rgba8UnormSrgb`, so a UI that samples it as an sRGB texture shows exactly those bytes.
+//! (`shaders/tonemap.wgsl`, the twin of `film::to_srgb8`). Where the adapter has
+//! `DownlevelFlags::VIEW_FORMATS` the texture may also be viewed as `Rgba8UnormSrgb`, so a UI
+//! that samples it as an sRGB texture shows exactly those bytes. Elsewhere (wgpu's GL backend)
+//! the bytes are copied, unchanged, through a buffer into an `Rgba8UnormSrgb` texture of their
+//! own (sRGB encoding happens in the shader either way; no conversion on the copy).
 
 use super::GpuContext;
 use super::layout::GpuLayout;
@@ -35,10 +38,54 @@ impl GpuLayout for ToneParams {
 }
 
 /// The tone-mapped image: an `Rgba8Unorm` storage texture holding sRGB-encoded bytes, with
-/// `Rgba8UnormSrgb` allowed as a view format.
+/// `Rgba8UnormSrgb` allowed as a view format, or (without view formats) a copy of it in an
+/// `Rgba8UnormSrgb` texture.
 pub struct ToneTarget {
     pub texture: wgpu::Texture,
     pub size: [u32; 2],
+    /// Without view formats: the staging buffer (rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`)
+    /// and the `Rgba8UnormSrgb` texture the UI samples.
+    copy: Option<(wgpu::Buffer, wgpu::Texture)>,
+}
+
+impl ToneTarget {
+    /// The texture a UI samples: the copy where there is one, else the storage texture.
+    fn shown(&self) -> &wgpu::Texture {
+        self.copy.as_ref().map_or(&self.texture, |(_, t)| t)
+    }
+}
+
+/// Bytes per row of an RGBA8 image `width` wide, padded for buffer ↔ texture copies.
+fn padded_row(width: u32) -> u32 {
+    (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
+}
+
+fn extent(size: [u32; 2]) -> wgpu::Extent3d {
+    wgpu::Extent3d {
+        width: size[0],
+        height: size[1],
+        depth_or_array_layers: 1,
+    }
+}
+
+fn texel_copy(texture: &wgpu::Texture) -> wgpu::TexelCopyTextureInfo<'_> {
+    wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d::ZERO,
+        aspect: wgpu::TextureAspect::All,
+    }
+}
+
+fn buffer_copy(buffer: &wgpu::Buffer, size: [u32; 2]) -> wgpu::TexelCopyBufferInfo<'_> {
+    wgpu::TexelCopyBufferInfo {
+        buffer,
+        layout: wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(padded_row(size[0])),
+            rows_per_image: Some(size[1]),
+        },
+    }
 }
 
 /// The tone-map compute pipeline and its target texture.
@@ -47,10 +94,28 @@ pub struct ToneMapper {
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     target: Option<ToneTarget>,
+    /// Whether the storage texture may be viewed as `Rgba8UnormSrgb` (else it is copied).
+    view_formats: bool,
 }
 
 impl ToneMapper {
+    /// A tone mapper that views its target as sRGB where the adapter allows it
+    /// (`DownlevelFlags::VIEW_FORMATS`) and copies it into an sRGB texture elsewhere.
     pub fn new(ctx: &GpuContext) -> Result<ToneMapper> {
+        let flags = ctx.adapter.get_downlevel_capabilities().flags;
+        Self::with_view_formats(ctx, flags.contains(wgpu::DownlevelFlags::VIEW_FORMATS))
+    }
+
+    /// A tone mapper that uses an sRGB view format (`view_formats`, which the adapter must
+    /// support) or the copy (always possible; tests force it to check it on any adapter).
+    pub fn with_view_formats(ctx: &GpuContext, view_formats: bool) -> Result<ToneMapper> {
+        // In error scopes: a validation or out-of-memory error is an `Err`, not a panic.
+        ctx.scoped("cannot build the GPU tone map", || {
+            Self::build(ctx, view_formats)
+        })?
+    }
+
+    fn build(ctx: &GpuContext, view_formats: bool) -> Result<ToneMapper> {
         let device = &ctx.device;
         let module = super::pipeline::create_module(ctx, "tonemap.wgsl", TONEMAP_WGSL.into())?;
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -73,6 +138,7 @@ impl ToneMapper {
             layout,
             params,
             target: None,
+            view_formats,
         })
     }
 
@@ -87,13 +153,10 @@ impl ToneMapper {
         if self.target.as_ref().is_some_and(|t| t.size == size) {
             return false;
         }
+        let srgb = [wgpu::TextureFormat::Rgba8UnormSrgb];
         let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("refract image"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: 1,
-            },
+            size: extent(size),
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -101,9 +164,34 @@ impl ToneMapper {
             usage: wgpu::TextureUsages::STORAGE_BINDING
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[wgpu::TextureFormat::Rgba8UnormSrgb],
+            view_formats: if self.view_formats { &srgb } else { &[] },
         });
-        self.target = Some(ToneTarget { texture, size });
+        let copy = (!self.view_formats).then(|| {
+            let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("refract image (copy)"),
+                size: padded_row(size[0]) as u64 * size[1] as u64,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let shown = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("refract image (sRGB)"),
+                size: extent(size),
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_DST
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            (buffer, shown)
+        });
+        self.target = Some(ToneTarget {
+            texture,
+            size,
+            copy,
+        });
         true
     }
 
@@ -111,7 +199,7 @@ impl ToneMapper {
     /// (as egui does its own sRGB textures) decodes our sRGB bytes exactly as its own.
     pub fn srgb_view(&self) -> Option<wgpu::TextureView> {
         let t = self.target.as_ref()?;
-        Some(t.texture.create_view(&wgpu::TextureViewDescriptor {
+        Some(t.shown().create_view(&wgpu::TextureViewDescriptor {
             label: Some("refract image (sRGB view)"),
             format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
             // Sampled only: sRGB formats cannot be storage-bound.
@@ -175,16 +263,23 @@ impl ToneMapper {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
         }
+        if let Some((buffer, shown)) = &target.copy {
+            enc.copy_texture_to_buffer(
+                texel_copy(&target.texture),
+                buffer_copy(buffer, size),
+                extent(size),
+            );
+            enc.copy_buffer_to_texture(buffer_copy(buffer, size), texel_copy(shown), extent(size));
+        }
         ctx.queue.submit([enc.finish()]);
     }
 
-    /// Read the target back: (width, height, RGBA8 sRGB bytes). Blocking; for tests and
-    /// debugging only.
+    /// Read back the texture a UI samples: (width, height, RGBA8 sRGB bytes). Blocking; for
+    /// tests and debugging only.
     pub fn read_pixels(&self, ctx: &GpuContext) -> Result<(u32, u32, Vec<u8>)> {
         let t = self.target.as_ref().context("no tone-mapped image yet")?;
         let [w, h] = t.size;
-        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let row = padded_row(w);
         let size = row as u64 * h as u64;
         let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("texture readback"),
@@ -196,25 +291,9 @@ impl ToneMapper {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &t.texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
+            texel_copy(t.shown()),
+            buffer_copy(&buf, t.size),
+            extent(t.size),
         );
         ctx.queue.submit([enc.finish()]);
         let bytes = ctx.read_buffer(&buf, size)?;

@@ -1,8 +1,9 @@
 // Viewer tone mapping: the GPU renderer's accumulation buffer (per-pixel MEAN radiance,
 // linear Rec.709, row-major, top row first) -> exposure -> tone map -> sRGB-encoded 8-bit
 // values in an Rgba8Unorm storage texture. The viewer registers an Rgba8UnormSrgb view of it
-// with egui-wgpu, which then samples it exactly like its own (sRGB) textures, so the screen
-// shows the same bytes as `film::to_srgb8` / the CPU backend.
+// (without view formats, e.g. on GL: an Rgba8UnormSrgb copy of its bytes) with egui-wgpu,
+// which then samples it exactly like its own (sRGB) textures, so the screen shows the same
+// bytes as `film::to_srgb8` / the CPU backend.
 //
 // Formulas are the twins of `film::ToneMap::apply` and `math::color::linear_to_srgb` (Rust):
 // - Reinhard x/(1+x): Reinhard et al. 2002, "Photographic Tone Reproduction for Digital

@@ -7,15 +7,19 @@
 //! - [`Backend::step`] (UI thread, once per frame) queues at most one batch at a time and never
 //!   waits for the GPU. Completion is signalled by `Queue::on_submitted_work_done`; a helper
 //!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
-//!   fires (and is timed) within about a millisecond, and wakes the UI. The samples per pixel
+//!   fires (and is timed) within about a millisecond, and wakes the UI. On wgpu's GL backend
+//!   there is no helper thread: GL has one context, whose lock the submitting thread holds
+//!   while the driver runs the batch (wgpu-hal panics after waiting 1 s for it), so the UI
+//!   thread polls in each `step` and a batch is timed from before its submission. The samples per pixel
 //!   of the next batch follow the measured time per pixel sample so that a batch takes about
 //!   the frame budget. While the user drags, and when one sample per pixel at full resolution
 //!   would not fit the budget, the backend renders at quarter resolution (like `CpuBackend`).
 //! - [`Backend::display_texture`] tone-maps the accumulation buffer on the GPU
 //!   ([`crate::gpu::tonemap`]) into an `Rgba8Unorm` storage texture holding sRGB-encoded
-//!   bytes; an `Rgba8UnormSrgb` view of it is registered with egui-wgpu (the format of egui's
-//!   own textures), so the screen shows exactly the bytes `film::to_srgb8` computes, like the
-//!   CPU path. The tone map reruns only when the generation, the spp or the display settings
+//!   bytes; an `Rgba8UnormSrgb` view of it (on adapters without view formats, such as wgpu's
+//!   GL backend, an `Rgba8UnormSrgb` copy of its bytes) is registered with egui-wgpu (the
+//!   format of egui's own textures), so the screen shows exactly the bytes `film::to_srgb8`
+//!   computes, like the CPU path. The tone map reruns only when the generation, the spp or the display settings
 //!   change, and only while no batch is in flight (it is queued right after a batch finishes,
 //!   before the next one), as is the dropped-sample counter copy: no submission of ours waits
 //!   behind a running batch. (Software drivers such as lavapipe execute a submission before
@@ -26,8 +30,9 @@
 //!   possible); queue order guarantees that a batch already in flight finishes before the
 //!   reset, and its samples are not counted for the new generation.
 //! - A scene or setting the GPU kernel cannot handle (`upload::check_supported`, buffers over
-//!   the limit) switches to a [`CpuBackend`] with a message; the next scene or options change
-//!   tries the GPU again.
+//!   the limit), or a GPU error (error scopes, the device's uncaptured-error handler, device
+//!   loss: [`GpuContext`]), switches to a [`CpuBackend`] with a message; the next scene or
+//!   options change tries the GPU again.
 
 use super::{Accumulated, Backend, CpuBackend, DisplayParams, DisplayTexture};
 use crate::gpu::tonemap::ToneMapper;
@@ -62,10 +67,18 @@ struct Poller {
 }
 
 impl Poller {
-    fn new(device: wgpu::Device) -> Poller {
+    /// A poller with a helper thread, or (`threaded` false, for GL) without one.
+    fn new(device: wgpu::Device, threaded: bool) -> Poller {
         let busy = Arc::new(AtomicBool::new(false));
         let quit = Arc::new(AtomicBool::new(false));
         let (b, q) = (Arc::clone(&busy), Arc::clone(&quit));
+        if !threaded {
+            return Poller {
+                busy,
+                quit,
+                thread: None,
+            };
+        }
         let thread = std::thread::Builder::new()
             .name("refract-gpu-poll".into())
             .spawn(move || {
@@ -169,12 +182,7 @@ impl GpuBackend {
         rs: &egui_wgpu::RenderState,
         repaint: Option<egui::Context>,
     ) -> Result<GpuBackend> {
-        let ctx = GpuContext {
-            adapter: rs.adapter.clone(),
-            device: rs.device.clone(),
-            queue: rs.queue.clone(),
-            info: rs.adapter.get_info(),
-        };
+        let ctx = GpuContext::from_parts(rs.adapter.clone(), rs.device.clone(), rs.queue.clone());
         GpuBackend::new(ctx, Arc::clone(&rs.renderer), repaint)
     }
 
@@ -196,7 +204,7 @@ impl GpuBackend {
             pending: None,
             state: Arc::new(AtomicU8::new(MAP_PENDING)),
         };
-        let poller = Poller::new(ctx.device.clone());
+        let poller = Poller::new(ctx.device.clone(), ctx.info.backend != wgpu::Backend::Gl);
         Ok(GpuBackend {
             ctx,
             egui_renderer,
@@ -249,6 +257,16 @@ impl GpuBackend {
     /// tests and debugging only (the viewer never reads it back).
     pub fn read_display_pixels(&self) -> Result<(u32, u32, Vec<u8>)> {
         self.tonemap.read_pixels(&self.ctx)
+    }
+
+    /// Tone map through the copy into an `Rgba8UnormSrgb` texture, as on adapters without
+    /// `DownlevelFlags::VIEW_FORMATS` (wgpu's GL backend), whatever this adapter supports: for
+    /// tests of that path on any adapter.
+    pub fn force_tone_map_copy(&mut self) -> Result<()> {
+        self.tonemap = ToneMapper::with_view_formats(&self.ctx, false)
+            .context("cannot build the GPU tone-map pipeline")?;
+        self.shown = None;
+        Ok(())
     }
 
     /// Every edit: a new generation with no samples.
@@ -390,6 +408,11 @@ impl GpuBackend {
     /// Collect a finished batch and the stats readback (never waits).
     fn collect(&mut self) {
         let _ = self.ctx.device.poll(wgpu::PollType::Poll);
+        // A GPU error no scope caught (a failed submission, a lost device): the CPU takes over.
+        if let Err(e) = self.ctx.check_errors() {
+            self.enter_fallback(&e);
+            return;
+        }
         let finished = self
             .in_flight
             .as_ref()
@@ -407,6 +430,13 @@ impl GpuBackend {
                 self.done_spp += b.k as u64;
                 self.elapsed += dt;
             }
+        }
+        // Without a poller thread nobody wakes the UI when the batch finishes: keep stepping.
+        if self.in_flight.is_some()
+            && self.poller.thread.is_none()
+            && let Some(c) = &self.repaint
+        {
+            c.request_repaint();
         }
         let Some(generation) = self.readback.pending else {
             return;
@@ -657,6 +687,9 @@ impl Backend for GpuBackend {
         }
         self.budget = frame_budget;
         self.collect();
+        if self.fallback.is_some() {
+            return; // a GPU error: the CPU renders from the next step on
+        }
         if self.in_flight.is_some() {
             return; // at most one batch in flight
         }
@@ -690,6 +723,7 @@ impl Backend for GpuBackend {
         let k = k.max(1);
         // Mark busy before the callback can possibly run.
         self.poller.kick();
+        let before = Instant::now();
         r.dispatch(k);
         let done = Arc::new(Mutex::new(None));
         {
@@ -708,7 +742,11 @@ impl Backend for GpuBackend {
             k,
             pixels,
             generation,
-            submitted: Instant::now(),
+            // Without a poller thread (GL) the driver may run the batch inside the submission.
+            submitted: match self.poller.thread {
+                Some(_) => Instant::now(),
+                None => before,
+            },
             done,
         });
     }
