@@ -221,6 +221,11 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     }
     let mut sidecar_spp = None;
     if let Some(s) = &sidecar {
+        // Headless, a sidecar's impossible material value is an error naming its key.
+        for (k, e) in s.materials.iter().enumerate() {
+            e.check()
+                .with_context(|| sidecar_key(args, &format!("materials[{k}]")))?;
+        }
         // The viewer's edits and options, exactly as the viewer applies them.
         let (edited, warnings) = s.apply(&scene);
         for w in warnings {

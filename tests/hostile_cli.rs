@@ -230,3 +230,44 @@ fn errors_name_their_source() {
         &["no light", "tri.gltf"],
     );
 }
+
+#[test]
+fn sidecar_material_values_that_break_energy_are_errors() {
+    use refract::render::settings::ViewerSettings;
+    let d = tmp_dir("mat");
+    let out = s(&d.join("x.exr"));
+    let base = refract::scene::builtin::cornell_glass();
+    let glass = base
+        .materials
+        .iter()
+        .position(|m| m.kind == refract::scene::MaterialKind::Glass)
+        .expect("cornell-glass has a glass material");
+    type Breaker = fn(&mut refract::scene::Material);
+    let cases: [(&str, Breaker, &str); 4] = [
+        ("ior", |m| m.ior = 1e-30, "ior"),
+        (
+            "albedo",
+            |m| m.base_color = glam::Vec3::splat(1e30),
+            "base_color",
+        ),
+        ("roughness", |m| m.roughness = -3.0, "roughness"),
+        (
+            "absorb",
+            |m| m.attenuation_color = glam::Vec3::splat(2.0),
+            "attenuation_color",
+        ),
+    ];
+    for (name, breaker, key) in cases {
+        let mut m = base.materials[glass].clone();
+        breaker(&mut m);
+        let mut sidecar = ViewerSettings::for_scene("builtin:cornell-glass");
+        sidecar.set_material(glass, &m);
+        let path = d.join(format!("{name}.json"));
+        sidecar.save(&path).expect("save sidecar");
+        let materials = format!("materials[0] of settings '{}'", s(&path));
+        fails_naming(
+            &["render", "--settings", &s(&path), "--out", &out],
+            &[&materials, key, "out of range"],
+        );
+    }
+}

@@ -48,6 +48,47 @@ impl MaterialEdit {
         }
     }
 
+    /// Refuse values that break energy conservation or the arithmetic, naming the field:
+    /// IOR finite in 1e-3..=1e3 (the bound keeps η and 1/η far from f32 overflow; any real
+    /// material is 1..4), base and absorption colour components finite in 0..=1 (an albedo
+    /// above 1 creates energy), metallic and roughness in 0..=1, a positive absorption
+    /// distance and Abbe number. `refract render --settings` calls it on every sidecar edit.
+    pub fn check(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
+        let unit = |c: [f32; 3]| c.iter().all(|v| (0.0..=1.0).contains(v));
+        ensure!(
+            (1e-3..=1e3).contains(&self.ior),
+            "ior {} is out of range (finite, 1e-3..=1e3)",
+            self.ior
+        );
+        ensure!(
+            unit(self.base_color),
+            "base_color {:?} is out of range (each component in 0..=1: an albedo above 1 \
+             creates energy)",
+            self.base_color
+        );
+        ensure!(
+            unit(self.attenuation_color),
+            "attenuation_color {:?} is out of range (each component in 0..=1)",
+            self.attenuation_color
+        );
+        for (key, v) in [("metallic", self.metallic), ("roughness", self.roughness)] {
+            ensure!(
+                (0.0..=1.0).contains(&v),
+                "{key} {v} is out of range (0..=1)"
+            );
+        }
+        for (key, v) in [
+            ("attenuation_distance", self.attenuation_distance),
+            ("abbe", self.abbe),
+        ] {
+            if let Some(v) = v {
+                ensure!(v.is_finite() && v > 0.0, "{key} {v} must be finite and > 0");
+            }
+        }
+        Ok(())
+    }
+
     /// Write the overrides into `m` (emission and textures are left alone).
     pub fn apply_to(&self, m: &mut Material) {
         m.kind = self.kind;
