@@ -331,8 +331,8 @@ impl CameraEdit {
     }
 }
 
-/// Write material overrides into `scene`; an edit that does not fit (no such material, or
-/// an invalid result) is skipped with a warning.
+/// Write material overrides into `scene`; an edit that does not fit (no such material, a
+/// value [`MaterialEdit::check`] refuses, or an invalid result) is skipped with a warning.
 pub fn apply_materials(edits: &[MaterialEdit], scene: &mut Scene, warnings: &mut Vec<String>) {
     for e in edits {
         match scene.materials.get_mut(e.index) {
@@ -342,6 +342,10 @@ pub fn apply_materials(edits: &[MaterialEdit], scene: &mut Scene, warnings: &mut
                         "material {} is '{}' here but '{}' in the settings; applied anyway",
                         e.index, m.name, e.name
                     ));
+                }
+                if let Err(err) = e.check() {
+                    warnings.push(format!("material edit {} skipped: {err}", e.index));
+                    continue;
                 }
                 let before = m.clone();
                 e.apply_to(m);
@@ -422,5 +426,21 @@ mod tests {
         let cam = o.camera(scene.camera.yfov);
         assert!((cam.position - scene.camera.position).length() < 1e-4);
         assert!((cam.forward() - scene.camera.forward()).length() < 1e-4);
+    }
+
+    #[test]
+    fn edits_that_break_energy_are_skipped_with_a_warning() {
+        let mut scene = crate::scene::builtin::cornell_glass();
+        let before = scene.materials.clone();
+        let mut ior = MaterialEdit::from_material(0, &scene.materials[0]);
+        ior.ior = 1e-30;
+        let mut albedo = MaterialEdit::from_material(0, &scene.materials[0]);
+        albedo.base_color = [1e30; 3];
+        let mut warnings = Vec::new();
+        apply_materials(&[ior, albedo], &mut scene, &mut warnings);
+        assert_eq!(scene.materials, before);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("ior"), "{}", warnings[0]);
+        assert!(warnings[1].contains("base_color"), "{}", warnings[1]);
     }
 }
