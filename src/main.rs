@@ -264,29 +264,8 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         scene.settings.rr_depth = r;
     }
     let s = scene.settings;
-    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
-        bail!(
-            "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
-            s.width,
-            s.height
-        );
-    }
-    let (spp, spp_from) = match (args.spp, args.time_budget, sidecar_spp) {
-        (Some(n), _, _) => (Some(n), "--spp".to_owned()),
-        // A time budget alone is not capped by the sidecar's or the scene's spp.
-        (None, Some(_), _) => (None, String::new()),
-        (None, None, Some(n)) => (
-            Some(u32::try_from(n).unwrap_or(u32::MAX)),
-            sidecar_key(args, "capture.spp"),
-        ),
-        (None, None, None) => (
-            Some(s.spp),
-            format!("extras.render.spp of scene '{}'", abbreviate(&spec)),
-        ),
-    };
-    if spp == Some(0) {
-        bail!("{spp_from} must be at least 1");
-    }
+    check_size(args, sidecar.as_ref(), &spec, &s)?;
+    let spp = resolve_spp(args, sidecar_spp, &spec, s.spp)?;
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
@@ -318,6 +297,71 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         estimator,
     };
     Ok((scene, job))
+}
+
+/// The image size and depth, each error naming where the value came from (flag, sidecar key
+/// or the scene's `extras.render`).
+fn check_size(
+    args: &RenderArgs,
+    sidecar: Option<&ViewerSettings>,
+    spec: &str,
+    s: &refract::scene::RenderSettings,
+) -> Result<()> {
+    let from = |flags: bool, key: &str| -> String {
+        match sidecar {
+            _ if flags => "--width/--height".to_owned(),
+            Some(c) if c.capture.is_some() => sidecar_key(args, "capture.width/height"),
+            Some(_) => sidecar_key(args, "render.render_scale"),
+            None => format!("extras.render.{key} of scene '{}'", abbreviate(spec)),
+        }
+    };
+    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
+        bail!(
+            "image size {}x{} from {} is out of range (1..={MAX_IMAGE_SIDE} per side)",
+            s.width,
+            s.height,
+            from(
+                args.width.is_some() || args.height.is_some(),
+                "width/height"
+            )
+        );
+    }
+    if s.max_depth == 0 {
+        let from = match (args.max_depth, sidecar) {
+            (Some(_), _) => "--max-depth".to_owned(),
+            (None, Some(_)) => sidecar_key(args, "render.max_depth"),
+            (None, None) => format!("extras.render.max_depth of scene '{}'", abbreviate(spec)),
+        };
+        bail!("{from} must be at least 1 (1 = emitters only)");
+    }
+    Ok(())
+}
+
+/// Samples per pixel: the flag, else (without a time budget) the sidecar's capture, else the
+/// scene's; None when a time budget alone bounds the render. Zero is an error naming its source.
+fn resolve_spp(
+    args: &RenderArgs,
+    sidecar_spp: Option<u64>,
+    spec: &str,
+    scene_spp: u32,
+) -> Result<Option<u32>> {
+    let (spp, spp_from) = match (args.spp, args.time_budget, sidecar_spp) {
+        (Some(n), _, _) => (Some(n), "--spp".to_owned()),
+        // A time budget alone is not capped by the sidecar's or the scene's spp.
+        (None, Some(_), _) => (None, String::new()),
+        (None, None, Some(n)) => (
+            Some(u32::try_from(n).unwrap_or(u32::MAX)),
+            sidecar_key(args, "capture.spp"),
+        ),
+        (None, None, None) => (
+            Some(scene_spp),
+            format!("extras.render.spp of scene '{}'", abbreviate(spec)),
+        ),
+    };
+    if spp == Some(0) {
+        bail!("{spp_from} must be at least 1");
+    }
+    Ok(spp)
 }
 
 /// `key` of the `--settings` sidecar, as errors name it: "display.exposure of settings 'x.json'".

@@ -173,6 +173,24 @@ fn errors_name_their_source() {
         &["render", "--settings", &s(&sidecar), "--out", &out],
         &["capture.spp", "spp.json"],
     );
+    let size = d.join("size.json");
+    std::fs::write(
+        &size,
+        format!("{{{}}}", capture.replace(r#""width":4"#, r#""width":0"#)),
+    )
+    .expect("write");
+    fails_naming(
+        &["render", "--settings", &s(&size), "--out", &out],
+        &["capture.width/height", "size.json", "out of range"],
+    );
+    fails_naming(
+        &["render", "--width", "0", "--out", &out],
+        &["--width/--height", "out of range"],
+    );
+    fails_naming(
+        &["render", "--max-depth", "0", "--out", &out],
+        &["--max-depth must be at least 1"],
+    );
     // Exposure and light intensity from a sidecar.
     let exposure = d.join("exposure.json");
     std::fs::write(&exposure, r#"{"display":{"exposure":1e39}}"#).expect("write");
