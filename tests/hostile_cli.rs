@@ -106,6 +106,15 @@ fn unwritable_outputs_fail_before_rendering() {
         );
         assert!(t < Duration::from_secs(20), "{out}: {t:?}");
     }
+    // A FIFO in the output's place: an error at once, not a write that blocks for a reader.
+    let fifo = d.join("fifo.exr");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|st| st.success()) {
+        fails_naming(
+            &["render", "--spp", "1", "--out", &s(&fifo)],
+            &["--out", "not a regular file"],
+        );
+    }
     let (code, err, t) = refract(&["bench", "--out", &below, "--budget", "1h"]);
     assert_ne!(code, 0, "{err}");
     assert!(err.contains("error: --out"), "{err}");

@@ -39,6 +39,14 @@ pub fn probe_writable(path: &Path) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
     }
+    // Opening a FIFO for writing would block until a reader comes; a folder cannot be written.
+    if let Ok(meta) = std::fs::metadata(path) {
+        anyhow::ensure!(
+            meta.is_file(),
+            "cannot write '{}': it exists and is not a regular file (a folder, FIFO or device)",
+            path.display()
+        );
+    }
     let existed = std::fs::symlink_metadata(path).is_ok();
     std::fs::OpenOptions::new()
         .write(true)
