@@ -235,7 +235,19 @@ fn errors_name_their_source() {
         1,
         "{err}"
     );
-    fails_naming(&["bench", "--threads", "100000"], &["--threads"]);
+    let (bench_out, cache) = (s(&d.join("bench-t")), s(&d.join("cache-t")));
+    fails_naming(
+        &[
+            "bench",
+            "--threads",
+            "100000",
+            "--out",
+            &bench_out,
+            "--cache",
+            &cache,
+        ],
+        &["--threads"],
+    );
     // bench on a scene without any light says so.
     let unlit = unlit_gltf(&tmp_dir("unlit"), "{}");
     fails_naming(
