@@ -226,6 +226,9 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
             e.check()
                 .with_context(|| sidecar_key(args, &format!("materials[{k}]")))?;
         }
+        s.light
+            .check()
+            .with_context(|| sidecar_key(args, "light"))?;
         // The viewer's edits and options, exactly as the viewer applies them.
         let (edited, warnings) = s.apply(&scene);
         for w in warnings {

@@ -213,6 +213,20 @@ fn errors_name_their_source() {
         &["render", "--settings", &s(&light), "--out", &out],
         &["light.intensity", "light.json", "emission"],
     );
+    for (name, json, key) in [
+        ("inf", r#"{"light":{"intensity":1e39}}"#, "intensity"),
+        ("neg", r#"{"light":{"intensity":-5}}"#, "intensity"),
+        ("colour", r#"{"light":{"color":[1,-1,1]}}"#, "color"),
+        ("size", r#"{"light":{"size":-2}}"#, "size"),
+    ] {
+        let p = d.join(format!("light-{name}.json"));
+        std::fs::write(&p, json).expect("write");
+        let file = format!("light-{name}.json");
+        fails_naming(
+            &["render", "--settings", &s(&p), "--out", &out],
+            &["light of settings", &file, key],
+        );
+    }
     // A long --paths expression is abbreviated, from the flag and from a sidecar.
     let long = format!("{}X", "LD".repeat(50_000));
     fails_naming(

@@ -138,6 +138,42 @@ impl Default for LightEdit {
 }
 
 impl LightEdit {
+    /// Refuse values [`LightEdit::tint`] and [`LightEdit::apply`] would silently replace or
+    /// that make no light (negative, NaN, infinite), naming the field. `refract render
+    /// --settings` calls it; the viewer keeps sanitising them.
+    pub fn check(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
+        let ok = |v: f32| v.is_finite() && v >= 0.0;
+        ensure!(
+            ok(self.intensity),
+            "intensity {} must be finite and ≥ 0",
+            self.intensity
+        );
+        ensure!(
+            self.color.iter().all(|&c| ok(c)),
+            "color {:?} must be finite and ≥ 0",
+            self.color
+        );
+        for (key, v) in [
+            ("temperature_k", self.temperature_k),
+            ("environment", self.environment),
+            ("size", Some(self.size)),
+        ] {
+            if let Some(v) = v {
+                ensure!(ok(v), "{key} {v} must be finite and ≥ 0");
+            }
+        }
+        for (key, v) in [
+            ("elevation_deg", self.elevation_deg),
+            ("azimuth_deg", self.azimuth_deg),
+        ] {
+            if let Some(v) = v {
+                ensure!(v.is_finite(), "{key} {v} must be finite");
+            }
+        }
+        Ok(())
+    }
+
     /// The RGB factor every light is multiplied by (intensity × colour).
     pub fn tint(&self) -> Vec3 {
         let c = match self.temperature_k {
