@@ -193,6 +193,14 @@ pub fn bench_scene_cpu(
     o: &BenchOptions,
 ) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
     let mut scene = Scene::load(spec)?;
+    let lit = !scene.emissive_triangles().is_empty()
+        || !scene.punctual_lights.is_empty()
+        || scene.environment.max_element() > 0.0;
+    anyhow::ensure!(
+        lit,
+        "scene '{spec}' has no light (no emissive triangle, punctual light or environment): \
+         every image is black, there is no error to measure"
+    );
     scene.settings.width = o.width;
     scene.settings.height = o.height;
     let r = Renderer::new(scene)?;

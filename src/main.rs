@@ -5,13 +5,16 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use refract::cpu::Renderer;
 use refract::film::{self, ToneMap};
-use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
+use refract::render::settings::{DEFAULT_SCENE, ViewerSettings, abbreviate};
 use refract::render::{Device, Estimator, RenderOptions};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
 
+mod cli_duration;
 mod gpu_render;
+
+use cli_duration::parse_duration;
 
 #[derive(Parser)]
 #[command(
@@ -156,33 +159,6 @@ struct RenderArgs {
     device: Device,
 }
 
-fn parse_duration(s: &str) -> std::result::Result<Duration, String> {
-    let s = s.trim();
-    let (num, unit) = s
-        .find(|c: char| c.is_ascii_alphabetic())
-        .map(|i| s.split_at(i))
-        .unwrap_or((s, "s"));
-    let v: f64 = num
-        .trim()
-        .parse()
-        .map_err(|_| format!("invalid duration '{s}' (examples: 10s, 2m, 500ms)"))?;
-    if !v.is_finite() || v < 0.0 {
-        return Err(format!("invalid duration '{s}'"));
-    }
-    let secs = match unit {
-        "ms" => v / 1000.0,
-        "s" | "" => v,
-        "m" | "min" => v * 60.0,
-        "h" => v * 3600.0,
-        _ => {
-            return Err(format!(
-                "unknown time unit '{unit}' in '{s}' (use ms, s, m, h)"
-            ));
-        }
-    };
-    Ok(Duration::from_secs_f64(secs))
-}
-
 fn parse_tonemap(s: &str) -> Result<ToneMap> {
     Ok(match s.to_ascii_lowercase().as_str() {
         "clamp" | "none" => ToneMap::Clamp,
@@ -205,7 +181,8 @@ struct Job {
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
-    film::check_output_path(&args.out)?;
+    // Before any work: a render whose image cannot be written is an error now, not after.
+    film::check_output_path(&args.out).context("--out")?;
     let (scene, job) = prepare(args)?;
     if gpu_render::render(args, &scene, &job)? {
         return Ok(());
@@ -230,12 +207,13 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         (None, Some(s)) => s.display.tone_map,
         (None, None) => ToneMap::Clamp,
     };
-    let exposure = args
-        .exposure
-        .or(sidecar.as_ref().map(|s| s.display.exposure))
-        .unwrap_or(0.0);
+    let (exposure, exposure_from) = match (args.exposure, &sidecar) {
+        (Some(e), _) => (e, "--exposure".to_owned()),
+        (None, Some(s)) => (s.display.exposure, sidecar_key(args, "display.exposure")),
+        (None, None) => (0.0, String::new()),
+    };
     if !exposure.is_finite() {
-        bail!("--exposure must be a finite number");
+        bail!("{exposure_from} must be a finite number (exposure in stops), got {exposure}");
     }
     let mut scene = Scene::load(&spec)?;
     for w in &scene.warnings {
@@ -243,12 +221,32 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     }
     let mut sidecar_spp = None;
     if let Some(s) = &sidecar {
+        // Headless, a sidecar's impossible material value is an error naming its key.
+        for (k, e) in s.materials.iter().enumerate() {
+            e.check()
+                .with_context(|| sidecar_key(args, &format!("materials[{k}]")))?;
+        }
+        s.light
+            .check()
+            .with_context(|| sidecar_key(args, "light"))?;
         // The viewer's edits and options, exactly as the viewer applies them.
         let (edited, warnings) = s.apply(&scene);
         for w in warnings {
             eprintln!("warning: {w}");
         }
-        let o = s.render_options(&edited)?;
+        // Light edits scale every emitter: an overflow names the sidecar keys it came from.
+        edited.validate().with_context(|| {
+            format!(
+                "{} = {}, light.color = {:?}, light.temperature_k = {:?}",
+                sidecar_key(args, "light.intensity"),
+                s.light.intensity,
+                s.light.color,
+                s.light.temperature_k
+            )
+        })?;
+        let o = s
+            .render_options(&edited)
+            .with_context(|| format!("settings '{}'", sidecar_file(args)))?;
         scene = edited;
         scene.settings.width = o.width;
         scene.settings.height = o.height;
@@ -269,23 +267,8 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         scene.settings.rr_depth = r;
     }
     let s = scene.settings;
-    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
-        bail!(
-            "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side)",
-            s.width,
-            s.height
-        );
-    }
-    let spp = match (args.spp, args.time_budget, sidecar_spp) {
-        (Some(n), _, _) => Some(n),
-        // A time budget alone is not capped by the sidecar's or the scene's spp.
-        (None, Some(_), _) => None,
-        (None, None, Some(n)) => Some(u32::try_from(n).unwrap_or(u32::MAX)),
-        (None, None, None) => Some(s.spp),
-    };
-    if spp == Some(0) {
-        bail!("--spp must be at least 1");
-    }
+    check_size(args, sidecar.as_ref(), &spec, &s)?;
+    let spp = resolve_spp(args, sidecar_spp, &spec, s.spp)?;
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
@@ -293,13 +276,13 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         .seed
         .or(sidecar.as_ref().map(|s| s.render.seed))
         .unwrap_or(0);
-    let paths = args
-        .paths
-        .clone()
-        .or_else(|| sidecar.as_ref().map(|s| s.render.paths.clone()))
-        .unwrap_or_default();
+    let (paths, paths_from) = match (&args.paths, &sidecar) {
+        (Some(p), _) => (p.clone(), "--paths".to_owned()),
+        (None, Some(s)) => (s.render.paths.clone(), sidecar_key(args, "render.paths")),
+        (None, None) => (String::new(), String::new()),
+    };
     let filter = refract::paths::PathFilter::parse(&paths)
-        .map_err(|e| anyhow::anyhow!("invalid --paths '{paths}': {e}"))?;
+        .map_err(|e| anyhow::anyhow!("invalid {paths_from} '{}': {e}", abbreviate(&paths)))?;
     let choice = args
         .estimator
         .or(sidecar.as_ref().map(|s| s.render.estimator))
@@ -319,6 +302,101 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     Ok((scene, job))
 }
 
+/// The image size and depth, each error naming where the value came from (flag, sidecar key
+/// or the scene's `extras.render`).
+fn check_size(
+    args: &RenderArgs,
+    sidecar: Option<&ViewerSettings>,
+    spec: &str,
+    s: &refract::scene::RenderSettings,
+) -> Result<()> {
+    let from = |flags: bool, key: &str| -> String {
+        match sidecar {
+            _ if flags => "--width/--height".to_owned(),
+            Some(c) if c.capture.is_some() => sidecar_key(args, "capture.width/height"),
+            Some(_) => sidecar_key(args, "render.render_scale"),
+            None => format!("extras.render.{key} of scene '{}'", abbreviate(spec)),
+        }
+    };
+    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
+        bail!(
+            "image size {}x{} from {} is out of range (1..={MAX_IMAGE_SIDE} per side)",
+            s.width,
+            s.height,
+            from(
+                args.width.is_some() || args.height.is_some(),
+                "width/height"
+            )
+        );
+    }
+    if s.max_depth == 0 {
+        let from = match (args.max_depth, sidecar) {
+            (Some(_), _) => "--max-depth".to_owned(),
+            (None, Some(_)) => sidecar_key(args, "render.max_depth"),
+            (None, None) => format!("extras.render.max_depth of scene '{}'", abbreviate(spec)),
+        };
+        bail!("{from} must be at least 1 (1 = emitters only)");
+    }
+    Ok(())
+}
+
+/// Samples per pixel: the flag, else (without a time budget) the sidecar's capture, else the
+/// scene's; None when a time budget alone bounds the render. Zero is an error naming its source.
+fn resolve_spp(
+    args: &RenderArgs,
+    sidecar_spp: Option<u64>,
+    spec: &str,
+    scene_spp: u32,
+) -> Result<Option<u32>> {
+    let (spp, spp_from) = match (args.spp, args.time_budget, sidecar_spp) {
+        (Some(n), _, _) => (Some(n), "--spp".to_owned()),
+        // A time budget alone is not capped by the sidecar's or the scene's spp.
+        (None, Some(_), _) => (None, String::new()),
+        (None, None, Some(n)) => (
+            Some(u32::try_from(n).unwrap_or(u32::MAX)),
+            sidecar_key(args, "capture.spp"),
+        ),
+        (None, None, None) => (
+            Some(scene_spp),
+            format!("extras.render.spp of scene '{}'", abbreviate(spec)),
+        ),
+    };
+    if spp == Some(0) {
+        bail!("{spp_from} must be at least 1");
+    }
+    Ok(spp)
+}
+
+/// `key` of the `--settings` sidecar, as errors name it: "display.exposure of settings 'x.json'".
+fn sidecar_key(args: &RenderArgs, key: &str) -> String {
+    format!("{key} of settings '{}'", sidecar_file(args))
+}
+
+/// The `--settings` file's path for an error line (abbreviated).
+fn sidecar_file(args: &RenderArgs) -> String {
+    let file = args.settings.as_deref().unwrap_or(std::path::Path::new(""));
+    abbreviate(&file.display().to_string())
+}
+
+/// A rayon pool of `threads` workers (default: all cores); a failure is one line naming the
+/// flag and the OS's reason once.
+fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    // Far more than any machine's cores; more would only exhaust the OS (or take minutes).
+    const MAX_THREADS: usize = 4096;
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        anyhow::ensure!(
+            t <= MAX_THREADS,
+            "--threads {t} is more than {MAX_THREADS} worker threads"
+        );
+        pool = pool.num_threads(t);
+    }
+    pool.build().map_err(|e| match threads {
+        Some(t) => anyhow::anyhow!("--threads {t}: cannot start {t} worker threads ({e})"),
+        None => anyhow::anyhow!("cannot start worker threads ({e})"),
+    })
+}
+
 fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
     let &Job {
         spp,
@@ -328,11 +406,7 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         estimator,
         ..
     } = job;
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = args.threads {
-        pool = pool.num_threads(t);
-    }
-    let pool = pool.build().context("cannot start worker threads")?;
+    let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.seed = seed;
@@ -436,11 +510,18 @@ fn bench(args: &BenchArgs) -> Result<()> {
     }
     let (cpu, gpu) = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
     for p in &args.paths {
-        refract::paths::PathFilter::parse(p).map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
+        refract::paths::PathFilter::parse(p)
+            .map_err(|e| anyhow::anyhow!("--paths '{}': {e}", abbreviate(p)))?;
     }
     if args.ref_spp < 2 {
         bail!("--ref-spp must be at least 2 (two independent halves)");
     }
+    // Before any work: every output file and the reference cache can be written.
+    for f in ["bench.csv", "bench.png", "bench.md"] {
+        film::probe_writable(&args.out.join(f)).context("--out")?;
+    }
+    let probe = format!(".write-probe-{}", std::process::id());
+    film::probe_writable(&args.cache.join(probe)).context("--cache")?;
     let scenes = if args.scenes.is_empty() {
         refract::scene::builtin::NAMES
             .iter()
@@ -463,11 +544,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
         gpu,
         paths: args.paths.clone(),
     };
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = args.threads.filter(|&t| t > 0) {
-        pool = pool.num_threads(t);
-    }
-    let pool = pool.build().context("cannot start worker threads")?;
+    let pool = thread_pool(args.threads.filter(|&t| t > 0))?;
     let table = pool.install(|| refract::bench::run(&opts))?;
     println!("{table}");
     eprintln!(

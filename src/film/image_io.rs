@@ -4,7 +4,10 @@ use super::tonemap::{ToneMap, to_srgb8};
 use glam::Vec3;
 use std::path::Path;
 
-/// Check that `path` names a format we can write (call before rendering).
+/// Check, before rendering, that `path` names a format we can write and that it can be
+/// written: its folder is created as [`save_image`] would, then the file is opened for writing
+/// (created and removed again when it did not exist), so an unwritable output is an error
+/// before any work is done rather than after.
 pub fn check_output_path(path: &Path) -> anyhow::Result<()> {
     let ext = path
         .extension()
@@ -16,6 +19,45 @@ pub fn check_output_path(path: &Path) -> anyhow::Result<()> {
         "unsupported output format '{}': use .exr (linear) or .png (sRGB)",
         path.display()
     );
+    probe_writable(path)
+}
+
+/// Open `path` for writing without truncating it (creating its folder first) and remove it
+/// again if this created it: an error names the path and the reason.
+pub fn probe_writable(path: &Path) -> anyhow::Result<()> {
+    use anyhow::Context;
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        if let Some(file) = dir.ancestors().find(|a| a.is_file()) {
+            anyhow::bail!(
+                "cannot create folder '{}': '{}' is a file, not a folder",
+                dir.display(),
+                file.display()
+            );
+        }
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
+    }
+    // Opening a FIFO for writing would block until a reader comes; a folder cannot be written.
+    if let Ok(meta) = std::fs::metadata(path) {
+        anyhow::ensure!(
+            meta.is_file(),
+            "cannot write '{}': it exists and is not a regular file (a folder, FIFO or device)",
+            path.display()
+        );
+    }
+    let existed = std::fs::symlink_metadata(path).is_ok();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .with_context(|| format!("cannot write '{}'", path.display()))?;
+    if !existed {
+        std::fs::remove_file(path)
+            .with_context(|| format!("cannot remove the probe '{}'", path.display()))?;
+    }
     Ok(())
 }
 

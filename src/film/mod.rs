@@ -5,7 +5,7 @@
 pub mod image_io;
 pub mod tonemap;
 
-pub use image_io::{check_output_path, load_exr, save_image};
+pub use image_io::{check_output_path, load_exr, probe_writable, save_image};
 pub use tonemap::{ToneMap, exposure_scale, to_srgb8};
 
 use glam::Vec3;

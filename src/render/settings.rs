@@ -205,11 +205,24 @@ impl ViewerSettings {
             opts.rr_depth = r;
         }
         opts.seed = self.render.seed;
-        let filter = PathFilter::parse(&self.render.paths)
-            .map_err(|e| anyhow::anyhow!("invalid path filter '{}': {e}", self.render.paths))?;
+        let filter = PathFilter::parse(&self.render.paths).map_err(|e| {
+            anyhow::anyhow!(
+                "invalid path filter render.paths '{}': {e}",
+                abbreviate(&self.render.paths)
+            )
+        })?;
         opts.set_filter(Some(&filter));
         opts.estimator = self.render.estimator.resolve(scene);
         Ok(opts)
+    }
+}
+
+/// At most 60 characters of `s` for an error line, with "… (N characters)" when it was longer.
+pub fn abbreviate(s: &str) -> String {
+    const MAX: usize = 60;
+    match s.char_indices().nth(MAX) {
+        Some((i, _)) => format!("{}… ({} characters)", &s[..i], s.chars().count()),
+        None => s.to_owned(),
     }
 }
 

@@ -48,6 +48,47 @@ impl MaterialEdit {
         }
     }
 
+    /// Refuse values that break energy conservation or the arithmetic, naming the field:
+    /// IOR finite in 1e-3..=1e3 (the bound keeps η and 1/η far from f32 overflow; any real
+    /// material is 1..4), base and absorption colour components finite in 0..=1 (an albedo
+    /// above 1 creates energy), metallic and roughness in 0..=1, a positive absorption
+    /// distance and Abbe number. `refract render --settings` calls it on every sidecar edit.
+    pub fn check(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
+        let unit = |c: [f32; 3]| c.iter().all(|v| (0.0..=1.0).contains(v));
+        ensure!(
+            (1e-3..=1e3).contains(&self.ior),
+            "ior {} is out of range (finite, 1e-3..=1e3)",
+            self.ior
+        );
+        ensure!(
+            unit(self.base_color),
+            "base_color {:?} is out of range (each component in 0..=1: an albedo above 1 \
+             creates energy)",
+            self.base_color
+        );
+        ensure!(
+            unit(self.attenuation_color),
+            "attenuation_color {:?} is out of range (each component in 0..=1)",
+            self.attenuation_color
+        );
+        for (key, v) in [("metallic", self.metallic), ("roughness", self.roughness)] {
+            ensure!(
+                (0.0..=1.0).contains(&v),
+                "{key} {v} is out of range (0..=1)"
+            );
+        }
+        for (key, v) in [
+            ("attenuation_distance", self.attenuation_distance),
+            ("abbe", self.abbe),
+        ] {
+            if let Some(v) = v {
+                ensure!(v.is_finite() && v > 0.0, "{key} {v} must be finite and > 0");
+            }
+        }
+        Ok(())
+    }
+
     /// Write the overrides into `m` (emission and textures are left alone).
     pub fn apply_to(&self, m: &mut Material) {
         m.kind = self.kind;
@@ -97,6 +138,42 @@ impl Default for LightEdit {
 }
 
 impl LightEdit {
+    /// Refuse values [`LightEdit::tint`] and [`LightEdit::apply`] would silently replace or
+    /// that make no light (negative, NaN, infinite), naming the field. `refract render
+    /// --settings` calls it; the viewer keeps sanitising them.
+    pub fn check(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
+        let ok = |v: f32| v.is_finite() && v >= 0.0;
+        ensure!(
+            ok(self.intensity),
+            "intensity {} must be finite and ≥ 0",
+            self.intensity
+        );
+        ensure!(
+            self.color.iter().all(|&c| ok(c)),
+            "color {:?} must be finite and ≥ 0",
+            self.color
+        );
+        for (key, v) in [
+            ("temperature_k", self.temperature_k),
+            ("environment", self.environment),
+            ("size", Some(self.size)),
+        ] {
+            if let Some(v) = v {
+                ensure!(ok(v), "{key} {v} must be finite and ≥ 0");
+            }
+        }
+        for (key, v) in [
+            ("elevation_deg", self.elevation_deg),
+            ("azimuth_deg", self.azimuth_deg),
+        ] {
+            if let Some(v) = v {
+                ensure!(v.is_finite(), "{key} {v} must be finite");
+            }
+        }
+        Ok(())
+    }
+
     /// The RGB factor every light is multiplied by (intensity × colour).
     pub fn tint(&self) -> Vec3 {
         let c = match self.temperature_k {
@@ -290,8 +367,8 @@ impl CameraEdit {
     }
 }
 
-/// Write material overrides into `scene`; an edit that does not fit (no such material, or
-/// an invalid result) is skipped with a warning.
+/// Write material overrides into `scene`; an edit that does not fit (no such material, a
+/// value [`MaterialEdit::check`] refuses, or an invalid result) is skipped with a warning.
 pub fn apply_materials(edits: &[MaterialEdit], scene: &mut Scene, warnings: &mut Vec<String>) {
     for e in edits {
         match scene.materials.get_mut(e.index) {
@@ -301,6 +378,10 @@ pub fn apply_materials(edits: &[MaterialEdit], scene: &mut Scene, warnings: &mut
                         "material {} is '{}' here but '{}' in the settings; applied anyway",
                         e.index, m.name, e.name
                     ));
+                }
+                if let Err(err) = e.check() {
+                    warnings.push(format!("material edit {} skipped: {err}", e.index));
+                    continue;
                 }
                 let before = m.clone();
                 e.apply_to(m);
@@ -381,5 +462,21 @@ mod tests {
         let cam = o.camera(scene.camera.yfov);
         assert!((cam.position - scene.camera.position).length() < 1e-4);
         assert!((cam.forward() - scene.camera.forward()).length() < 1e-4);
+    }
+
+    #[test]
+    fn edits_that_break_energy_are_skipped_with_a_warning() {
+        let mut scene = crate::scene::builtin::cornell_glass();
+        let before = scene.materials.clone();
+        let mut ior = MaterialEdit::from_material(0, &scene.materials[0]);
+        ior.ior = 1e-30;
+        let mut albedo = MaterialEdit::from_material(0, &scene.materials[0]);
+        albedo.base_color = [1e30; 3];
+        let mut warnings = Vec::new();
+        apply_materials(&[ior, albedo], &mut scene, &mut warnings);
+        assert_eq!(scene.materials, before);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("ior"), "{}", warnings[0]);
+        assert!(warnings[1].contains("base_color"), "{}", warnings[1]);
     }
 }
