@@ -329,6 +329,20 @@ fn check_size(
             )
         );
     }
+    let film = refract::film::Film::bytes_for(s.width, s.height);
+    if film > refract::film::MAX_FILM_BYTES {
+        bail!(
+            "image size {}x{} from {} needs a {:.1} GiB film, more than the {} GiB budget",
+            s.width,
+            s.height,
+            from(
+                args.width.is_some() || args.height.is_some(),
+                "width/height"
+            ),
+            film as f64 / (1u64 << 30) as f64,
+            refract::film::MAX_FILM_BYTES >> 30
+        );
+    }
     if s.max_depth == 0 {
         let from = match (args.max_depth, sidecar) {
             (Some(_), _) => "--max-depth".to_owned(),

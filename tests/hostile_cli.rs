@@ -324,3 +324,28 @@ fn sidecar_material_values_that_break_energy_are_errors() {
         );
     }
 }
+
+/// The film budget is checked before anything is allocated: the largest allowed image side
+/// (16384², a 6 GiB f64 film) is one error line naming the budget and where the size came
+/// from, at once (before: the allocation aborted the process).
+#[test]
+fn a_film_over_budget_is_an_error_before_allocating() {
+    let t = fails_naming(
+        &[
+            "render",
+            "--scene",
+            "builtin:furnace",
+            "--width",
+            "16384",
+            "--height",
+            "16384",
+            "--spp",
+            "1",
+            "--out",
+            "/tmp/refract-never-written.exr",
+            "--quiet",
+        ],
+        &["16384x16384", "--width/--height", "GiB budget"],
+    );
+    assert!(t.as_secs_f64() < 10.0, "took {t:?}");
+}
