@@ -124,6 +124,7 @@ impl Bvh {
     /// Build a CWBVH over the mesh's triangles.
     pub fn build(mesh: &Mesh) -> Bvh {
         let start = Instant::now();
+        let extent = mesh_extent(mesh);
         let tris: Vec<Triangle> = (0..mesh.triangle_count())
             .map(|t| {
                 let [a, b, c] = mesh.tri(t);
@@ -160,8 +161,8 @@ impl Bvh {
             cwbvh,
             leaf_tris,
             leaf_to_tri,
-            dir_scale: direction_scale(mesh),
-            offset_scale: offset_scale(mesh),
+            dir_scale: direction_scale(extent),
+            offset_scale: offset_scale_for(extent),
             build_time: start.elapsed(),
         }
     }
@@ -261,24 +262,29 @@ fn traversal_ray(o: Vec3A, d: Vec3A, k: f32, tmax: f32) -> Ray {
 /// 1e-5 black. Traversing with the direction scaled by k (a power of two, so t' = t/k is exact)
 /// moves that cut-off to 1e-4·k. k makes it 2⁻¹⁶ of the scene's extent (k ≤ 1: large scenes
 /// keep their rays; ray/box maths stays exact up to the power of two).
-fn direction_scale(mesh: &Mesh) -> f32 {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for p in &mesh.positions {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let extent = (hi - lo).max_element();
+fn direction_scale(extent: f32) -> f32 {
     if !extent.is_finite() || extent <= 0.0 {
         return 1.0;
     }
     // 1e-4 · k ≤ extent · 2⁻¹⁶  ⇔  k ≤ extent · 2⁻¹⁶ / 1e-4.
     let k = extent * (1.0 / 65536.0) / 1e-4;
-    if k >= 1.0 {
-        1.0
-    } else {
-        // The largest power of two ≤ k, kept out of the subnormals.
-        f32::from_bits(k.max(f32::MIN_POSITIVE * 1024.0).to_bits() & 0xff80_0000)
+    pow2_floor(k.clamp(f32::MIN_POSITIVE * 1024.0, 1.0))
+}
+
+/// The largest power of two ≤ `x` (a positive normal float): its mantissa cleared.
+#[inline]
+fn pow2_floor(x: f32) -> f32 {
+    f32::from_bits(x.to_bits() & 0xff80_0000)
+}
+
+/// The largest side of the mesh's bounding box (NaN or −∞ for an empty mesh).
+fn mesh_extent(mesh: &Mesh) -> f32 {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for p in &mesh.positions {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
     }
+    (hi - lo).max_element()
 }
 
 /// Offset a ray origin off a surface along the geometric normal `n` (pointing to the side
@@ -318,16 +324,13 @@ pub fn offset_ray_origin(p: Vec3, n: Vec3, scale: f32) -> Vec3 {
 /// the scene would step over thin features near the origin, e.g. a 0.1 mm slab in a 100 m
 /// scene); 1 for an empty or degenerate mesh.
 pub fn offset_scale(mesh: &Mesh) -> f32 {
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for p in &mesh.positions {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let half = 0.5 * (hi - lo).max_element();
+    offset_scale_for(mesh_extent(mesh))
+}
+
+fn offset_scale_for(extent: f32) -> f32 {
+    let half = 0.5 * extent;
     if !half.is_finite() || half <= 0.0 {
         return 1.0;
     }
-    let clamped = half.clamp(2f32.powi(-100), 1.0);
-    // The largest power of two ≤ `clamped` (clear the mantissa).
-    f32::from_bits(clamped.to_bits() & 0xff80_0000)
+    pow2_floor(half.clamp(2f32.powi(-100), 1.0))
 }

@@ -33,6 +33,25 @@ pub fn medium_after_transmit(
     }
 }
 
+/// The medium a segment leaving a surface point along `w` travels in, for a path that
+/// arrived from `w_prev` in `current`: the same medium on the arrival side of `ng`, the
+/// transmitted one (`medium_after_transmit`) across it. One rule for NEE shadow rays and
+/// BDPT connections.
+#[inline]
+pub fn medium_towards(
+    scene: &Scene,
+    current: Medium,
+    material: u32,
+    (ng, w_prev): (Vec3, Vec3),
+    w: Vec3,
+) -> Medium {
+    if w.dot(ng) * w_prev.dot(ng) > 0.0 {
+        current
+    } else {
+        medium_after_transmit(scene, current, material, w, ng)
+    }
+}
+
 /// Beer–Lambert transmittance T = exp(−σ_a t) over distance `t` in `medium`, σ_a =
 /// −ln(attenuationColor)/attenuationDistance (glTF KHR_materials_volume); `None` when the
 /// medium does not absorb (so callers skip the multiply and stay bit-exact).

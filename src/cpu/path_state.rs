@@ -4,7 +4,7 @@
 //! weight (with the adjoint shading-normal correction for importance) and Russian roulette.
 
 use super::interaction::Interaction;
-use super::medium::{Medium, medium_after_transmit, medium_transmittance};
+use super::medium::{Medium, medium_after_transmit, medium_towards, medium_transmittance};
 use super::spectral::{Spectral, collapse_lanes};
 use crate::bsdf::{BsdfSample, Event, TransportMode};
 use crate::math::Color;
@@ -66,11 +66,7 @@ impl PathState {
     /// The medium a segment leaving `it` along `w` travels in.
     #[inline]
     pub fn medium_towards(&self, scene: &Scene, it: &Interaction, w: Vec3) -> Medium {
-        if w.dot(it.ng) * it.wo_w.dot(it.ng) > 0.0 {
-            self.medium
-        } else {
-            medium_after_transmit(scene, self.medium, it.hit.material, w, it.hit.ng)
-        }
+        medium_towards(scene, self.medium, it.hit.material, (it.ng, it.wo_w), w)
     }
 
     /// Scatter at `it` with the sample `s` into world direction `wi`.

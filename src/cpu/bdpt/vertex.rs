@@ -3,7 +3,7 @@
 
 use crate::bsdf::Bsdf;
 use crate::cpu::interaction::Interaction;
-use crate::cpu::medium::{Medium, medium_after_transmit};
+use crate::cpu::medium::{Medium, medium_towards};
 use crate::cpu::path_state::PathState;
 use crate::math::Color;
 use crate::paths::Symbol;
@@ -129,11 +129,10 @@ impl<'a> Vertex<'a> {
 
     /// The medium a segment leaving this vertex along `w` travels in.
     pub fn medium_towards(&self, scene: &Scene, w: Vec3) -> Medium {
-        if self.kind != Kind::Surface || w.dot(self.ng) * self.w_prev.dot(self.ng) > 0.0 {
-            self.medium
-        } else {
-            medium_after_transmit(scene, self.medium, self.material, w, self.ng)
+        if self.kind != Kind::Surface {
+            return self.medium;
         }
+        medium_towards(scene, self.medium, self.material, (self.ng, self.w_prev), w)
     }
 }
 
