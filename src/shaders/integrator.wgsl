@@ -193,7 +193,7 @@ fn integrator_light_mis(pick: LightPick, ls: LightLiSample, hit: SurfaceHit, wo:
 
 // One next-event estimate at `hit` (without the path throughput), MIS-weighted.
 // Twin of `Integrator::sample_light` (plus the light-tracing strategy when HAS_LT).
-fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis) -> vec4<f32> {
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis, medium: u32, mat: Material) -> vec4<f32> {
     let zero = vec4<f32>(0.0);
     let pick = light_set_pick(ul);
     if pick.prob <= 0.0 {
@@ -220,7 +220,22 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
         return zero;
     }
     let w = integrator_light_mis(pick, ls, hit, wo, wi, bsdf, lt);
-    return f * abs(wi.z) * li * (w / ls.pdf);
+    let c = f * abs(wi.z) * li * (w / ls.pdf);
+    // Absorption along the shadow ray (a light inside absorbing glass).
+    if ls.infinite {
+        return c;
+    }
+    let m = medium_towards(medium, mat, hit.material, ng, wo_w, ls.wi);
+    return c * connection_transmittance(m, length(ls.p_light - hit.p), sp);
+}
+
+// Beer–Lambert along a connection of length `t` in `medium` (1 outside every medium): the
+// twin of the CPU's `medium_transmittance` on NEE shadow rays and BDPT connections.
+fn connection_transmittance(medium: u32, t: f32, sp: Spectral) -> vec4<f32> {
+    if !HAS_ABSORPTION || medium == NO_MEDIUM {
+        return vec4<f32>(1.0);
+    }
+    return medium_transmittance(materials[medium], t, sp);
 }
 
 // A quiet NaN (the film firewall drops and counts it), built at run time.
@@ -439,7 +454,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
             let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
             if mask.d || mask.g {
-                ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt);
+                ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt, ps.medium, mat);
             }
         }
 

@@ -102,6 +102,16 @@ fn medium_after_transmit(medium: u32, mat: Material, material: u32, wi_w: vec3<f
     return NO_MEDIUM;
 }
 
+// The medium a segment leaving a surface along `w` travels in, for a path that arrived from
+// `w_prev` in `medium`: the same medium on the arrival side of `ng`, the transmitted one
+// across it (cpu::medium::medium_towards). NEE shadow rays and light-tracing connections.
+fn medium_towards(medium: u32, mat: Material, material: u32, ng: vec3<f32>, w_prev: vec3<f32>, w: vec3<f32>) -> u32 {
+    if dot3(w, ng) * dot3(w_prev, ng) > 0.0 {
+        return medium;
+    }
+    return medium_after_transmit(medium, mat, material, w, ng);
+}
+
 // Ray origin at p, pushed off the surface to the side the new direction leaves on
 // (side_i = ωi·ng). Wächter & Binder 2019 offsets (`offset_ray_origin`).
 fn offset_ray_origin_towards(p: vec3<f32>, ng: vec3<f32>, side_i: f32) -> vec3<f32> {

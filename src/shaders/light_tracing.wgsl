@@ -236,7 +236,7 @@ fn light_walk_arrive(lw: ptr<function, LightWalk>, hit: SurfaceHit, sp: Spectral
 // Connect light vertex ym (non-delta BSDF `bsdf` at `hit`) to the camera and splat its
 // MIS-weighted contribution. Returns 1 if the value was rejected by the firewall.
 // `dispersive`: ym's BSDF depends on the wavelength (the contribution keeps the hero lane).
-fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf, sp: Spectral, dispersive: bool) -> u32 {
+fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf, sp: Spectral, dispersive: bool) -> u32 {
     let to_cam = params.cam_pos.xyz - hit.p;
     let d2 = dot3(to_cam, to_cam);
     if !(d2 > 0.0) {
@@ -279,6 +279,8 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, ng: vec3<f32>, ns: vec3<f32>, fram
     if bvh_occluded(origin, params.cam_pos.xyz - origin, 1.0) {
         return 0u;
     }
+    // Absorption along the connection to the camera (a camera inside absorbing glass).
+    v4 *= connection_transmittance(medium_towards(lw.medium, mat, hit.material, ng, wo_w, wc), sqrt(d2), sp);
     // MIS: densities of the other strategies relative to this one (p_t1).
     let pc_m = camera_pdf_dir(c) * abs(dot3(ng, wc)) / d2;
     let pc_back = bsdf_pdf(bsdf, wi, wo);
@@ -412,7 +414,7 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         let wo = frame_to_local(frame, wo_w);
         // The full path x0 … xk has k = m + 1 segments.
         if !bsdf_is_delta(bsdf) {
-            rejected += lt_connect(lw, hit, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
+            rejected += lt_connect(lw, hit, mat, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
         }
         if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
             break;
