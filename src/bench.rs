@@ -28,6 +28,8 @@ const RUN_SEED: u32 = 0x0bad_cafe;
 #[derive(Clone, Debug)]
 pub struct BenchOptions {
     pub scenes: Vec<String>,
+    /// Budgets and URI permission of the glTF scenes.
+    pub limits: crate::scene::gltf_load::LoadLimits,
     /// Time budget of the measured run per scene and device.
     pub budget: Duration,
     pub out: PathBuf,
@@ -192,7 +194,7 @@ pub fn bench_scene_cpu(
     spec: &str,
     o: &BenchOptions,
 ) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
-    let mut scene = Scene::load(spec)?;
+    let mut scene = Scene::load_with(spec, &o.limits)?;
     let lit = !scene.emissive_triangles().is_empty()
         || !scene.punctual_lights.is_empty()
         || scene.environment.max_element() > 0.0;

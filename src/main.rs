@@ -12,9 +12,11 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 mod cli_duration;
+mod cli_load;
 mod gpu_render;
 
 use cli_duration::parse_duration;
+use cli_load::LoadArgs;
 
 #[derive(Parser)]
 #[command(
@@ -42,6 +44,8 @@ struct BenchArgs {
     /// Scenes (paths or builtin:NAME); default: every built-in scene.
     #[arg(long, num_args = 1..)]
     scenes: Vec<String>,
+    #[command(flatten)]
+    load: LoadArgs,
     /// Time budget of each measured run.
     #[arg(long, default_value = "20s", value_parser = parse_duration)]
     budget: Duration,
@@ -88,6 +92,8 @@ struct ViewArgs {
     /// Close the window after this many frames (CI, screenshots).
     #[arg(long)]
     frames: Option<u64>,
+    #[command(flatten)]
+    load: LoadArgs,
     /// Close the window after this much time (e.g. 5s, 2m).
     #[arg(long, value_parser = parse_duration)]
     exit_after: Option<Duration>,
@@ -107,6 +113,8 @@ struct RenderArgs {
     /// spp; flags given explicitly override it.
     #[arg(long)]
     settings: Option<PathBuf>,
+    #[command(flatten)]
+    load: LoadArgs,
     /// Samples per pixel (default: the sidecar's, else the scene's extras.render.spp; with
     /// --time-budget alone, as many as the budget allows).
     #[arg(long)]
@@ -215,7 +223,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     if !exposure.is_finite() {
         bail!("{exposure_from} must be a finite number (exposure in stops), got {exposure}");
     }
-    let mut scene = Scene::load(&spec)?;
+    let mut scene = Scene::load_with(&spec, &args.load.limits())?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -546,6 +554,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
     };
     let opts = refract::bench::BenchOptions {
         scenes,
+        limits: args.load.limits(),
         budget: args.budget,
         out: args.out.clone(),
         width: args.width,
@@ -574,6 +583,7 @@ fn view(args: ViewArgs) -> Result<()> {
         frames: args.frames,
         exit_after: args.exit_after,
         device: args.device,
+        limits: args.load.limits(),
     })
 }
 

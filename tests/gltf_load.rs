@@ -1131,18 +1131,13 @@ fn bad_accessors_and_views() {
 fn unknown_extensions_and_odd_hierarchies_still_load() {
     let s = load(&one_triangle(json!({
         "extensionsUsed": ["EXT_fancy", "KHR_materials_clearcoat"],
-        "extensionsRequired": ["EXT_fancy"],
         "scenes": [{"nodes": [0, 7]}],
         "nodes": [{"mesh": 0, "children": [1]}, {"children": [0]}],
         "materials": [{"extensions": {"KHR_materials_sheen": {}}}]
     })))
     .unwrap();
     assert_eq!(s.mesh.triangle_count(), 1);
-    assert!(
-        has_warning(&s, "EXT_fancy (listed as required)"),
-        "{:?}",
-        s.warnings
-    );
+    assert!(has_warning(&s, "EXT_fancy"), "{:?}", s.warnings);
     assert!(has_warning(&s, "KHR_materials_clearcoat"));
     assert!(has_warning(&s, "KHR_materials_sheen"));
     assert!(
@@ -1158,6 +1153,26 @@ fn unknown_extensions_and_odd_hierarchies_still_load() {
             .count(),
         1
     );
+}
+
+/// glTF 2.0 §3.12: an asset whose `extensionsRequired` names an extension the loader does not
+/// support must not load; a supported one listed as required loads.
+#[test]
+fn unknown_required_extensions_are_refused() {
+    let gltf = one_triangle(json!({
+        "extensionsUsed": ["KHR_materials_ior", "EXT_fancy"],
+        "extensionsRequired": ["KHR_materials_ior", "EXT_fancy"]
+    }));
+    let e = format!("{:#}", load_slice(gltf.as_bytes(), None, "t").unwrap_err());
+    assert!(
+        e.contains("/extensionsRequired/1") && e.contains("EXT_fancy"),
+        "{e}"
+    );
+    let ok = one_triangle(json!({
+        "extensionsUsed": ["KHR_materials_volume"],
+        "extensionsRequired": ["KHR_materials_volume"]
+    }));
+    load(&ok).unwrap();
 }
 
 /// Deterministic mutation fuzzing: flipped bytes and truncations of a valid .glb and .gltf

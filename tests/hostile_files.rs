@@ -5,7 +5,7 @@
 //! a warning naming its source, never a hang or a panic.
 
 use refract::scene::Scene;
-use refract::scene::gltf_load::load_path;
+use refract::scene::gltf_load::{LoadLimits, load_path, load_path_with};
 use std::path::{Path, PathBuf};
 
 /// A fresh folder for one test.
@@ -306,4 +306,107 @@ fn budgets_are_checked_before_allocating() {
             assert!(w.contains("accessor 0") && w.contains("allowed"), "{w}");
         }
     }
+}
+
+/// `--allow-absolute-uris` (LoadLimits::allow_absolute_uris) lets a URI leave the scene's
+/// folder, but still only to a regular file.
+#[test]
+fn absolute_uris_load_only_when_allowed() {
+    let d = folder("allow-abs");
+    let inner = d.join("scene");
+    std::fs::create_dir_all(&inner).expect("dir");
+    std::fs::write(d.join("outside.bin"), triangle_bytes()).expect("bin");
+    let allow = LoadLimits {
+        allow_absolute_uris: true,
+        ..LoadLimits::default()
+    };
+    let abs = d.join("outside.bin").display().to_string();
+    for uri in ["../outside.bin", abs.as_str()] {
+        let p = gltf(&inner, uri, 36, None);
+        let e = err(&p);
+        assert!(e.contains("--allow-absolute-uris"), "{uri}: {e}");
+        let s = load_path_with(&p, &allow).expect("allowed");
+        assert_eq!(s.mesh.triangle_count(), 1, "{uri}");
+    }
+    let e = format!(
+        "{:#}",
+        load_path_with(&gltf(&inner, "/dev/zero", 36, None), &allow).expect_err("a device")
+    );
+    assert!(e.contains("not a regular file"), "{e}");
+}
+
+/// The triangle and texture-pixel budgets are the caller's (CLI flags): a scene over a lowered
+/// budget is one error naming the budget, the value and the flag that raises it.
+#[test]
+fn lowered_budgets_name_the_flag_that_raises_them() {
+    let d = folder("lowered");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let png = d.join("tex.png");
+    image::RgbaImage::from_pixel(64, 32, image::Rgba([200, 100, 50, 255]))
+        .save(&png)
+        .expect("png");
+    let p = gltf(&d, "tri.bin", 36, Some("tex.png"));
+    let s = load_path(&p).expect("within the default budgets");
+    assert_eq!(s.textures.len(), 1);
+    let tight = |t, px| LoadLimits {
+        max_triangles: t,
+        max_texture_pixels: px,
+        ..LoadLimits::default()
+    };
+    load_path_with(&p, &tight(1, 2048)).expect("exactly at both budgets");
+    let e = format!(
+        "{:#}",
+        load_path_with(&p, &tight(0, 2048)).expect_err("0 triangles")
+    );
+    assert!(
+        e.contains("more than 0 triangles") && e.contains("--max-triangles"),
+        "{e}"
+    );
+    let e = format!(
+        "{:#}",
+        load_path_with(&p, &tight(1, 2047)).expect_err("texels")
+    );
+    assert!(
+        e.contains("64x32") && e.contains("2048 texels") && e.contains("--max-texture-pixels"),
+        "{e}"
+    );
+}
+
+/// A PNG whose header claims 16385² pixels is refused from its header, before decoding.
+#[test]
+fn an_image_too_large_for_its_header_is_refused_before_decoding() {
+    let d = folder("huge-png");
+    std::fs::write(d.join("tri.bin"), triangle_bytes()).expect("bin");
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([1, 2, 3, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .expect("png");
+    // IHDR width and height are the big-endian u32 at bytes 16..24 (PNG spec §11.2.2).
+    png[16..20].copy_from_slice(&16385u32.to_be_bytes());
+    png[20..24].copy_from_slice(&16385u32.to_be_bytes());
+    let crc = crc32(&png[12..29]);
+    png[29..33].copy_from_slice(&crc.to_be_bytes());
+    std::fs::write(d.join("huge.png"), &png).expect("png");
+    let t0 = std::time::Instant::now();
+    let s = load_path(&gltf(&d, "tri.bin", 36, Some("huge.png"))).expect("loads untextured");
+    let w = s.warnings.join("\n");
+    assert!(w.contains("image 0") && w.contains("out of range"), "{w}");
+    assert!(s.textures.is_empty());
+    assert!(t0.elapsed().as_secs_f64() < 5.0, "took {:?}", t0.elapsed());
+}
+
+/// CRC-32 (ISO-HDLC, as PNG chunks use; PNG spec Annex D), bit by bit.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xedb8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
 }

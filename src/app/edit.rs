@@ -156,7 +156,8 @@ impl ViewerApp {
     /// Load a scene; on failure the error is shown and the old scene keeps rendering.
     fn open_scene(&mut self, spec: &str) {
         let spec = spec.trim();
-        let loaded = Scene::load(spec).and_then(|s| s.validate().map(|_| s));
+        let loaded =
+            Scene::load_with(spec, &self.load_limits).and_then(|s| s.validate().map(|_| s));
         match loaded {
             Ok(base) => {
                 let warnings = base.warnings.clone();

@@ -16,6 +16,7 @@ use crate::bvh::Bvh;
 use crate::render::Device;
 use crate::render::settings::{DEFAULT_SCENE, ViewerSettings};
 use crate::scene::edits::Orbit;
+use crate::scene::gltf_load::LoadLimits;
 use crate::scene::{Material, Scene};
 use backend::{Backend, CpuBackend, DisplayParams};
 pub use edit::Edit;
@@ -38,6 +39,8 @@ pub struct ViewOptions {
     pub exit_after: Option<Duration>,
     /// Which renderer drives the viewport.
     pub device: Device,
+    /// Budgets and URI permission of every glTF the viewer opens.
+    pub limits: LoadLimits,
 }
 
 /// A message shown at the top of the side panel until dismissed.
@@ -62,6 +65,8 @@ struct FrameStats {
 
 /// The viewer: scene model, edits, selection and the backend rendering them.
 pub struct ViewerApp {
+    /// Budgets and URI permission of the glTF files opened from the viewer.
+    pub load_limits: LoadLimits,
     /// Every setting (persisted; written as the screenshot sidecar).
     pub settings: ViewerSettings,
     /// The scene as loaded.
@@ -135,6 +140,7 @@ impl ViewerApp {
             display_device: String::new(),
             dialog: None,
             exit_frames: None,
+            load_limits: LoadLimits::default(),
             exit_after: None,
             stats: FrameStats {
                 started: Instant::now(),
@@ -517,7 +523,7 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
     // Load before opening the window so a bad path is a plain CLI error.
-    let base = Scene::load(&spec)?;
+    let base = Scene::load_with(&spec, &opts.limits)?;
     base.validate()?;
     for w in &base.warnings {
         eprintln!("warning: {w}");
@@ -554,6 +560,7 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 app.messages.info = Some(n);
             }
             app.exit_frames = opts.frames;
+            app.load_limits = opts.limits;
             app.exit_after = opts.exit_after;
             Ok(Box::new(app))
         }),

@@ -19,6 +19,8 @@ use std::path::Path;
 
 /// Version of the sidecar format (bump on incompatible changes).
 pub const FORMAT_VERSION: u32 = 1;
+/// The most bytes a settings sidecar may have (a real one is a few kB).
+pub const MAX_SETTINGS_BYTES: u64 = 16 << 20;
 
 /// The scene the viewer opens without arguments.
 pub const DEFAULT_SCENE: &str = "builtin:cornell-glass";
@@ -137,15 +139,25 @@ impl ViewerSettings {
         self.camera = CameraEdit::default();
     }
 
+    /// Read a sidecar: a regular file (a FIFO or `/dev/zero` is refused before reading) of at
+    /// most `MAX_SETTINGS_BYTES`.
     pub fn load(path: &Path) -> anyhow::Result<ViewerSettings> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read settings '{}'", path.display()))?;
-        let s: ViewerSettings = serde_json::from_str(&text)
-            .with_context(|| format!("'{}' is not a refract settings file", path.display()))?;
+        let bytes =
+            crate::scene::gltf_load::read_regular_file(path, MAX_SETTINGS_BYTES, "settings")
+                .map_err(anyhow::Error::msg)?;
+        let text = std::str::from_utf8(&bytes)
+            .with_context(|| format!("settings '{}' is not UTF-8 text", path.display()))?;
+        Self::parse(text)
+            .with_context(|| format!("'{}' is not a refract settings file", path.display()))
+    }
+
+    /// Parse a sidecar's JSON text (the fuzz target's entry point: any text gives `Ok` or an
+    /// error, never a panic).
+    pub fn parse(text: &str) -> anyhow::Result<ViewerSettings> {
+        let s: ViewerSettings = serde_json::from_str(text)?;
         anyhow::ensure!(
             s.format <= FORMAT_VERSION,
-            "'{}' has settings format {}, this build reads up to {FORMAT_VERSION}",
-            path.display(),
+            "it has settings format {}, this build reads up to {FORMAT_VERSION}",
             s.format
         );
         Ok(s)

@@ -133,10 +133,16 @@ pub struct Scene {
 impl Scene {
     /// Load from a path or `builtin:NAME`.
     pub fn load(spec: &str) -> anyhow::Result<Scene> {
+        Self::load_with(spec, &gltf_load::LoadLimits::default())
+    }
+
+    /// `load` with the budgets and URI permission of `limits` (glTF files only; built-ins are
+    /// within every budget).
+    pub fn load_with(spec: &str, limits: &gltf_load::LoadLimits) -> anyhow::Result<Scene> {
         if let Some(name) = spec.strip_prefix("builtin:") {
             builtin::load(name)
         } else {
-            gltf_load::load_path(Path::new(spec))
+            gltf_load::load_path_with(Path::new(spec), limits)
         }
     }
 

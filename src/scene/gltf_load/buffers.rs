@@ -3,7 +3,8 @@
 //! bytes long (shorter is an error, longer is cut), so a file can neither claim data it does
 //! not have nor make us read more than it declares.
 
-use super::files::{MAX_FILE_BYTES, read_regular_file, resolve_inside};
+use super::files::{read_regular_file, resolve_uri};
+use super::limits::LoadLimits;
 use super::uri::{base64_decode, percent_decode};
 use gltf::json;
 use std::path::Path;
@@ -13,20 +14,22 @@ pub(super) fn load_buffers(
     root: &json::Root,
     mut blob: Option<Vec<u8>>,
     base: Option<&Path>,
+    limits: &LoadLimits,
 ) -> Result<Vec<Vec<u8>>, String> {
+    let max = limits.max_file_bytes;
     let mut out = Vec::with_capacity(root.buffers.len());
     for (i, b) in root.buffers.iter().enumerate() {
         let len = b.byte_length.0;
-        if len > MAX_FILE_BYTES {
+        if len > max {
             return Err(format!(
-                "buffer {i}: byteLength {len} is more than the {MAX_FILE_BYTES} bytes allowed"
+                "buffer {i}: byteLength {len} is more than the {max} bytes allowed"
             ));
         }
         let mut data = match b.uri.as_deref() {
             None => blob.take().ok_or_else(|| {
                 format!("buffer {i} has no URI and the file has no GLB binary chunk")
             })?,
-            Some(uri) => buffer_from_uri(uri, base, i)?,
+            Some(uri) => buffer_from_uri(uri, base, i, limits)?,
         };
         if (data.len() as u64) < len {
             return Err(format!(
@@ -41,7 +44,12 @@ pub(super) fn load_buffers(
 }
 
 /// A buffer's bytes from a `data:` URI or a file next to the scene.
-fn buffer_from_uri(uri: &str, base: Option<&Path>, i: usize) -> Result<Vec<u8>, String> {
+fn buffer_from_uri(
+    uri: &str,
+    base: Option<&Path>,
+    i: usize,
+    limits: &LoadLimits,
+) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (head, data) = rest
             .split_once(',')
@@ -71,8 +79,9 @@ fn buffer_from_uri(uri: &str, base: Option<&Path>, i: usize) -> Result<Vec<u8>, 
     let base = base.ok_or_else(|| {
         format!("buffer {i}: external file '{rel}' but no folder to read it from")
     })?;
-    let path = resolve_inside(base, &rel, &format!("buffer {i}"))?;
-    read_regular_file(&path, MAX_FILE_BYTES, &format!("buffer {i}"))
+    let what = format!("buffer {i}");
+    let path = resolve_uri(base, &rel, &what, limits.allow_absolute_uris)?;
+    read_regular_file(&path, limits.max_file_bytes, &what)
 }
 
 /// At most 80 characters of a long input, for messages.

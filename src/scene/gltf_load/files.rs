@@ -6,10 +6,6 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-/// The most bytes a scene file, one buffer or one image file may have (a clear error beyond;
-/// far above any real scene's files).
-pub const MAX_FILE_BYTES: u64 = 4 << 30;
-
 /// The contents of the regular file `path`, at most `max` bytes; `what` names it in errors.
 pub fn read_regular_file(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, String> {
     let shown = path.display();
@@ -39,18 +35,27 @@ pub fn read_regular_file(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, S
     Ok(bytes)
 }
 
-/// The file a relative URI `rel` (already percent-decoded) names inside the folder `base`;
-/// an error if it resolves outside it (absolute paths, `..`, symbolic links out of it).
-pub fn resolve_inside(base: &Path, rel: &str, what: &str) -> Result<PathBuf, String> {
+/// The file a URI `rel` (already percent-decoded) names relative to the folder `base`; unless
+/// `allow_outside`, an error if it resolves outside that folder (absolute paths, `..`,
+/// symbolic links out of it).
+pub fn resolve_uri(
+    base: &Path,
+    rel: &str,
+    what: &str,
+    allow_outside: bool,
+) -> Result<PathBuf, String> {
     let full = base.join(rel);
     let canon = std::fs::canonicalize(&full)
         .map_err(|e| format!("cannot read {what} '{}': {e}", full.display()))?;
+    if allow_outside {
+        return Ok(canon);
+    }
     let canon_base = std::fs::canonicalize(base)
         .map_err(|e| format!("cannot read the scene's folder '{}': {e}", base.display()))?;
     if !canon.starts_with(&canon_base) {
         return Err(format!(
             "{what} URI '{rel}' points outside the scene's folder '{}' (refused: a glTF may \
-             only read files next to it)",
+             only read files next to it unless --allow-absolute-uris is given)",
             base.display()
         ));
     }

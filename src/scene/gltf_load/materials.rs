@@ -72,14 +72,14 @@ impl Loader<'_> {
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
 
-        let base_color_texture = pbr
-            .base_color_texture
-            .as_ref()
-            .and_then(|t| self.texture_ref(t, true, &name));
-        let metallic_roughness_texture = pbr
-            .metallic_roughness_texture
-            .as_ref()
-            .and_then(|t| self.texture_ref(t, false, &name));
+        let base_color_texture = match &pbr.base_color_texture {
+            Some(t) => self.texture_ref(t, true, &name)?,
+            None => None,
+        };
+        let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
+            Some(t) => self.texture_ref(t, false, &name)?,
+            None => None,
+        };
 
         let kind = self.material_kind(
             &name,

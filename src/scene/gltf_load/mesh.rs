@@ -26,9 +26,6 @@ struct WorldVertices {
     flip: bool,
 }
 
-/// The most triangles a scene may have after instancing (a large real scene fits).
-pub const MAX_TRIANGLES: u64 = 100_000_000;
-
 impl Loader<'_> {
     pub(super) fn mesh_node(&mut self, ni: usize, mi: usize, world: Mat4) -> anyhow::Result<()> {
         let Some(mesh) = self.root.meshes.get(mi) else {
@@ -65,7 +62,7 @@ impl Loader<'_> {
         prim.indices.map_or(vertices, |i| count(i.value())) / 3
     }
 
-    /// The scene stays within `MAX_TRIANGLES` after instancing, checked from the accessor
+    /// The scene stays within `limits.max_triangles` after instancing, checked from the accessor
     /// counts of every node the traversal will reach before anything is decoded (100,000
     /// nodes instancing one mesh would otherwise build 800 M triangles from a 3 MB file and
     /// abort on memory).
@@ -86,10 +83,11 @@ impl Loader<'_> {
                     .map(|p| self.primitive_triangles(p))
                     .sum::<u64>();
             }
+            let max = self.limits.max_triangles;
             anyhow::ensure!(
-                total <= MAX_TRIANGLES,
-                "the scene has more than {MAX_TRIANGLES} triangles after instancing (reached \
-                 at node {ni}): refused before building it"
+                total <= max,
+                "the scene has more than {max} triangles after instancing (reached at node \
+                 {ni}): refused before building it (raise the budget with --max-triangles)"
             );
             stack.extend(node.children.iter().flatten().map(|c| c.value()));
         }

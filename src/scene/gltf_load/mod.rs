@@ -28,6 +28,7 @@ mod decode;
 mod extras;
 mod files;
 mod lights;
+pub mod limits;
 mod materials;
 mod mesh;
 mod nodes;
@@ -35,6 +36,8 @@ mod textures;
 mod uri;
 
 pub use cameras::default_camera;
+pub use files::read_regular_file;
+pub use limits::LoadLimits;
 
 use super::{Camera, Material, Mesh, PunctualLight, Scene, Texture};
 use anyhow::{Context, anyhow, bail};
@@ -57,20 +60,36 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 /// Transmission factors at or above this make a material a dielectric.
 pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
 
-/// Load a `.gltf` or `.glb` file.
+/// Load a `.gltf` or `.glb` file with the default limits.
 pub fn load_path(path: &Path) -> anyhow::Result<Scene> {
+    load_path_with(path, &LoadLimits::default())
+}
+
+/// Load a `.gltf` or `.glb` file within `limits`.
+pub fn load_path_with(path: &Path, limits: &LoadLimits) -> anyhow::Result<Scene> {
     let bytes =
-        files::read_regular_file(path, files::MAX_FILE_BYTES, "scene").map_err(|e| anyhow!(e))?;
+        files::read_regular_file(path, limits.max_file_bytes, "scene").map_err(|e| anyhow!(e))?;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| path.display().to_string());
-    load_slice(&bytes, path.parent(), &name)
+    load_slice_with(&bytes, path.parent(), &name, limits)
         .with_context(|| format!("cannot load glTF scene '{}'", path.display()))
 }
 
 /// Load from bytes; `base` resolves relative URIs (None = only embedded data).
 pub fn load_slice(bytes: &[u8], base: Option<&Path>, name: &str) -> anyhow::Result<Scene> {
+    load_slice_with(bytes, base, name, &LoadLimits::default())
+}
+
+/// Load glTF JSON or GLB bytes within `limits` (`base`: the folder external URIs are read
+/// from).
+pub fn load_slice_with(
+    bytes: &[u8],
+    base: Option<&Path>,
+    name: &str,
+    limits: &LoadLimits,
+) -> anyhow::Result<Scene> {
     if bytes.is_empty() {
         bail!("'{name}' is empty (0 bytes): not a glTF file");
     }
@@ -79,13 +98,15 @@ pub fn load_slice(bytes: &[u8], base: Option<&Path>, name: &str) -> anyhow::Resu
         .map_err(|e| anyhow!("'{name}' is not valid glTF: {e}"))?;
     let root = gltf.document.as_json();
     uri::check_uris(root)?;
-    let buffers = buffers::load_buffers(root, gltf.blob.clone(), base)
+    let buffers = buffers::load_buffers(root, gltf.blob.clone(), base, limits)
         .map_err(|e| anyhow!("cannot load the buffers of '{name}': {e}"))?;
     let buffers: Vec<&[u8]> = buffers.iter().map(|b| b.as_slice()).collect();
     let mut loader = Loader {
         root,
         buffers,
         base,
+        limits: *limits,
+        texture_pixels: 0,
         warnings: Warnings::default(),
         textures: vec![],
         texture_cache: HashMap::new(),
@@ -128,6 +149,9 @@ struct Loader<'a> {
     root: &'a json::Root,
     buffers: Vec<&'a [u8]>,
     base: Option<&'a Path>,
+    limits: LoadLimits,
+    /// Texels of the textures loaded so far (against `limits.max_texture_pixels`).
+    texture_pixels: u64,
     warnings: Warnings,
     textures: Vec<Texture>,
     /// (glTF texture index, sRGB) → scene texture (None = failed to load).
@@ -147,7 +171,7 @@ struct Loader<'a> {
 impl Loader<'_> {
     fn run(&mut self, name: &str) -> anyhow::Result<Scene> {
         let root = self.root;
-        self.check_extensions();
+        self.check_extensions()?;
         if !root.skins.is_empty() || !root.animations.is_empty() {
             self.warnings.push(
                 "skins and animations are ignored (the scene is loaded in its rest pose)".into(),
@@ -216,14 +240,22 @@ impl Loader<'_> {
         Ok(scene)
     }
 
-    fn check_extensions(&mut self) {
+    /// Unsupported extensions: refused when the file lists them in `extensionsRequired` (the
+    /// glTF 2.0 spec, §3.12: a loader must not load an asset whose required extensions it
+    /// does not support), else one warning each and ignored.
+    fn check_extensions(&mut self) -> anyhow::Result<()> {
         let root = self.root;
-        let mut names: Vec<&str> = root
-            .extensions_required
-            .iter()
-            .chain(&root.extensions_used)
-            .map(|s| s.as_str())
-            .collect();
+        for (i, n) in root.extensions_required.iter().enumerate() {
+            if !SUPPORTED_EXTENSIONS.contains(&n.as_str()) {
+                bail!(
+                    "/extensionsRequired/{i}: the file requires the extension '{}', which \
+                     refract does not support (supported: {})",
+                    buffers::abbreviate(n),
+                    SUPPORTED_EXTENSIONS.join(", ")
+                );
+            }
+        }
+        let mut names: Vec<&str> = root.extensions_used.iter().map(|s| s.as_str()).collect();
         for m in &root.materials {
             if let Some(e) = &m.extensions {
                 names.extend(e.others.keys().map(|k| k.as_str()));
@@ -231,18 +263,11 @@ impl Loader<'_> {
         }
         for n in names {
             if !SUPPORTED_EXTENSIONS.contains(&n) {
-                let required = root.extensions_required.iter().any(|r| r == n);
                 self.warnings.once(&format!("ext:{n}"), || {
-                    format!(
-                        "unsupported extension {n}{} is ignored",
-                        if required {
-                            " (listed as required)"
-                        } else {
-                            ""
-                        }
-                    )
+                    format!("unsupported extension {n} is ignored")
                 });
             }
         }
+        Ok(())
     }
 }

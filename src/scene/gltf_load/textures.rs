@@ -9,12 +9,14 @@ use gltf::json;
 use gltf::json::validation::Checked;
 
 impl Loader<'_> {
+    /// The texture `info` names, loaded once per (texture, colour space); None with a warning
+    /// if it cannot be used; an error if it would exceed the texture-pixel budget.
     pub(super) fn texture_ref(
         &mut self,
         info: &json::texture::Info,
         srgb: bool,
         mat: &str,
-    ) -> Option<TextureRef> {
+    ) -> anyhow::Result<Option<TextureRef>> {
         let ti = info.index.value();
         let tex = match self.texture_cache.get(&(ti, srgb)) {
             Some(t) => *t,
@@ -24,7 +26,8 @@ impl Loader<'_> {
                         self.textures.push(t);
                         Some(self.textures.len() as u32 - 1)
                     }
-                    Err(e) => {
+                    Err(TextureError::OverBudget(e)) => anyhow::bail!("material '{mat}': {e}"),
+                    Err(TextureError::Unusable(e)) => {
                         self.warnings.push(format!(
                             "material '{mat}': texture {ti} cannot be used ({e}); using no texture"
                         ));
@@ -34,7 +37,10 @@ impl Loader<'_> {
                 self.texture_cache.insert((ti, srgb), t);
                 t
             }
-        }?;
+        };
+        let Some(tex) = tex else {
+            return Ok(None);
+        };
         let mut tex_coord = info.tex_coord;
         let mut transform = Affine2::IDENTITY;
         if let Some(tt) = info
@@ -63,14 +69,14 @@ impl Loader<'_> {
                 "only TEXCOORD_0 is loaded; textures using other sets read TEXCOORD_0".into()
             });
         }
-        Some(TextureRef {
+        Ok(Some(TextureRef {
             texture: tex,
             tex_coord,
             transform,
-        })
+        }))
     }
 
-    fn load_texture(&self, ti: usize, srgb: bool) -> Result<Texture, String> {
+    fn load_texture(&mut self, ti: usize, srgb: bool) -> Result<Texture, TextureError> {
         let root = self.root;
         let t = root
             .textures
@@ -88,33 +94,38 @@ impl Loader<'_> {
                 .ok_or_else(|| format!("image {ii}: buffer view does not exist"))?;
             self.view_bytes(vi.value(), view)?.to_vec()
         } else if let Some(uri) = &img.uri {
-            uri::image_bytes(uri, self.base, ii)?
+            uri::image_bytes(uri, self.base, ii, &self.limits)?
         } else {
-            return Err(format!("image {ii} has neither bufferView nor uri"));
+            return Err(format!("image {ii} has neither bufferView nor uri").into());
         };
-        let dynimg = image::load_from_memory(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
-        let (w, h) = (dynimg.width(), dynimg.height());
+        let (w, h) = image_size(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
         if w == 0 || h == 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
-            return Err(format!("image {ii}: size {w}x{h} out of range"));
+            return Err(format!("image {ii}: size {w}x{h} out of range").into());
+        }
+        self.charge_texels(ii, w, h)?;
+        let dynimg = image::load_from_memory(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
+        if (dynimg.width(), dynimg.height()) != (w, h) {
+            return Err(format!("image {ii}: decoded size differs from its header").into());
         }
         let rgba = dynimg.to_rgba32f();
-        let texels = rgba
-            .pixels()
-            .map(|p| {
-                let v = Vec4::from(p.0);
-                let v = if v.is_finite() { v } else { Vec4::ZERO };
-                if srgb {
-                    Vec4::new(
-                        srgb_to_linear(v.x),
-                        srgb_to_linear(v.y),
-                        srgb_to_linear(v.z),
-                        v.w,
-                    )
-                } else {
-                    v
-                }
-            })
-            .collect();
+        let mut texels = Vec::new();
+        texels.try_reserve_exact(rgba.pixels().len()).map_err(|_| {
+            TextureError::OverBudget(format!("image {ii}: out of memory for {w}x{h} texels"))
+        })?;
+        texels.extend(rgba.pixels().map(|p| {
+            let v = Vec4::from(p.0);
+            let v = if v.is_finite() { v } else { Vec4::ZERO };
+            if srgb {
+                Vec4::new(
+                    srgb_to_linear(v.x),
+                    srgb_to_linear(v.y),
+                    srgb_to_linear(v.z),
+                    v.w,
+                )
+            } else {
+                v
+            }
+        }));
         let (mut wrap_s, mut wrap_t, mut linear) = (Wrap::Repeat, Wrap::Repeat, true);
         if let Some(si) = t.sampler
             && let Some(s) = root.samplers.get(si.value())
@@ -135,6 +146,44 @@ impl Loader<'_> {
             linear,
         })
     }
+}
+
+/// Why a texture is not used: a broken image (a warning, the material goes untextured) or
+/// the scene's texture-pixel budget (an error: the scene would not render as written).
+enum TextureError {
+    Unusable(String),
+    OverBudget(String),
+}
+
+impl From<String> for TextureError {
+    fn from(e: String) -> Self {
+        TextureError::Unusable(e)
+    }
+}
+
+impl Loader<'_> {
+    /// Count a `w`×`h` image against `limits.max_texture_pixels` before decoding it.
+    fn charge_texels(&mut self, ii: usize, w: u32, h: u32) -> Result<(), TextureError> {
+        let total = self.texture_pixels + u64::from(w) * u64::from(h);
+        let max = self.limits.max_texture_pixels;
+        if total > max {
+            return Err(TextureError::OverBudget(format!(
+                "image {ii} ({w}x{h}) brings the scene's textures to {total} texels, more than \
+                 the {max} allowed (raise the budget with --max-texture-pixels)"
+            )));
+        }
+        self.texture_pixels = total;
+        Ok(())
+    }
+}
+
+/// Width and height from an image's header, without decoding it.
+fn image_size(bytes: &[u8]) -> Result<(u32, u32), String> {
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?
+        .into_dimensions()
+        .map_err(|e| e.to_string())
 }
 
 fn wrap_mode(w: &Checked<json::texture::WrappingMode>) -> Wrap {

@@ -66,7 +66,12 @@ pub(super) fn base64_decode(s: &str) -> Option<Vec<u8>> {
 }
 
 /// The bytes of image `ii` from its URI: a base64 `data:` URI or a file relative to `base`.
-pub(super) fn image_bytes(uri: &str, base: Option<&Path>, ii: usize) -> Result<Vec<u8>, String> {
+pub(super) fn image_bytes(
+    uri: &str,
+    base: Option<&Path>,
+    ii: usize,
+    limits: &super::limits::LoadLimits,
+) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let data = rest
             .split_once(',')
@@ -84,7 +89,7 @@ pub(super) fn image_bytes(uri: &str, base: Option<&Path>, ii: usize) -> Result<V
         let base =
             base.ok_or_else(|| format!("image {ii}: external file '{rel}' but no base directory"))?;
         let what = format!("image {ii}");
-        let path = super::files::resolve_inside(base, &rel, &what)?;
-        super::files::read_regular_file(&path, super::files::MAX_FILE_BYTES, &what)
+        let path = super::files::resolve_uri(base, &rel, &what, limits.allow_absolute_uris)?;
+        super::files::read_regular_file(&path, limits.max_file_bytes, &what)
     }
 }
