@@ -919,7 +919,11 @@ fn extras_render_and_environment() {
         json!({"scenes": [{"nodes": [0], "extras": {"render": {"width": 0}}}]}),
     ))
     .unwrap_err();
-    assert!(format!("{e:#}").contains("image size"), "{e:#}");
+    // Named by its key, not as the image size it would have become.
+    assert!(
+        format!("{e:#}").contains("extras.render.width is 0"),
+        "{e:#}"
+    );
 }
 
 #[test]

@@ -349,3 +349,67 @@ fn a_film_over_budget_is_an_error_before_allocating() {
     );
     assert!(t.as_secs_f64() < 10.0, "took {t:?}");
 }
+
+/// `--settings` naming a FIFO (which would block forever), `/dev/zero` (never ends) or a folder
+/// is refused before reading; a sidecar over its size budget too.
+#[test]
+fn settings_from_pipes_and_devices_are_refused() {
+    let d = tmp_dir("settings-fifo");
+    let out = s(&d.join("x.exr"));
+    let fifo = d.join("pipe.json");
+    let _ = std::fs::remove_file(&fifo);
+    if Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|st| st.success())
+    {
+        let t = fails_naming(
+            &["render", "--settings", &s(&fifo), "--out", &out],
+            &["settings", "not a regular file", "pipe.json"],
+        );
+        assert!(t < Duration::from_secs(20), "took {t:?}");
+    }
+    for p in ["/dev/zero", d.to_str().expect("utf-8 temp dir")] {
+        fails_naming(
+            &["render", "--settings", p, "--out", &out],
+            &["settings", "not a regular file"],
+        );
+    }
+    let big = d.join("big.json");
+    std::fs::write(&big, vec![b' '; (16 << 20) + 1]).expect("big sidecar");
+    fails_naming(
+        &["render", "--settings", &s(&big), "--out", &out],
+        &["settings", "big.json", "allowed"],
+    );
+}
+
+/// A shipped glTF over a lowered `--max-triangles` is one error line naming the flag.
+#[test]
+fn load_budget_flags_reach_the_loader() {
+    let out = s(&tmp_dir("budget-flags").join("x.exr"));
+    let glb = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/prism.glb");
+    fails_naming(
+        &[
+            "render",
+            "--scene",
+            glb,
+            "--max-triangles",
+            "3",
+            "--out",
+            &out,
+        ],
+        &["prism", "--max-triangles"],
+    );
+    fails_naming(
+        &[
+            "bench",
+            "--scenes",
+            glb,
+            "--max-triangles",
+            "3",
+            "--budget",
+            "1s",
+        ],
+        &["prism", "--max-triangles"],
+    );
+}

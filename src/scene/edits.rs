@@ -52,7 +52,7 @@ impl MaterialEdit {
     /// IOR finite in 1e-3..=1e3 (the bound keeps η and 1/η far from f32 overflow; any real
     /// material is 1..4), base and absorption colour components finite in 0..=1 (an albedo
     /// above 1 creates energy), metallic and roughness in 0..=1, a positive absorption
-    /// distance and Abbe number. `refract render --settings` calls it on every sidecar edit.
+    /// distance and an Abbe number ≥ 1. `refract render --settings` calls it on every sidecar edit.
     pub fn check(&self) -> anyhow::Result<()> {
         use anyhow::ensure;
         let unit = |c: [f32; 3]| c.iter().all(|v| (0.0..=1.0).contains(v));
@@ -78,13 +78,15 @@ impl MaterialEdit {
                 "{key} {v} is out of range (0..=1)"
             );
         }
-        for (key, v) in [
-            ("attenuation_distance", self.attenuation_distance),
-            ("abbe", self.abbe),
-        ] {
-            if let Some(v) = v {
-                ensure!(v.is_finite() && v > 0.0, "{key} {v} must be finite and > 0");
-            }
+        if let Some(v) = self.attenuation_distance {
+            ensure!(
+                v.is_finite() && v > 0.0,
+                "attenuation_distance {v} must be finite and > 0"
+            );
+        }
+        if let Some(v) = self.abbe {
+            // As the glTF loader clamps dispersion: V_d ≥ 1 keeps the Cauchy fit positive.
+            ensure!(v.is_finite() && v >= 1.0, "abbe {v} must be finite and ≥ 1");
         }
         Ok(())
     }

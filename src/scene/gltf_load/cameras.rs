@@ -25,6 +25,7 @@ impl Loader<'_> {
                 if !(yfov.is_finite() && yfov > 1e-4 && yfov < std::f32::consts::PI - 1e-3) {
                     bail!("camera {ci}: yfov {yfov} is outside (0, π) radians");
                 }
+                self.check_clip_planes(ci, p.znear, p.zfar);
                 let c = Camera::from_matrix(world, yfov);
                 c.validate()
                     .with_context(|| format!("camera {ci} on node {ni}"))?;
@@ -34,7 +35,25 @@ impl Loader<'_> {
                 "camera {ci}: only perspective cameras are supported; ignored"
             )),
         }
+        if matches!(cam.type_, Checked::Invalid) {
+            self.warnings.push(format!(
+                "camera {ci}: unknown camera type (glTF knows perspective and orthographic); \
+                 read as perspective"
+            ));
+        }
         Ok(())
+    }
+
+    /// glTF requires 0 < znear < zfar; a path tracer has no clip planes, so invalid ones only
+    /// warn (the file is broken, the render is not).
+    fn check_clip_planes(&mut self, ci: usize, znear: f32, zfar: Option<f32>) {
+        let far_ok = zfar.is_none_or(|f| f > znear);
+        if !(znear > 0.0 && znear.is_finite() && far_ok) {
+            self.warnings.push(format!(
+                "camera {ci}: clip planes znear {znear}, zfar {zfar:?} are invalid (glTF needs \
+                 0 < znear < zfar); ignored, as a path tracer does not clip"
+            ));
+        }
     }
 }
 

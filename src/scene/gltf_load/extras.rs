@@ -27,37 +27,70 @@ fn get_u32(obj: &Value, key: &str) -> anyhow::Result<Option<u32>> {
                 .filter(|x| x.fract() == 0.0 && *x >= 0.0 && *x <= u32::MAX as f64);
             match x {
                 Some(x) => Ok(Some(x as u32)),
-                None => bail!("extras.render.{key} must be a non-negative integer, got {v}"),
+                None => bail!(
+                    "extras.render.{key} must be a non-negative integer, got {}",
+                    abbreviate(&v.to_string())
+                ),
             }
         }
     }
 }
 
 /// `scenes[0].extras.render` → settings (defaults for what is missing).
-pub(super) fn parse_render_settings(extras: Option<&Value>) -> anyhow::Result<RenderSettings> {
+/// The keys `extras.render` may have.
+const RENDER_KEYS: [&str; 5] = ["width", "height", "max_depth", "rr_depth", "spp"];
+
+/// Unknown keys of `extras.render` (a typo such as `sp` would otherwise silently keep the
+/// default) go to `warnings`.
+pub(super) fn parse_render_settings(
+    extras: Option<&Value>,
+    warnings: &mut Vec<String>,
+) -> anyhow::Result<RenderSettings> {
     let mut s = RenderSettings::default();
     let Some(r) = extras.and_then(|e| e.get("render")) else {
         return Ok(s);
     };
-    if !r.is_object() {
-        bail!("extras.render must be an object, got {r}");
+    let Some(obj) = r.as_object() else {
+        bail!(
+            "/scenes/0/extras/render (extras.render) must be an object, got {}",
+            abbreviate(&r.to_string())
+        );
+    };
+    for k in obj.keys().filter(|k| !RENDER_KEYS.contains(&k.as_str())) {
+        warnings.push(format!(
+            "extras.render.{} is not a render setting (known: {}); ignored",
+            abbreviate(k),
+            RENDER_KEYS.join(", ")
+        ));
     }
-    if let Some(v) = get_u32(r, "width")? {
-        s.width = v;
-    }
-    if let Some(v) = get_u32(r, "height")? {
-        s.height = v;
-    }
-    if let Some(v) = get_u32(r, "max_depth")? {
-        s.max_depth = v;
-    }
-    if let Some(v) = get_u32(r, "rr_depth")? {
-        s.rr_depth = v;
-    }
-    if let Some(v) = get_u32(r, "spp")? {
-        s.spp = v;
+    let side = 1..=crate::scene::MAX_IMAGE_SIDE;
+    for (key, field, range) in [
+        ("width", &mut s.width, side.clone()),
+        ("height", &mut s.height, side),
+        ("max_depth", &mut s.max_depth, 0..=u32::MAX),
+        ("rr_depth", &mut s.rr_depth, 0..=u32::MAX),
+        ("spp", &mut s.spp, 1..=u32::MAX),
+    ] {
+        if let Some(v) = get_u32(r, key)? {
+            if !range.contains(&v) {
+                bail!(
+                    "extras.render.{key} is {v}, outside {}..={}",
+                    range.start(),
+                    range.end()
+                );
+            }
+            *field = v;
+        }
     }
     Ok(s)
+}
+
+/// At most 60 characters of `s`, for messages.
+fn abbreviate(s: &str) -> String {
+    match s.char_indices().nth(60) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_owned(),
+    }
 }
 
 /// `scenes[0].extras.environment` → uniform radiance `[r, g, b]` (a single number = grey).

@@ -7,7 +7,9 @@ use gltf::json;
 use gltf::json::validation::Checked;
 
 impl Loader<'_> {
-    pub(super) fn light_node(&mut self, ni: usize, li: usize, world: Mat4) {
+    /// The light `li` on node `ni`: invalid values are skipped with a warning, except an
+    /// intensity that overflows f32 (an error, as an overflowing emissive material is).
+    pub(super) fn light_node(&mut self, ni: usize, li: usize, world: Mat4) -> anyhow::Result<()> {
         let light = self
             .root
             .extensions
@@ -18,16 +20,23 @@ impl Loader<'_> {
             self.warnings.push(format!(
                 "node {ni}: KHR_lights_punctual light {li} does not exist (index out of range)"
             ));
-            return;
+            return Ok(());
         };
         use json::extensions::scene::khr_lights_punctual::Type as LT;
         let color = Vec3::from(light.color);
         let intensity = color * light.intensity;
+        // As for emissive materials: beyond 1e20 the light's power (4π·I) overflows f32.
+        anyhow::ensure!(
+            !intensity.to_array().iter().any(|c| c.abs() > 1e20),
+            "light {li} (/extensions/KHR_lights_punctual/lights/{li}): colour × intensity \
+             is above 1e20, where f32 light power overflows (intensity {}, colour {color})",
+            light.intensity
+        );
         if !intensity.is_finite() || intensity.min_element() < 0.0 {
             self.warnings.push(format!(
                 "light {li}: colour × intensity must be finite and non-negative; ignored"
             ));
-            return;
+            return Ok(());
         }
         if light.range.is_some() {
             self.warnings.once("light-range", || {
@@ -42,7 +51,7 @@ impl Loader<'_> {
             self.warnings.push(format!(
                 "light {li}: node {ni} has a degenerate rotation; ignored"
             ));
-            return;
+            return Ok(());
         }
         let l = match light.type_ {
             Checked::Valid(LT::Point) => PunctualLight::Point {
@@ -59,8 +68,7 @@ impl Loader<'_> {
                     .as_ref()
                     .map(|s| (s.inner_cone_angle, s.outer_cone_angle))
                     .unwrap_or((0.0, std::f32::consts::FRAC_PI_4));
-                let outer = outer.clamp(0.0, std::f32::consts::FRAC_PI_2);
-                let inner = inner.clamp(0.0, outer);
+                let (inner, outer) = self.spot_cone(li, inner, outer);
                 PunctualLight::Spot {
                     position,
                     direction,
@@ -72,9 +80,33 @@ impl Loader<'_> {
             Checked::Invalid => {
                 self.warnings
                     .push(format!("light {li}: unknown light type; ignored"));
-                return;
+                return Ok(());
             }
         };
         self.lights.push(l);
+        Ok(())
+    }
+
+    /// KHR_lights_punctual: 0 ≤ innerConeAngle < outerConeAngle ≤ π/2; anything else is
+    /// clamped into that order with a warning.
+    fn spot_cone(&mut self, li: usize, inner: f32, outer: f32) -> (f32, f32) {
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        let o = if outer.is_nan() {
+            half_pi / 2.0
+        } else {
+            outer.clamp(0.0, half_pi)
+        };
+        let i = if inner.is_nan() {
+            0.0
+        } else {
+            inner.clamp(0.0, o)
+        };
+        if (i, o) != (inner, outer) || inner >= outer {
+            self.warnings.push(format!(
+                "light {li}: spot cone angles inner {inner}, outer {outer} are not \
+                 0 ≤ inner < outer ≤ π/2; using inner {i}, outer {o}"
+            ));
+        }
+        (i, o)
     }
 }

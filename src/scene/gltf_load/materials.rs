@@ -12,6 +12,12 @@ use serde_json::Value;
 /// The largest emitted radiance a material may have (far above any real light; beyond ~1e36
 /// the light distribution's power sums overflow f32).
 const MAX_EMISSION: f32 = 1e20;
+/// The largest IOR accepted (as for a sidecar's IOR edit; the densest real glass is ≈ 2.4 and
+/// far larger values only break the Fresnel arithmetic).
+const MAX_IOR: f32 = 1e3;
+/// The largest `KHR_materials_dispersion.dispersion` (20 / V_d) kept: V_d ≥ 1, where the
+/// Cauchy fit stays positive over the visible range for any IOR up to 3.
+const MAX_DISPERSION: f64 = 20.0;
 
 /// `KHR_materials_volume` as the scene contract uses it.
 struct Volume {
@@ -60,6 +66,12 @@ impl Loader<'_> {
             .and_then(|e| e.transmission.as_ref())
             .map(|t| t.transmission_factor.0)
             .unwrap_or(0.0);
+        let transmission = clamp01(
+            transmission,
+            &name,
+            "transmissionFactor",
+            &mut self.warnings,
+        );
         let ior = self.ior(ext, &name, i)?;
         let volume = self.volume(ext, &name);
         let emission = self.emission(m, ext, &name, i)?;
@@ -129,6 +141,13 @@ impl Loader<'_> {
                 "material '{name}': invalid baseColorFactor; using white"
             ));
             base_color = Vec3::ONE;
+        } else if base_color.max_element() > 1.0 {
+            // An albedo above 1 reflects more light than arrives (glTF: factors in [0, 1]).
+            self.warnings.push(format!(
+                "material '{name}': baseColorFactor {base_color} has a component above 1 (an \
+                 albedo above 1 creates energy); clamped to [0, 1]"
+            ));
+            base_color = base_color.min(Vec3::ONE);
         }
         let metallic = clamp01(
             pbr.metallic_factor.0,
@@ -159,9 +178,9 @@ impl Loader<'_> {
             .map(|i| i.ior.0)
             .unwrap_or(1.5);
         anyhow::ensure!(
-            ior.is_finite() && ior > 0.0,
+            ior.is_finite() && ior > 0.0 && ior <= MAX_IOR,
             "material {i} ('{name}'): /materials/{i}/extensions/KHR_materials_ior/ior is {ior}; \
-             an index of refraction must be a positive finite number"
+             an index of refraction must be a positive finite number, at most {MAX_IOR}"
         );
         if ior < 1.0 {
             self.warnings.push(format!(
@@ -175,22 +194,41 @@ impl Loader<'_> {
     /// `KHR_materials_volume` (no attenuation when absent or invalid).
     fn volume(&mut self, ext: Option<&json::extensions::material::Material>, name: &str) -> Volume {
         let volume = ext.and_then(|e| e.volume.as_ref());
-        let thickness = volume.map(|v| v.thickness_factor.0).unwrap_or(0.0);
+        let mut thickness = volume.map(|v| v.thickness_factor.0).unwrap_or(0.0);
+        if thickness.is_nan() || thickness < 0.0 {
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_volume thicknessFactor {thickness} is not a \
+                 non-negative number; using 0 (thin-walled)"
+            ));
+            thickness = 0.0;
+        }
         let mut attenuation_color = volume
             .map(|v| Vec3::from(v.attenuation_color.0))
             .unwrap_or(Vec3::ONE);
         let mut attenuation_distance = volume
             .map(|v| v.attenuation_distance.0)
             .unwrap_or(f32::INFINITY);
-        if !(attenuation_color.is_finite() && attenuation_color.min_element() >= 0.0)
-            || attenuation_distance.is_nan()
-            || attenuation_distance <= 0.0
-        {
+        if attenuation_distance.is_nan() || attenuation_distance <= 0.0 {
             self.warnings.push(format!(
-                "material '{name}': invalid volume attenuation; ignored"
+                "material '{name}': KHR_materials_volume attenuationDistance \
+                 {attenuation_distance} must be positive; attenuation ignored"
             ));
             attenuation_color = Vec3::ONE;
             attenuation_distance = f32::INFINITY;
+        }
+        if !(attenuation_color.is_finite() && attenuation_color.min_element() >= 0.0) {
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_volume attenuationColor {attenuation_color} \
+                 must be finite and non-negative; attenuation ignored"
+            ));
+            attenuation_color = Vec3::ONE;
+            attenuation_distance = f32::INFINITY;
+        } else if attenuation_color.max_element() > 1.0 {
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_volume attenuationColor {attenuation_color} \
+                 above 1 would amplify light; clamped to [0, 1]"
+            ));
+            attenuation_color = attenuation_color.min(Vec3::ONE);
         }
         Volume {
             thickness,
@@ -213,8 +251,10 @@ impl Loader<'_> {
             .unwrap_or(1.0);
         let mut emission = Vec3::from(m.emissive_factor.0) * strength;
         if !(emission.is_finite() && emission.min_element() >= 0.0) {
-            self.warnings
-                .push(format!("material '{name}': invalid emission; ignored"));
+            self.warnings.push(format!(
+                "material '{name}': emissiveFactor × emissiveStrength = {emission} is negative \
+                 or not finite; emission ignored"
+            ));
             emission = Vec3::ZERO;
         }
         // Radiance this large overflows f32 in the light's power (π·L·A) and the image: the
@@ -278,6 +318,13 @@ impl Loader<'_> {
         if let Some(d) = ext.and_then(|e| e.others.get("KHR_materials_dispersion")) {
             match d.get("dispersion").map(|v| v.as_f64()) {
                 None => {}
+                Some(Some(x)) if x.is_finite() && x > MAX_DISPERSION => {
+                    self.warnings.push(format!(
+                        "material '{name}': KHR_materials_dispersion.dispersion {x} is above \
+                         {MAX_DISPERSION} (Abbe number below 1); clamped to {MAX_DISPERSION}"
+                    ));
+                    abbe = Some((20.0 / MAX_DISPERSION) as f32);
+                }
                 Some(Some(x)) if x.is_finite() && x >= 0.0 => {
                     // dispersion 0 = none; otherwise V_d = 20 / dispersion.
                     abbe = (x > 0.0).then(|| (20.0 / x) as f32);

@@ -37,7 +37,7 @@ impl Loader<'_> {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
             match self.primitive(prim, world) {
                 Ok(()) => {}
-                Err(e) => self.skip_primitive(format!("mesh {mi} primitive {pi}: {e}")),
+                Err(e) => self.skip_primitive(format!("mesh {mi} primitive {pi} (node {ni}): {e}")),
             }
         }
         Ok(())

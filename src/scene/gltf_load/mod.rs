@@ -27,6 +27,7 @@ mod cameras;
 mod decode;
 mod extras;
 mod files;
+mod json_error;
 mod lights;
 pub mod limits;
 mod materials;
@@ -94,9 +95,12 @@ pub fn load_slice_with(
         bail!("'{name}' is empty (0 bytes): not a glTF file");
     }
     let bytes = decode::check_glb_header(bytes)?;
-    let gltf = gltf::Gltf::from_slice_without_validation(bytes)
-        .map_err(|e| anyhow!("'{name}' is not valid glTF: {e}"))?;
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| {
+        let why = json_error::describe(decode::json_text(bytes), &e);
+        anyhow!("'{name}' is not valid glTF: {why}")
+    })?;
     let root = gltf.document.as_json();
+    check_version(&root.asset)?;
     uri::check_uris(root)?;
     let buffers = buffers::load_buffers(root, gltf.blob.clone(), base, limits)
         .map_err(|e| anyhow!("cannot load the buffers of '{name}': {e}"))?;
@@ -121,6 +125,28 @@ pub fn load_slice_with(
         first_skip_reason: None,
     };
     loader.run(name)
+}
+
+/// glTF 2.0 §5.3 (asset): a loader must refuse a major version it does not know, and a
+/// `minVersion` above the one it implements.
+fn check_version(asset: &json::Asset) -> anyhow::Result<()> {
+    let major = |v: &str| v.split('.').next().map(str::to_owned).unwrap_or_default();
+    let short = |v: &str| buffers::abbreviate(v);
+    if major(&asset.version) != "2" {
+        bail!(
+            "/asset/version is '{}': only glTF 2.x is supported",
+            short(&asset.version)
+        );
+    }
+    if let Some(min) = &asset.min_version
+        && min.as_str() != "2.0"
+    {
+        bail!(
+            "/asset/minVersion is '{}': this loader implements glTF 2.0",
+            short(min)
+        );
+    }
+    Ok(())
 }
 
 /// Warnings, with "once" semantics for repeated problems.
@@ -181,7 +207,8 @@ impl Loader<'_> {
             Some(s) => extras::extras_value(&s.extras, "/scenes/0/extras")?,
             None => None,
         };
-        let settings = extras::parse_render_settings(settings_value.as_ref())?;
+        let settings =
+            extras::parse_render_settings(settings_value.as_ref(), &mut self.warnings.list)?;
         let environment = extras::parse_environment(settings_value.as_ref())?;
 
         for (i, m) in root.materials.iter().enumerate() {

@@ -89,7 +89,7 @@ impl Loader<'_> {
                 .as_ref()
                 .and_then(|e| e.khr_lights_punctual.as_ref())
             {
-                self.light_node(ni, l.light.value(), world);
+                self.light_node(ni, l.light.value(), world)?;
             }
             for c in node.children.iter().flatten().rev() {
                 stack.push((c.value(), world, depth + 1));
