@@ -44,6 +44,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         );
     }
     let mut opts = RenderOptions::from_scene(scene);
+    opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
     opts.set_filter(Some(filter));
     opts.estimator = estimator;

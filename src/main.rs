@@ -162,6 +162,10 @@ struct RenderArgs {
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Most memory the film may take, in GiB (24 bytes per pixel, 36 with light tracing's
+    /// splat film); an image beyond it is refused before anything is allocated.
+    #[arg(long, default_value_t = 2.0, value_name = "GIB", value_parser = parse_gib)]
+    max_film_gib: f64,
     /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
     #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
@@ -186,6 +190,8 @@ struct Job {
     filter: refract::paths::PathFilter,
     /// `--estimator`, resolved for the scene (never `auto`).
     estimator: Estimator,
+    /// `--max-film-gib` in bytes.
+    max_film_bytes: u64,
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
@@ -306,6 +312,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         seed,
         filter,
         estimator,
+        max_film_bytes: film_budget(args),
     };
     Ok((scene, job))
 }
@@ -338,9 +345,10 @@ fn check_size(
         );
     }
     let film = refract::film::Film::bytes_for(s.width, s.height);
-    if film > refract::film::MAX_FILM_BYTES {
+    if film > film_budget(args) {
         bail!(
-            "image size {}x{} from {} needs a {:.1} GiB film, more than the {} GiB budget",
+            "image size {}x{} from {} needs a {:.1} GiB film, more than the {} GiB budget \
+             (raise it with --max-film-gib)",
             s.width,
             s.height,
             from(
@@ -348,7 +356,7 @@ fn check_size(
                 "width/height"
             ),
             film as f64 / (1u64 << 30) as f64,
-            refract::film::MAX_FILM_BYTES >> 30
+            args.max_film_gib
         );
     }
     if s.max_depth == 0 {
@@ -419,6 +427,22 @@ fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     })
 }
 
+/// `--max-film-gib` in bytes.
+fn film_budget(args: &RenderArgs) -> u64 {
+    (args.max_film_gib * (1u64 << 30) as f64) as u64
+}
+
+/// A positive, finite number of GiB, at most 2²⁰ (1 PiB).
+fn parse_gib(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= (1u64 << 20) as f64 => Ok(v),
+        _ => Err(format!(
+            "'{}' is not a size in GiB (a positive number up to 1048576)",
+            abbreviate(s)
+        )),
+    }
+}
+
 fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
     let &Job {
         spp,
@@ -431,6 +455,7 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
     let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
+    opts.max_film_bytes = job.max_film_bytes;
     opts.seed = seed;
     opts.set_filter(Some(&job.filter));
     opts.estimator = estimator;

@@ -345,9 +345,37 @@ fn a_film_over_budget_is_an_error_before_allocating() {
             "/tmp/refract-never-written.exr",
             "--quiet",
         ],
-        &["16384x16384", "--width/--height", "GiB budget"],
+        &[
+            "16384x16384",
+            "--width/--height",
+            "GiB budget",
+            "--max-film-gib",
+        ],
     );
     assert!(t.as_secs_f64() < 10.0, "took {t:?}");
+    // The budget is the user's: lowered, a 256² film (1.5 MiB) is over 0.001 GiB.
+    let out = s(&tmp_dir("film-gib").join("x.exr"));
+    let small = [
+        "--width", "256", "--height", "256", "--spp", "1", "--out", &out,
+    ];
+    let mut args = vec![
+        "render",
+        "--scene",
+        "builtin:furnace",
+        "--max-film-gib",
+        "0.001",
+    ];
+    args.extend(small);
+    fails_naming(&args, &["256x256", "0.001 GiB budget"]);
+    for bad in ["0", "-1", "inf", "lots"] {
+        let flag = format!("--max-film-gib={bad}");
+        let (code, err, _) = refract(&["render", &flag, "--out", &out]);
+        assert_ne!(code, 0, "{bad}: {err}");
+        assert!(
+            err.contains("--max-film-gib") && err.contains("GiB"),
+            "{bad}: {err}"
+        );
+    }
 }
 
 /// `--settings` naming a FIFO (which would block forever), `/dev/zero` (never ends) or a folder

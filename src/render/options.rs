@@ -20,6 +20,9 @@ pub struct RenderOptions {
     /// GPU: samples per pixel per dispatch (None: about 2²⁰ samples per dispatch, 1..=16
     /// spp). The CPU renderer sizes its passes the same way and ignores it.
     pub batch_spp: Option<u32>,
+    /// The most bytes the film may take (`render --max-film-gib`; default
+    /// [`crate::film::MAX_FILM_BYTES`]).
+    pub max_film_bytes: u64,
 }
 
 impl RenderOptions {
@@ -36,6 +39,7 @@ impl RenderOptions {
             filter_forward: None,
             estimator: Estimator::Path,
             batch_spp: None,
+            max_film_bytes: crate::film::MAX_FILM_BYTES,
         }
     }
 
@@ -76,12 +80,13 @@ impl RenderOptions {
         );
         let bytes = crate::film::Film::bytes_for(self.width, self.height);
         anyhow::ensure!(
-            bytes <= crate::film::MAX_FILM_BYTES,
-            "a {}x{} image needs a {:.1} GiB film, more than the {} GiB budget",
+            bytes <= self.max_film_bytes,
+            "a {}x{} image needs a {:.1} GiB film, more than the {:.1} GiB budget (raise it \
+             with --max-film-gib)",
             self.width,
             self.height,
             bytes as f64 / (1u64 << 30) as f64,
-            crate::film::MAX_FILM_BYTES >> 30
+            self.max_film_bytes as f64 / (1u64 << 30) as f64
         );
         anyhow::ensure!(self.max_depth >= 1, "max_depth must be at least 1");
         Ok(())
