@@ -9,11 +9,13 @@
 //! - [`upload`]: scene → GPU arrays (BVH2 repack in leaf order, materials, light CDF).
 //! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
 //! - [`light_probe`]: the light twin probe (light.wgsl against `scene::light::Light`).
+//! - [`kernels`]: each entry point of a specialisation as WGSL and SPIR-V (dumps, register budgets).
 //! - [`prelude`]: the WGSL constants generated from their Rust definitions.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
 //! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
 pub mod context;
+pub mod kernels;
 pub mod layout;
 pub mod light_probe;
 pub mod pipeline;

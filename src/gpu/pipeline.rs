@@ -169,7 +169,30 @@ impl Specialization {
         }
     }
 
-    fn constants(&self) -> Vec<(&'static str, f64)> {
+    /// Every part compiled in (the worst case for registers).
+    pub fn all() -> Specialization {
+        Specialization {
+            lambert: true,
+            mirror: true,
+            smooth_dielectric: true,
+            thin_dielectric: true,
+            rough_dielectric: true,
+            rough_conductor: true,
+            metal_rough: true,
+            ggx: true,
+            beckmann: true,
+            area_lights: true,
+            punctual_lights: true,
+            absorption: true,
+            textures: true,
+            filter: true,
+            spectral: true,
+            light_tracing: true,
+        }
+    }
+
+    /// The override constants that specialise the integrator module.
+    pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let b = |x: bool| if x { 1.0 } else { 0.0 };
         vec![
             ("HAS_LAMBERT", b(self.lambert)),
@@ -203,7 +226,11 @@ pub enum Kernel {
 }
 
 impl Kernel {
-    fn entry(self) -> &'static str {
+    /// Every kernel of the integrator module.
+    pub const ALL: [Kernel; 2] = [Kernel::Render, Kernel::LightTrace];
+
+    /// The WGSL entry point's name.
+    pub fn entry(self) -> &'static str {
         match self {
             Kernel::Render => "render",
             Kernel::LightTrace => "light_trace",
