@@ -17,6 +17,8 @@ pub struct Renderer {
     pub lights: LightSet,
     /// The scene has a dispersive material: paths carry hero wavelengths.
     pub spectral: bool,
+    /// The scene's dielectric volumes nest or overlap: paths keep a medium stack.
+    pub nested: bool,
 }
 
 impl Renderer {
@@ -25,12 +27,15 @@ impl Renderer {
         scene.validate()?;
         let bvh = Bvh::build(&scene.mesh);
         let lights = LightSet::build(&scene);
-        let spectral = scene.features().contains(Features::DISPERSION);
+        let features = scene.features();
+        let spectral = features.contains(Features::DISPERSION);
+        let nested = features.contains(Features::NESTED);
         Ok(Renderer {
             scene,
             bvh,
             lights,
             spectral,
+            nested,
         })
     }
 
@@ -43,6 +48,7 @@ impl Renderer {
             rr_depth: opts.rr_depth,
             filter: opts.filter.as_ref(),
             spectral: self.spectral,
+            nested: self.nested,
         }
     }
 

@@ -1,0 +1,40 @@
+//! Nested dielectrics (Schmidt & Budge 2002, "Simple nested dielectrics in ray traced
+//! images"): the limits the CPU (`cpu::medium`) and GPU (interaction.wgsl) medium stacks
+//! share, and the test that decides whether a scene needs the stack at all.
+
+use super::{MaterialKind, Scene};
+use glam::Vec3;
+
+/// The most volumes a path tracks at once; a push onto a full stack forgets the outermost.
+pub const MEDIUM_STACK_DEPTH: usize = 4;
+
+/// More false hits than this on one path end it (a ray trapped between coincident
+/// surfaces of nested volumes cannot loop for ever).
+pub const FALSE_HIT_LIMIT: u32 = 64;
+
+/// Do the solid-glass volumes of `scene` (materials marked in `used`) possibly nest: two
+/// materials whose bounding boxes overlap, or a non-zero priority?
+pub(super) fn nested_volumes(scene: &Scene, used: &[bool]) -> bool {
+    let solid = |m: usize| used[m] && scene.materials[m].kind == MaterialKind::Glass;
+    if (0..scene.materials.len()).any(|m| solid(m) && scene.materials[m].priority != 0) {
+        return true;
+    }
+    let mut bounds: Vec<Option<(Vec3, Vec3)>> = vec![None; scene.materials.len()];
+    for (t, &m) in scene.mesh.tri_material.iter().enumerate() {
+        let m = m as usize;
+        if m >= bounds.len() || !solid(m) {
+            continue;
+        }
+        for &i in &scene.mesh.indices[t] {
+            let p = scene.mesh.positions[i as usize];
+            let b = bounds[m].get_or_insert((p, p));
+            *b = (b.0.min(p), b.1.max(p));
+        }
+    }
+    let boxes: Vec<(Vec3, Vec3)> = bounds.into_iter().flatten().collect();
+    boxes.iter().enumerate().any(|(i, a)| {
+        boxes[i + 1..]
+            .iter()
+            .any(|b| a.0.cmple(b.1).all() && b.0.cmple(a.1).all())
+    })
+}
