@@ -169,9 +169,21 @@ pub fn glass_of_water() -> Scene {
     for k in 0..20 {
         let x = -0.8 + 0.08 * k as f32;
         let p = Vec3::new(x, 0.0, -0.35);
-        quad(&mut m, p, Vec3::new(0.04, 0.0, 0.0), Vec3::new(0.0, 0.8, 0.0), 2);
+        quad(
+            &mut m,
+            p,
+            Vec3::new(0.04, 0.0, 0.0),
+            Vec3::new(0.0, 0.8, 0.0),
+            2,
+        );
         let p = Vec3::new(x + 0.04, 0.0, -0.35);
-        quad(&mut m, p, Vec3::new(0.04, 0.0, 0.0), Vec3::new(0.0, 0.8, 0.0), 3);
+        quad(
+            &mut m,
+            p,
+            Vec3::new(0.04, 0.0, 0.0),
+            Vec3::new(0.0, 0.8, 0.0),
+            3,
+        );
     }
     let lc = Vec3::new(0.3, 1.0, 0.6);
     let ln = -lc.normalize();
