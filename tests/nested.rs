@@ -405,8 +405,9 @@ fn glass_of_water_bdpt_agrees_with_path_tracing() {
         "control: one-level vs nested: {}/{} blocks within 3σ",
         t.pass, t.blocks
     );
+    // (It fails the criterion the nested estimators pass.)
     assert!(
-        t.rate() < 0.8,
+        t.rate() < 0.9 || t.z_image.abs() > 4.0,
         "nesting is not visible: {:.1}% of blocks agree",
         t.rate() * 100.0
     );
@@ -424,6 +425,7 @@ fn glass_of_water_gpu_agrees_with_cpu() {
     assert!(g.specialization().nested, "the nested kernel is used");
     for est in [Estimator::Path, Estimator::LtPt] {
         g.set_estimator(est).expect("estimator");
+        assert_eq!(g.specialization().light_tracing, est == Estimator::LtPt);
         let runs: Vec<Vec<f64>> = (0..RUNS)
             .map(|i| {
                 let mut opts = RenderOptions::from_scene(&scene);
