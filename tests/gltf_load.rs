@@ -332,6 +332,7 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
         assert_eq!(x.distribution, y.distribution);
         assert_eq!(x.double_sided, y.double_sided);
         assert_eq!(x.attenuation_distance, y.attenuation_distance);
+        assert_eq!(x.priority, y.priority, "{n}: {} priority", x.name);
     }
     // Same area per material.
     let areas = |s: &Scene| {
