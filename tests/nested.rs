@@ -468,3 +468,20 @@ fn non_nested_scene_renders_identically_with_the_stack() {
         );
     }
 }
+
+#[test]
+fn only_nested_builtins_get_the_stack() {
+    for name in refract::scene::builtin::NAMES {
+        let s = Scene::load(&format!("builtin:{name}")).expect("builtin");
+        let nested = s.features().contains(Features::NESTED);
+        assert_eq!(nested, *name == "glass-of-water", "{name}");
+    }
+    // A priority alone asks for the stack; disjoint volumes do not.
+    let mut m = Mesh::default();
+    sphere(&mut m, Vec3::new(-1.0, 0.0, 0.0), 0.4, 8, 16, 0);
+    sphere(&mut m, Vec3::new(1.0, 0.0, 0.0), 0.4, 8, 16, 1);
+    let mut s = test_scene("apart", m, vec![glass("a", 1.5, 0), glass("b", 1.3, 0)]);
+    assert!(!s.features().contains(Features::NESTED));
+    s.materials[1].priority = 3;
+    assert!(s.features().contains(Features::NESTED));
+}

@@ -58,6 +58,17 @@ impl MediumStack {
         }
     }
 
+    /// The medium around a surface that bounds no volume (thin glass refracts against it);
+    /// air under the one-level rule, as before nesting.
+    #[inline]
+    pub fn surrounding(&self, scene: &Scene) -> Medium {
+        if self.nested {
+            self.current(scene)
+        } else {
+            None
+        }
+    }
+
     /// The volumes on the stack, oldest first.
     pub fn entries(&self) -> &[u32] {
         &self.ids[..self.len as usize]

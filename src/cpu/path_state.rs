@@ -95,7 +95,7 @@ impl PathState {
                 }
             }
             Some(c) => Interface::Real(c.enclosing),
-            None => Interface::Real(self.medium(scene)),
+            None => Interface::Real(self.media.surrounding(scene)),
         }
     }
 

@@ -27,16 +27,23 @@ impl Renderer {
         scene.validate()?;
         let bvh = Bvh::build(&scene.mesh);
         let lights = LightSet::build(&scene);
-        let features = scene.features();
-        let spectral = features.contains(Features::DISPERSION);
-        let nested = features.contains(Features::NESTED);
-        Ok(Renderer {
+        let mut r = Renderer {
             scene,
             bvh,
             lights,
-            spectral,
-            nested,
-        })
+            spectral: false,
+            nested: false,
+        };
+        r.refresh_features();
+        Ok(r)
+    }
+
+    /// Re-derive what the walks specialise on (spectral transport, the medium stack) from
+    /// the scene's features, after its materials changed.
+    pub fn refresh_features(&mut self) {
+        let features = self.scene.features();
+        self.spectral = features.contains(Features::DISPERSION);
+        self.nested = features.contains(Features::NESTED);
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
