@@ -41,9 +41,21 @@ struct Step {
 
 /// Follow the ray (o, d) through `scene` for up to `n` surfaces, choosing reflection or
 /// transmission with `uc` at every dielectric (the walks' own step, nothing re-implemented).
-fn follow(scene: &Scene, (mut o, mut d): (Vec3, Vec3), uc: f32, n: usize) -> Vec<Step> {
+fn follow(scene: &Scene, ray: (Vec3, Vec3), uc: f32, n: usize) -> Vec<Step> {
+    follow_spectral(scene, ray, uc, n, &Spectral { lambdas: None }).0
+}
+
+/// [`follow`] with the path's colour lanes `sp`; also whether each real vertex was dispersive.
+fn follow_spectral(
+    scene: &Scene,
+    (mut o, mut d): (Vec3, Vec3),
+    uc: f32,
+    n: usize,
+    sp: &Spectral,
+) -> (Vec<Step>, Vec<bool>) {
     let bvh = Bvh::build(&scene.mesh);
-    let sp = Spectral::new(false, || 0.0);
+    let sp = *sp;
+    let mut dispersive = vec![];
     let mut st = PathState::new(Color::ONE, false, true);
     let names = |st: &PathState| -> Vec<String> {
         st.media
@@ -87,6 +99,7 @@ fn follow(scene: &Scene, (mut o, mut d): (Vec3, Vec3), uc: f32, n: usize) -> Vec
             panic!("{material}: no sample");
         };
         st.scatter(scene, &it, &s, wi, TransportMode::Radiance);
+        dispersive.push(it.dispersive);
         steps.push(Step {
             material,
             real: true,
@@ -100,7 +113,7 @@ fn follow(scene: &Scene, (mut o, mut d): (Vec3, Vec3), uc: f32, n: usize) -> Vec
         o = it.spawn(wi);
         d = wi;
     }
-    steps
+    (steps, dispersive)
 }
 
 fn glass(name: &str, ior: f32, priority: i32) -> Material {
@@ -167,6 +180,36 @@ fn sphere_in_water_refracts_with_relative_ior() {
     }
     // The sphere really bends the ray (an off-axis hit, not normal incidence).
     assert!(steps[1].cos_i < 0.95, "{:?}", steps[1]);
+}
+
+#[test]
+fn dispersion_takes_both_iors_at_the_hero_wavelength() {
+    let sp = Spectral {
+        lambdas: Some([450.0, 520.0, 590.0, 660.0]),
+    };
+    let ray = (Vec3::new(0.21, 0.13, 3.0), -Vec3::Z);
+    // Dispersive glass in plain water, then plain glass in dispersive water.
+    for (glass_abbe, water_abbe) in [(Some(20.0), None), (None, Some(30.0))] {
+        let mut scene = sphere_in_tank();
+        scene.materials[0].abbe = water_abbe;
+        scene.materials[1].abbe = glass_abbe;
+        let (w, g) = (&scene.materials[0], &scene.materials[1]);
+        let want = g.ior_at(450.0) / w.ior_at(450.0);
+        assert!((want - 1.5 / 1.33).abs() > 1e-3, "n(λ) differs from n_d");
+        let (steps, dispersive) = follow_spectral(&scene, ray, TRANSMIT, 4, &sp);
+        assert_eq!(steps[1].material, "glass");
+        assert!(
+            (steps[1].eta - want).abs() < 1e-6,
+            "{} vs {want}",
+            steps[1].eta
+        );
+        assert!((steps[2].eta - want).abs() < 1e-6);
+        assert!(
+            dispersive[1] && dispersive[2],
+            "the glass/water interface disperses"
+        );
+        assert_eq!(dispersive[0], water_abbe.is_some(), "air/water");
+    }
 }
 
 /// A glass block (n = 1.5) with an air bubble (n = 1, r = 0.5 m) at its centre, smooth-shaded
@@ -442,6 +485,37 @@ fn glass_of_water_gpu_agrees_with_cpu() {
             &cpu,
         );
     }
+}
+
+#[test]
+fn dispersive_glass_of_water_gpu_agrees_with_cpu() {
+    let Some(ctx) = gpu_context("dispersive glass-of-water (GPU)") else {
+        return;
+    };
+    let mut scene = small_glass_of_water();
+    for m in scene.materials.iter_mut().filter(|m| m.name == "glass") {
+        m.abbe = Some(20.0);
+    }
+    let f = scene.features();
+    assert!(f.contains(Features::NESTED) && f.contains(Features::DISPERSION));
+    let cpu = cpu_runs(&scene, Estimator::Path, 64, 0, true);
+    let mut g = GpuRenderer::with_context(ctx, scene.clone(), RenderOptions::from_scene(&scene))
+        .expect("GPU renderer");
+    let runs: Vec<Vec<f64>> = (0..RUNS)
+        .map(|i| {
+            let mut opts = RenderOptions::from_scene(&scene);
+            opts.seed = 1000 + i;
+            g.set_options(opts).expect("options");
+            let img = g.render(16).expect("render");
+            assert_eq!(img.dropped, 0, "GPU: the firewall dropped samples");
+            block_means(&img.mean, 48, 48)
+        })
+        .collect();
+    assert_agree(
+        "dispersive glass-of-water: GPU path vs CPU path",
+        &runs,
+        &cpu,
+    );
 }
 
 #[test]
