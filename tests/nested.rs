@@ -19,6 +19,7 @@ use refract::cpu::spectral::Spectral;
 use refract::film::Film;
 use refract::gpu::GpuRenderer;
 use refract::math::Color;
+use refract::paths::PathFilter;
 use refract::render::{Estimator, RenderOptions};
 use refract::scene::{Camera, Features, Material, Mesh, Scene};
 
@@ -395,13 +396,26 @@ fn small_glass_of_water() -> Scene {
 
 /// Block means of `RUNS` independent CPU renders (seeds `seed0`…) of `spp` each.
 fn cpu_runs(scene: &Scene, est: Estimator, spp: u32, seed0: u32, nested: bool) -> Vec<Vec<f64>> {
+    cpu_runs_filtered(scene, (est, None), spp, seed0, nested)
+}
+
+/// [`cpu_runs`] restricted to the Heckbert paths of `filter`.
+fn cpu_runs_filtered(
+    scene: &Scene,
+    (est, filter): (Estimator, Option<&str>),
+    spp: u32,
+    seed0: u32,
+    nested: bool,
+) -> Vec<Vec<f64>> {
     let mut r = Renderer::new(scene.clone()).expect("valid scene");
     r.nested = nested;
+    let filter = filter.map(|f| PathFilter::parse(f).expect("valid regex"));
     (0..RUNS)
         .map(|i| {
             let mut opts = RenderOptions::from_scene(&r.scene);
             opts.seed = seed0 + i;
             opts.estimator = est;
+            opts.set_filter(filter.as_ref());
             let mut film = Film::new(opts.width, opts.height);
             r.render_pass(&opts, &mut film, 0, spp);
             assert_eq!(film.dropped, 0, "{est}: the firewall dropped samples");
@@ -434,12 +448,17 @@ fn assert_agree(name: &str, a: &[Vec<f64>], b: &[Vec<f64>]) {
 }
 
 #[test]
-fn glass_of_water_bdpt_agrees_with_path_tracing() {
+fn glass_of_water_bdpt_and_lt_agree_with_path_tracing() {
     let scene = small_glass_of_water();
     assert!(scene.features().contains(Features::NESTED));
     let path = cpu_runs(&scene, Estimator::Path, 64, 0, true);
     let bdpt = cpu_runs(&scene, Estimator::Bdpt, 16, 100, true);
     assert_agree("glass-of-water: bdpt vs path", &bdpt, &path);
+    // Light tracing reaches the camera only from non-specular vertices.
+    let f = Some("L(D|G|S)*DE");
+    let path_d = cpu_runs_filtered(&scene, (Estimator::Path, f), 64, 300, true);
+    let lt_d = cpu_runs_filtered(&scene, (Estimator::Lt, f), 32, 400, true);
+    assert_agree("glass-of-water, L(D|G|S)*DE: lt vs path", &lt_d, &path_d);
     // Control: the one-level rule (water and glass both against air, the overlap wrong) gives
     // a measurably different image, so the comparisons above test the stack.
     let flat = cpu_runs(&scene, Estimator::Path, 64, 200, false);
