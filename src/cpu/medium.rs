@@ -74,15 +74,12 @@ impl MediumStack {
         &self.ids[..self.len as usize]
     }
 
-    /// Index of the medium among `entries` without `skip`: highest priority, the last among
-    /// equals (Schmidt & Budge 2002).
+    /// Index of the medium among `entries`: highest priority, the last among equals
+    /// (Schmidt & Budge 2002).
     #[inline]
-    fn top_index(&self, scene: &Scene, skip: Option<usize>) -> Option<usize> {
+    fn top_index(&self, scene: &Scene) -> Option<usize> {
         let mut best: Option<(usize, i32)> = None;
         for (i, &m) in self.entries().iter().enumerate() {
-            if Some(i) == skip {
-                continue;
-            }
             let p = scene.materials[m as usize].priority;
             if best.is_none_or(|(_, bp)| p >= bp) {
                 best = Some((i, p));
@@ -97,7 +94,7 @@ impl MediumStack {
         match self.len {
             0 => None,
             1 => Some(self.ids[0]),
-            _ => self.top_index(scene, None).map(|i| self.ids[i]),
+            _ => self.top_index(scene).map(|i| self.ids[i]),
         }
     }
 
@@ -162,7 +159,7 @@ impl MediumStack {
         };
         let after = self.removed(i);
         Crossing {
-            real: self.top_index(scene, None) == Some(i),
+            real: self.top_index(scene) == Some(i),
             enclosing: after.current(scene),
             after,
         }

@@ -108,15 +108,12 @@ fn medium_stack_new() -> MediumStack {
     return MediumStack(vec4<u32>(NO_MEDIUM), 0u);
 }
 
-// Index of the medium among the entries except `skip` (highest priority, the last among
-// equals); MEDIUM_STACK_DEPTH when there is none.
-fn medium_stack_top(s: MediumStack, skip: u32) -> u32 {
+// Index of the medium among the entries (highest priority, the last among equals);
+// MEDIUM_STACK_DEPTH when there is none.
+fn medium_stack_top(s: MediumStack) -> u32 {
     var best = MEDIUM_STACK_DEPTH;
     var bp = 0i;
     for (var i = 0u; i < s.len; i++) {
-        if i == skip {
-            continue;
-        }
         let p = materials[s.ids[i]].priority;
         if best == MEDIUM_STACK_DEPTH || p >= bp {
             best = i;
@@ -131,7 +128,7 @@ fn medium_current(s: MediumStack) -> u32 {
     if !HAS_NESTED {
         return s.ids.x;
     }
-    let i = medium_stack_top(s, MEDIUM_STACK_DEPTH);
+    let i = medium_stack_top(s);
     if i == MEDIUM_STACK_DEPTH {
         return NO_MEDIUM;
     }
@@ -195,7 +192,7 @@ fn medium_crossing(s: MediumStack, m: u32, entering: bool) -> Crossing {
         return Crossing(true, medium_current(s), s);
     }
     let after = medium_stack_removed(s, i);
-    return Crossing(medium_stack_top(s, MEDIUM_STACK_DEPTH) == i, medium_current(after), after);
+    return Crossing(medium_stack_top(s) == i, medium_current(after), after);
 }
 
 // What the surface of material `material` (raw outward normal `ng`) is to a path with stack
