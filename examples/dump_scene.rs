@@ -2,6 +2,7 @@
 //! description, so `tools/mitsuba_ref.py` can render the same scene in Mitsuba 3.
 //! Usage: cargo run --release --example dump_scene -- builtin:cornell-glass /tmp/dump
 
+use glam::Vec3;
 use refract::scene::{MaterialKind, Scene};
 use std::fmt::Write as _;
 
@@ -53,6 +54,7 @@ fn main() -> anyhow::Result<()> {
         mats.push(serde_json::json!({
             "file": file, "kind": kind, "name": m.name,
             "base_color": m.base_color.to_array(), "ior": m.ior, "roughness": m.roughness,
+            "ext_ior": ext_ior(&scene, mi),
             "distribution": m.distribution, "emission": m.emission.to_array(),
             "double_sided": m.double_sided,
         }));
@@ -68,4 +70,44 @@ fn main() -> anyhow::Result<()> {
     std::fs::write(dir.join("scene.json"), serde_json::to_string_pretty(&json)?)?;
     eprintln!("wrote {}", dir.display());
     Ok(())
+}
+
+/// Bounds of the triangles of material `mi`.
+fn bounds(scene: &Scene, mi: usize) -> Option<(Vec3, Vec3)> {
+    let mut b: Option<(Vec3, Vec3)> = None;
+    for t in 0..scene.mesh.triangle_count() {
+        if scene.mesh.tri_material[t] as usize != mi {
+            continue;
+        }
+        for &v in &scene.mesh.indices[t] {
+            let p = scene.mesh.positions[v as usize];
+            let e = b.get_or_insert((p, p));
+            *e = (e.0.min(p), e.1.max(p));
+        }
+    }
+    b
+}
+
+/// The IOR outside solid material `mi` for renderers that set both IORs per interface
+/// (Mitsuba's `ext_ior`): that of the innermost other solid whose bounds contain it, else 1.
+/// Right for disjoint nested volumes (glass in water); overlapping ones (false hits) would need
+/// their interfaces cut apart and are not handled.
+fn ext_ior(scene: &Scene, mi: usize) -> f32 {
+    let solid = |m: usize| scene.materials[m].kind == MaterialKind::Glass;
+    let Some((lo, hi)) = bounds(scene, mi).filter(|_| solid(mi)) else {
+        return 1.0;
+    };
+    let mut best: Option<(f32, f32)> = None;
+    for m in (0..scene.materials.len()).filter(|&m| m != mi && solid(m)) {
+        let Some((l, h)) = bounds(scene, m) else {
+            continue;
+        };
+        if l.cmple(lo).all() && hi.cmple(h).all() {
+            let vol = (h - l).element_product();
+            if best.is_none_or(|(v, _)| vol < v) {
+                best = Some((vol, scene.materials[m].ior));
+            }
+        }
+    }
+    best.map_or(1.0, |(_, n)| n)
 }

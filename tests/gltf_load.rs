@@ -332,6 +332,7 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
         assert_eq!(x.distribution, y.distribution);
         assert_eq!(x.double_sided, y.double_sided);
         assert_eq!(x.attenuation_distance, y.attenuation_distance);
+        assert_eq!(x.priority, y.priority, "{n}: {} priority", x.name);
     }
     // Same area per material.
     let areas = |s: &Scene| {
@@ -1217,4 +1218,43 @@ fn mutated_files_never_panic() {
         }
     }
     assert!(ok > 0 && err > 0, "ok {ok}, err {err}");
+}
+
+#[test]
+fn material_priority_is_read_from_extras() {
+    let glass = |name: &str, extras: Value| {
+        json!({"name": name, "extras": extras, "extensions": {
+            "KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_volume": {"thicknessFactor": 1.0}}})
+    };
+    let s = load(&one_triangle(json!({
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume"],
+        "materials": [
+            glass("high", json!({"priority": 3})),
+            glass("negative", json!({"priority": -2})),
+            glass("none", json!({})),
+            glass("fraction", json!({"priority": 1.5})),
+            glass("huge", json!({"priority": 1e12})),
+            glass("text", json!({"priority": "high"}))
+        ]
+    })))
+    .unwrap();
+    let p = |name: &str| {
+        s.materials
+            .iter()
+            .find(|x| x.name == name)
+            .unwrap()
+            .priority
+    };
+    assert_eq!((p("high"), p("negative"), p("none")), (3, -2, 0));
+    for bad in ["fraction", "huge", "text"] {
+        assert_eq!(p(bad), 0, "{bad}");
+        assert!(
+            s.warnings
+                .iter()
+                .any(|w| w.contains(bad) && w.contains("priority")),
+            "{bad}: {:?}",
+            s.warnings
+        );
+    }
 }

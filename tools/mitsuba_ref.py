@@ -41,10 +41,10 @@ for i, m in enumerate(s["materials"]):
              "distribution": m["distribution"], "specular_reflectance": rgb(m["base_color"])}
     elif k == "glass":
         if m["roughness"] > 0.0316:
-            b = {"type": "roughdielectric", "int_ior": m["ior"], "ext_ior": 1.0,
+            b = {"type": "roughdielectric", "int_ior": m["ior"], "ext_ior": m.get("ext_ior", 1.0),
                  "alpha": m["roughness"] ** 2, "distribution": m["distribution"]}
         else:
-            b = {"type": "dielectric", "int_ior": m["ior"], "ext_ior": 1.0}
+            b = {"type": "dielectric", "int_ior": m["ior"], "ext_ior": m.get("ext_ior", 1.0)}
     elif k == "thin":
         b = {"type": "thindielectric", "int_ior": m["ior"], "ext_ior": 1.0}
     if m["double_sided"] and k in ("diffuse", "mirror", "glossy"):

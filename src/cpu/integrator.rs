@@ -5,9 +5,9 @@
 //! Lights are reached only through `scene::light::Light`; the per-vertex work lives in
 //! `Interaction` and `PathState`.
 
-use super::interaction::{Bounce, Interaction, SurfaceHit, surface};
+use super::interaction::{Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface};
 use super::medium::medium_transmittance;
-use super::path_state::PathState;
+use super::path_state::{Interface, PathState};
 use super::spectral::Spectral;
 use crate::bsdf::{BxDF, TransportMode};
 use crate::bvh::Bvh;
@@ -29,6 +29,9 @@ pub struct Integrator<'a> {
     pub filter: Option<&'a DfaTable>,
     /// Hero-wavelength spectral transport (only scenes with a dispersive material pay for it).
     pub spectral: bool,
+    /// The scene's dielectric volumes nest or overlap (`Features::NESTED`): paths keep the
+    /// medium stack and pass false hits.
+    pub nested: bool,
 }
 
 /// Which Heckbert classes a next-event connection may use at a vertex (D, G).
@@ -90,8 +93,10 @@ impl<'a> Integrator<'a> {
         let scene = self.scene;
         let sp = Spectral::new(self.spectral, || sampler.next_1d());
         let mut l = Color::ZERO;
-        let mut st = PathState::new(Color::ONE, false);
+        let mut st = PathState::new(Color::ONE, false, self.nested);
         let (mut o, mut d) = (origin, dir);
+        // Distance travelled through false hits since the last vertex.
+        let mut t_pass = 0.0f32;
         let (mut prev_pdf, mut prev_delta) = (0.0f32, true);
         // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
         let mut q = self.step(self.filter.map_or(0, |f| f.start()), Symbol::E);
@@ -103,8 +108,19 @@ impl<'a> Integrator<'a> {
                 }
                 break;
             };
-            let hit = self.surface(&h);
+            let mut hit = self.surface(&h);
             st.attenuate(scene, hit.t, &sp);
+            let enclosing = match st.interface(scene, &hit, d) {
+                Interface::Real(m) => m,
+                Interface::Pass => {
+                    t_pass += hit.t;
+                    o = self.pass_through(&hit, d);
+                    continue;
+                }
+                Interface::Lost => break,
+            };
+            hit.t += t_pass;
+            t_pass = 0.0;
             if self.accepts_light(q)
                 && let Some((le, w)) = self.hit_emission(&hit, d, prev_pdf, prev_delta)
             {
@@ -113,7 +129,8 @@ impl<'a> Integrator<'a> {
             if st.depth + 1 >= self.max_depth {
                 break;
             }
-            let Some(it) = Interaction::new(scene, &hit, d, &sp, self.bvh.offset_scale()) else {
+            let offset = self.bvh.offset_scale();
+            let Some(it) = Interaction::new(scene, &hit, d, &sp, offset, enclosing) else {
                 break;
             };
             st.arrive(&it);
@@ -152,6 +169,12 @@ impl<'a> Integrator<'a> {
             }
         }
         sp.to_rgb(l)
+    }
+
+    /// The origin that continues a ray along `d` past the false hit `hit`.
+    #[inline]
+    pub fn pass_through(&self, hit: &SurfaceHit, d: Vec3) -> Vec3 {
+        offset_ray_origin_towards(hit.p, hit.ng, d.dot(hit.ng), self.bvh.offset_scale())
     }
 
     /// One next-event estimate at `it` (without the path throughput), MIS-weighted.

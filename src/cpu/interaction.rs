@@ -3,6 +3,7 @@
 //! path's wavelength, event consistency and ray spawning with the offset rule. The WGSL
 //! twins are `orient_normals`, `event_is_consistent` and `offset_ray_origin_towards`.
 
+use super::medium::{Medium, medium_ior};
 use super::spectral::Spectral;
 use crate::bsdf::{Bsdf, BsdfSample, BxDF, Event, TransportMode};
 use crate::bvh::offset_ray_origin;
@@ -116,7 +117,9 @@ pub struct Interaction {
 
 impl Interaction {
     /// The interaction of a ray travelling along `d` with `hit`; `None` when the path ends
-    /// there (one-sided back face, or an emitter, which is black otherwise).
+    /// there (one-sided back face, or an emitter, which is black otherwise). `enclosing`: the
+    /// medium on the far side of a dielectric (`PathState::interface`), so that it refracts
+    /// with η = n(inside)/n(enclosing) (Schmidt & Budge 2002); `None` = air.
     #[inline(always)]
     pub fn new(
         scene: &Scene,
@@ -124,6 +127,7 @@ impl Interaction {
         d: Vec3,
         sp: &Spectral,
         offset_scale: f32,
+        enclosing: Medium,
     ) -> Option<Interaction> {
         let mat = &scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
@@ -132,11 +136,17 @@ impl Interaction {
             return None;
         }
         let transmissive = mat.is_transmissive();
-        let dispersive = sp.lambdas.is_some() && mat.abbe.is_some() && transmissive;
-        let eta = match sp.lambdas {
+        let outer = enclosing.filter(|_| transmissive);
+        let outer_dispersive = outer.is_some_and(|e| scene.materials[e as usize].abbe.is_some());
+        let dispersive =
+            sp.lambdas.is_some() && transmissive && (mat.abbe.is_some() || outer_dispersive);
+        let mut eta = match sp.lambdas {
             Some(l) if dispersive => mat.ior_at(l[0]),
             _ => mat.ior,
         };
+        if outer.is_some() {
+            eta /= medium_ior(scene, outer, sp);
+        }
         let mut bsdf = mat.bsdf(&scene.textures, hit.uv, eta);
         if sp.lambdas.is_some() {
             bsdf = bsdf.map_colors(|c| sp.c(c.truncate()));

@@ -3,13 +3,28 @@
 //! walk shares: Beer–Lambert on each segment, collapse at dispersive vertices, the BSDF
 //! weight (with the adjoint shading-normal correction for importance) and Russian roulette.
 
-use super::interaction::Interaction;
-use super::medium::{Medium, medium_after_transmit, medium_towards, medium_transmittance};
+use super::interaction::{Interaction, SurfaceHit};
+use super::medium::{
+    Medium, MediumStack, medium_after_transmit, medium_towards, medium_transmittance,
+};
 use super::spectral::{Spectral, collapse_lanes};
 use crate::bsdf::{BsdfSample, Event, TransportMode};
 use crate::math::Color;
 use crate::scene::Scene;
 use glam::Vec3;
+
+pub use crate::scene::nesting::FALSE_HIT_LIMIT;
+
+/// What a surface a path reaches is to it (`PathState::interface`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interface {
+    /// A real interface; the medium on its far side (η = n(inside)/n(this)).
+    Real(Medium),
+    /// A false hit: continue the ray from the far side, no vertex, no bounce.
+    Pass,
+    /// Too many false hits: the path ends.
+    Lost,
+}
 
 #[derive(Clone, Copy, Debug)]
 pub struct PathState {
@@ -17,8 +32,10 @@ pub struct PathState {
     pub beta: Color,
     /// A dispersive vertex left only the hero wavelength alive.
     pub collapsed: bool,
-    /// The medium the current segment travels in.
-    pub medium: Medium,
+    /// The media the path is inside (`MediumStack`); the segment travels in its current one.
+    pub media: MediumStack,
+    /// False hits passed so far (capped at `FALSE_HIT_LIMIT`).
+    pub false_hits: u32,
     /// Product of η'² over transmissions (Russian roulette on radiance, not importance).
     pub eta_scale: f32,
     /// Scattering events so far.
@@ -26,11 +43,13 @@ pub struct PathState {
 }
 
 impl PathState {
-    pub fn new(beta: Color, collapsed: bool) -> PathState {
+    /// A path leaving the camera or a light (in air); `nested`: the scene's volumes nest.
+    pub fn new(beta: Color, collapsed: bool, nested: bool) -> PathState {
         PathState {
             beta,
             collapsed,
-            medium: None,
+            media: MediumStack::new(nested),
+            false_hits: 0,
             eta_scale: 1.0,
             depth: 0,
         }
@@ -49,8 +68,34 @@ impl PathState {
     /// Beer–Lambert over the segment of length `t` just travelled.
     #[inline]
     pub fn attenuate(&mut self, scene: &Scene, t: f32, sp: &Spectral) {
-        if let Some(tr) = medium_transmittance(scene, self.medium, t, sp) {
+        if let Some(tr) = medium_transmittance(scene, self.medium(scene), t, sp) {
             self.beta *= tr;
+        }
+    }
+
+    /// The medium the current segment travels in.
+    #[inline]
+    pub fn medium(&self, scene: &Scene) -> Medium {
+        self.media.current(scene)
+    }
+
+    /// What the surface `hit` reached along `d` is to this path: a false hit of a nested
+    /// volume (the stack records it; the walk continues the ray without a vertex) or a real
+    /// interface with the medium enclosing it on the far side.
+    #[inline]
+    pub fn interface(&mut self, scene: &Scene, hit: &SurfaceHit, d: Vec3) -> Interface {
+        match self.media.crossing_at(scene, hit.material, d, hit.ng) {
+            Some(c) if !c.real => {
+                self.media = c.after;
+                self.false_hits += 1;
+                if self.false_hits > FALSE_HIT_LIMIT {
+                    Interface::Lost
+                } else {
+                    Interface::Pass
+                }
+            }
+            Some(c) => Interface::Real(c.enclosing),
+            None => Interface::Real(self.media.surrounding(scene)),
         }
     }
 
@@ -66,7 +111,7 @@ impl PathState {
     /// The medium a segment leaving `it` along `w` travels in.
     #[inline]
     pub fn medium_towards(&self, scene: &Scene, it: &Interaction, w: Vec3) -> Medium {
-        medium_towards(scene, self.medium, it.hit.material, (it.ng, it.wo_w), w)
+        medium_towards(scene, &self.media, it.hit.material, (it.ng, it.wo_w), w)
     }
 
     /// Scatter at `it` with the sample `s` into world direction `wi`.
@@ -86,7 +131,7 @@ impl PathState {
         self.beta *= w;
         if s.event == Event::Transmit {
             self.eta_scale *= s.eta_rel * s.eta_rel;
-            self.medium = medium_after_transmit(scene, self.medium, it.hit.material, wi, it.hit.ng);
+            self.media = medium_after_transmit(scene, &self.media, it.hit.material, wi, it.hit.ng);
         }
         self.depth += 1;
     }

@@ -17,6 +17,8 @@ pub struct Renderer {
     pub lights: LightSet,
     /// The scene has a dispersive material: paths carry hero wavelengths.
     pub spectral: bool,
+    /// The scene's dielectric volumes nest or overlap: paths keep a medium stack.
+    pub nested: bool,
 }
 
 impl Renderer {
@@ -25,13 +27,23 @@ impl Renderer {
         scene.validate()?;
         let bvh = Bvh::build(&scene.mesh);
         let lights = LightSet::build(&scene);
-        let spectral = scene.features().contains(Features::DISPERSION);
-        Ok(Renderer {
+        let mut r = Renderer {
             scene,
             bvh,
             lights,
-            spectral,
-        })
+            spectral: false,
+            nested: false,
+        };
+        r.refresh_features();
+        Ok(r)
+    }
+
+    /// Re-derive what the walks specialise on (spectral transport, the medium stack) from
+    /// the scene's features, after its materials changed.
+    pub fn refresh_features(&mut self) {
+        let features = self.scene.features();
+        self.spectral = features.contains(Features::DISPERSION);
+        self.nested = features.contains(Features::NESTED);
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
@@ -43,6 +55,7 @@ impl Renderer {
             rr_depth: opts.rr_depth,
             filter: opts.filter.as_ref(),
             spectral: self.spectral,
+            nested: self.nested,
         }
     }
 

@@ -104,7 +104,8 @@ gpu_struct! {
         /// Texture reference slots ([`NO_TEXTURE`] = none).
         pub base_tex: u32,
         pub mr_tex: u32,
-        pub _pad: u32,
+        /// Nested dielectrics: `scene::Material::priority`.
+        pub priority: i32,
     }
 }
 
@@ -374,6 +375,11 @@ pub const LIGHT_SPOT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
 /// The uniform environment (not in the light distribution yet).
 pub const LIGHT_ENVIRONMENT: u32 = 4;
+
+/// Nested dielectrics: entries of the medium stack and the false hits a path may pass
+/// (`scene::nesting`).
+pub const MEDIUM_STACK_DEPTH: u32 = crate::scene::nesting::MEDIUM_STACK_DEPTH as u32;
+pub const FALSE_HIT_LIMIT: u32 = crate::scene::nesting::FALSE_HIT_LIMIT;
 
 /// Deepest BVH2 the WGSL traversal stack handles (`upload::MAX_BVH_DEPTH`).
 pub const BVH_STACK_SIZE: u32 = super::upload::MAX_BVH_DEPTH;

@@ -144,6 +144,8 @@ pub struct Specialization {
     pub spectral: bool,
     /// Light tracing combined with path tracing by MIS (`lt+pt`; the estimator, not the scene).
     pub light_tracing: bool,
+    /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
+    pub nested: bool,
 }
 
 impl Specialization {
@@ -166,6 +168,7 @@ impl Specialization {
             filter: false,
             spectral: f.contains(Features::DISPERSION),
             light_tracing: false,
+            nested: f.contains(Features::NESTED),
         }
     }
 
@@ -212,6 +215,7 @@ impl Specialization {
             ("HAS_FILTER", b(self.filter)),
             ("HAS_SPECTRAL", b(self.spectral)),
             ("HAS_LT", b(self.light_tracing)),
+            ("HAS_NESTED", b(self.nested)),
         ]
     }
 }

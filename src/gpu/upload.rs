@@ -331,7 +331,7 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32))
         abbe: m.abbe.filter(|v| *v > 0.0).unwrap_or(0.0),
         base_tex: tex.0,
         mr_tex: tex.1,
-        _pad: 0,
+        priority: m.priority,
     }
 }
 

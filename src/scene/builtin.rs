@@ -10,6 +10,8 @@ use crate::bsdf::MicrofacetDistribution;
 use glam::{Quat, Vec2, Vec3};
 use std::f32::consts::PI;
 
+pub mod glass_of_water;
+
 /// Names accepted by [`load`] (the first is the default scene).
 pub const NAMES: &[&str] = &[
     "cornell-glass",
@@ -20,6 +22,7 @@ pub const NAMES: &[&str] = &[
     "caustic",
     "materials",
     "caustic-mirror",
+    "glass-of-water",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -32,6 +35,7 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "caustic" => Ok(caustic()),
         "materials" => Ok(materials()),
         "caustic-mirror" => Ok(caustic_mirror()),
+        "glass-of-water" => Ok(glass_of_water::glass_of_water()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")

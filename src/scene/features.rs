@@ -43,6 +43,9 @@ bitflags::bitflags! {
         const AREA_LIGHTS = 1 << 13;
         /// Point, spot or directional lights.
         const PUNCTUAL_LIGHTS = 1 << 14;
+        /// Nested dielectrics: the bounds of two solid-glass materials overlap, or one sets
+        /// `extras.priority` (paths keep a medium stack; `cpu::medium`).
+        const NESTED = 1 << 15;
     }
 }
 
@@ -86,6 +89,10 @@ pub fn compute(scene: &Scene) -> Features {
             f |= Features::AREA_LIGHTS;
         }
     }
+    f.set(
+        Features::NESTED,
+        super::nesting::nested_volumes(scene, &used),
+    );
     f.set(Features::ENVIRONMENT, scene.environment.max_element() > 0.0);
     f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
     f

@@ -79,6 +79,9 @@ pub struct Material {
     /// KHR_materials_specular factor and colour (metal-rough only).
     pub specular_factor: f32,
     pub specular_color: Vec3,
+    /// Nested dielectrics: where closed volumes overlap, the one with the higher priority
+    /// is the medium (`material.extras.priority`, Schmidt & Budge 2002); default 0.
+    pub priority: i32,
 }
 
 impl Default for Material {
@@ -100,6 +103,7 @@ impl Default for Material {
             attenuation_distance: f32::INFINITY,
             specular_factor: 1.0,
             specular_color: Vec3::ONE,
+            priority: 0,
         }
     }
 }

@@ -10,6 +10,7 @@ pub mod gltf_export;
 pub mod gltf_load;
 pub mod light;
 pub mod material;
+pub mod nesting;
 
 pub use camera::Camera;
 pub use features::Features;

@@ -193,7 +193,7 @@ fn integrator_light_mis(pick: LightPick, ls: LightLiSample, hit: SurfaceHit, wo:
 
 // One next-event estimate at `hit` (without the path throughput), MIS-weighted.
 // Twin of `Integrator::sample_light` (plus the light-tracing strategy when HAS_LT).
-fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis, medium: u32, mat: Material) -> vec4<f32> {
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material) -> vec4<f32> {
     let zero = vec4<f32>(0.0);
     let pick = light_set_pick(ul);
     if pick.prob <= 0.0 {
@@ -225,7 +225,7 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     if ls.infinite {
         return c;
     }
-    let m = medium_towards(medium, mat, hit.material, ng, wo_w, ls.wi);
+    let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
     return c * connection_transmittance(m, length(ls.p_light - hit.p), sp);
 }
 
@@ -258,8 +258,12 @@ struct PathState {
     prev_delta: bool,
     // Π η'² of the refractions so far (Russian roulette).
     eta_scale: f32,
-    // Absorbing medium the ray travels in (material index); NO_MEDIUM = none.
-    medium: u32,
+    // The media the path is inside (the ray travels in medium_current(media)).
+    media: MediumStack,
+    // False hits passed (HAS_NESTED), and the distance travelled through them since the
+    // last vertex.
+    false_hits: u32,
+    t_pass: f32,
     depth: u32,
     // Light-tracing MIS state (HAS_LT).
     lt: LtMis,
@@ -280,7 +284,9 @@ fn path_state_new(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Samp
     ps.prev_pdf = 0.0;
     ps.prev_delta = true;
     ps.eta_scale = 1.0;
-    ps.medium = NO_MEDIUM;
+    ps.media = medium_stack_new();
+    ps.false_hits = 0u;
+    ps.t_pass = 0.0;
     ps.depth = 0u;
     ps.lt = LtMis(HAS_LT, true, 1.0, 0.0, 0.0, 0.0, 0.0);
     ps.q = 0u;
@@ -348,18 +354,16 @@ fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Ma
     ps.l += ps.beta * spectral_c(ps.sp, le) * w;
 }
 
-// The IOR the path sees at `mat`: a dispersive material refracts the hero wavelength, and
-// from then on only the hero lane is carried (`spectral_collapse`).
-fn integrator_eta(ps: ptr<function, PathState>, mat: Material) -> f32 {
-    var eta = mat.eta;
-    if material_is_dispersive(mat, ps.sp) {
-        eta = material_ior_at(mat, ps.sp.lambdas.x);
-        if !ps.collapsed {
-            ps.beta = spectral_collapse(ps.beta);
-            ps.collapsed = true;
-        }
+// The IOR the path sees at `mat` with `enclosing` on its far side (`interface_eta`): a
+// dispersive interface refracts the hero wavelength, and from then on only the hero lane is
+// carried (`spectral_collapse`).
+fn integrator_eta(ps: ptr<function, PathState>, mat: Material, enclosing: u32) -> f32 {
+    let ie = interface_eta(mat, enclosing, ps.sp);
+    if ie.dispersive && !ps.collapsed {
+        ps.beta = spectral_collapse(ps.beta);
+        ps.collapsed = true;
     }
-    return eta;
+    return ie.eta;
 }
 
 // Continue the path by BSDF sampling at `hit` (PBR 4th ed. §13.4 `PathIntegrator::Li`,
@@ -396,7 +400,7 @@ fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Materi
     }
     if s.event == EVENT_TRANSMIT {
         ps.eta_scale *= s.eta_rel * s.eta_rel;
-        ps.medium = medium_after_transmit(ps.medium, mat, hit.material, wi_w, hit.ng);
+        ps.media = medium_after_transmit(ps.media, mat, hit.material, wi_w, hit.ng);
     }
     ps.prev_pdf = s.pdf;
     ps.prev_delta = s.is_delta;
@@ -419,11 +423,30 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             integrator_add_escaped(&ps);
             break;
         }
-        let hit = integrator_surface(h);
-        if HAS_ABSORPTION && ps.medium != NO_MEDIUM {
-            ps.beta *= medium_transmittance(materials[ps.medium], hit.t, ps.sp);
+        var hit = integrator_surface(h);
+        let medium = medium_current(ps.media);
+        if HAS_ABSORPTION && medium != NO_MEDIUM {
+            ps.beta *= medium_transmittance(materials[medium], hit.t, ps.sp);
         }
         let mat = materials[hit.material];
+        var enclosing = NO_MEDIUM;
+        if HAS_NESTED {
+            let c = medium_interface(ps.media, mat, hit.material, ps.d, hit.ng);
+            if !c.real {
+                // A false hit: no vertex, no bounce; the ray continues past it.
+                ps.media = c.after;
+                ps.false_hits++;
+                if ps.false_hits > FALSE_HIT_LIMIT {
+                    break;
+                }
+                ps.t_pass += hit.t;
+                ps.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(ps.d, hit.ng));
+                continue;
+            }
+            enclosing = c.enclosing;
+            hit.t += ps.t_pass;
+            ps.t_pass = 0.0;
+        }
         let front = dot3(ps.d, hit.ng) < 0.0;
         if HAS_LT {
             lt_mis_arrive(&ps, hit);
@@ -440,7 +463,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
             break; // emitters are black surfaces otherwise
         }
-        let eta = integrator_eta(&ps, mat);
+        let eta = integrator_eta(&ps, mat, enclosing);
         let bsdf = material_bsdf(mat, hit.uv, eta, ps.sp);
         let frame = frame_from_normal(on.ns);
         let wo_w = -ps.d;
@@ -454,7 +477,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
             let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
             if mask.d || mask.g {
-                ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt, ps.medium, mat);
+                ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt, ps.media, mat);
             }
         }
 

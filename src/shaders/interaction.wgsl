@@ -90,26 +90,168 @@ fn medium_transmittance(mm: Material, t: f32, sp: Spectral) -> vec4<f32> {
     return exp(tr);
 }
 
-// The medium after a transmission through material `material` (index) of a solid: entering
-// when the new direction points against the outward normal `ng`, leaving otherwise.
-fn medium_after_transmit(medium: u32, mat: Material, material: u32, wi_w: vec3<f32>, ng: vec3<f32>) -> u32 {
+// Nested dielectrics (cpu::medium, Schmidt & Budge 2002): the volumes a path is inside,
+// oldest first. The medium is the highest-priority entry, the last among equals; a volume's
+// surface is a real interface when the volume is (or becomes) that medium and refracts with
+// η = n(volume)/n(enclosing); otherwise it is a false hit the ray passes. A push onto a full
+// stack forgets the outermost entry. Without HAS_NESTED only ids.x is used: the one-level rule
+// (entering makes a volume the medium, leaving any returns to air), as before nesting.
+override HAS_NESTED: bool = false;
+
+struct MediumStack {
+    ids: vec4<u32>,
+    len: u32,
+}
+
+// A path in air.
+fn medium_stack_new() -> MediumStack {
+    return MediumStack(vec4<u32>(NO_MEDIUM), 0u);
+}
+
+// Index of the medium among the entries (highest priority, the last among equals);
+// MEDIUM_STACK_DEPTH when there is none.
+fn medium_stack_top(s: MediumStack) -> u32 {
+    var best = MEDIUM_STACK_DEPTH;
+    var bp = 0i;
+    for (var i = 0u; i < s.len; i++) {
+        let p = materials[s.ids[i]].priority;
+        if best == MEDIUM_STACK_DEPTH || p >= bp {
+            best = i;
+            bp = p;
+        }
+    }
+    return best;
+}
+
+// The medium the path travels in (NO_MEDIUM = air).
+fn medium_current(s: MediumStack) -> u32 {
+    if !HAS_NESTED {
+        return s.ids.x;
+    }
+    let i = medium_stack_top(s);
+    if i == MEDIUM_STACK_DEPTH {
+        return NO_MEDIUM;
+    }
+    return s.ids[i];
+}
+
+// The stack with volume `m` entered (overflow forgets the outermost entry).
+fn medium_stack_pushed(s: MediumStack, m: u32) -> MediumStack {
+    if !HAS_NESTED {
+        return MediumStack(vec4<u32>(m, NO_MEDIUM, NO_MEDIUM, NO_MEDIUM), 1u);
+    }
+    var r = s;
+    if r.len == MEDIUM_STACK_DEPTH {
+        r.ids = vec4<u32>(r.ids.y, r.ids.z, r.ids.w, NO_MEDIUM);
+        r.len -= 1u;
+    }
+    r.ids[r.len] = m;
+    r.len += 1u;
+    return r;
+}
+
+// The stack without entry `i`.
+fn medium_stack_removed(s: MediumStack, i: u32) -> MediumStack {
+    var r = s;
+    for (var j = i; j + 1u < MEDIUM_STACK_DEPTH; j++) {
+        r.ids[j] = r.ids[j + 1u];
+    }
+    r.ids.w = NO_MEDIUM;
+    r.len -= 1u;
+    return r;
+}
+
+// What crossing a solid's surface does (twin of `Crossing`): a real interface or a false hit,
+// the medium on the volume's other side (η = n(volume)/n(enclosing)), the stack after it.
+struct Crossing {
+    real: bool,
+    enclosing: u32,
+    after: MediumStack,
+}
+
+// Crossing the surface of solid `m`, entering it when `entering` (MediumStack::crossing).
+fn medium_crossing(s: MediumStack, m: u32, entering: bool) -> Crossing {
+    if !HAS_NESTED {
+        if entering {
+            return Crossing(true, NO_MEDIUM, medium_stack_pushed(s, m));
+        }
+        return Crossing(true, NO_MEDIUM, medium_stack_new());
+    }
+    if entering {
+        let enc = medium_current(s);
+        let real = enc == NO_MEDIUM || materials[m].priority >= materials[enc].priority;
+        return Crossing(real, enc, medium_stack_pushed(s, m));
+    }
+    var i = MEDIUM_STACK_DEPTH;
+    for (var j = 0u; j < s.len; j++) {
+        if s.ids[j] == m {
+            i = j;
+        }
+    }
+    if i == MEDIUM_STACK_DEPTH {
+        return Crossing(true, medium_current(s), s);
+    }
+    let after = medium_stack_removed(s, i);
+    return Crossing(medium_stack_top(s) == i, medium_current(after), after);
+}
+
+// What the surface of material `material` (raw outward normal `ng`) is to a path with stack
+// `s` travelling along `d` (PathState::interface): solids cross, other surfaces are real
+// interfaces with the current medium on their far side.
+fn medium_interface(s: MediumStack, mat: Material, material: u32, d: vec3<f32>, ng: vec3<f32>) -> Crossing {
     if (mat.flags & MAT_SOLID) == 0u {
-        return medium;
+        return Crossing(true, medium_current(s), s);
     }
-    if dot3(wi_w, ng) < 0.0 {
-        return material;
-    }
-    return NO_MEDIUM;
+    return medium_crossing(s, material, dot3(d, ng) < 0.0);
+}
+
+// The stack after a transmission through material `material` (index): entering a solid when
+// the new direction points against the outward normal `ng`, leaving it otherwise; other
+// surfaces keep it (cpu::medium::medium_after_transmit).
+fn medium_after_transmit(s: MediumStack, mat: Material, material: u32, wi_w: vec3<f32>, ng: vec3<f32>) -> MediumStack {
+    return medium_interface(s, mat, material, wi_w, ng).after;
 }
 
 // The medium a segment leaving a surface along `w` travels in, for a path that arrived from
-// `w_prev` in `medium`: the same medium on the arrival side of `ng`, the transmitted one
+// `w_prev` with stack `s`: the same medium on the arrival side of `ng`, the transmitted one
 // across it (cpu::medium::medium_towards). NEE shadow rays and light-tracing connections.
-fn medium_towards(medium: u32, mat: Material, material: u32, ng: vec3<f32>, w_prev: vec3<f32>, w: vec3<f32>) -> u32 {
+fn medium_towards(s: MediumStack, mat: Material, material: u32, ng: vec3<f32>, w_prev: vec3<f32>, w: vec3<f32>) -> u32 {
     if dot3(w, ng) * dot3(w_prev, ng) > 0.0 {
-        return medium;
+        return medium_current(s);
     }
-    return medium_after_transmit(medium, mat, material, w, ng);
+    return medium_current(medium_after_transmit(s, mat, material, w, ng));
+}
+
+// The relative IOR at dielectric `mat` with `enclosing` (a medium, NO_MEDIUM = air) on its far
+// side: η = n(inside)/n(enclosing), at the hero wavelength when either disperses; `dispersive`:
+// only the hero lane follows the sampled direction. Twin of the eta in `Interaction::new`.
+struct InterfaceEta {
+    eta: f32,
+    dispersive: bool,
+}
+
+fn interface_eta(mat: Material, enclosing: u32, sp: Spectral) -> InterfaceEta {
+    var dispersive = material_is_dispersive(mat, sp);
+    var outer = NO_MEDIUM;
+    if HAS_NESTED && (mat.flags & MAT_TRANSMISSIVE) != 0u {
+        outer = enclosing;
+    }
+    if outer != NO_MEDIUM && HAS_SPECTRAL && sp.on && materials[outer].abbe > 0.0 {
+        dispersive = true;
+    }
+    var eta = mat.eta;
+    if dispersive {
+        eta = material_ior_at(mat, sp.lambdas.x);
+    }
+    if outer != NO_MEDIUM {
+        let om = materials[outer];
+        var n = om.eta;
+        if HAS_SPECTRAL && sp.on {
+            n = material_ior_at(om, sp.lambdas.x);
+        }
+        eta /= n;
+    }
+    return InterfaceEta(eta, dispersive);
 }
 
 // Ray origin at p, pushed off the surface to the side the new direction leaves on

@@ -182,8 +182,10 @@ struct LightWalk {
     prev_pdf: f32,
     prev_delta: bool,
     cos_out: f32,
-    // Absorbing medium the ray travels in (material index); NO_MEDIUM = none.
-    medium: u32,
+    // The media the walk is inside (HAS_NESTED: false hits passed, distance through them).
+    media: MediumStack,
+    false_hits: u32,
+    t_pass: f32,
 }
 
 // The light subpath leaving the emitted ray `le`: β1 = Le cosθ / (p_light p_dir) (area
@@ -211,17 +213,24 @@ fn light_walk_new(le: LightLeSample, sp: Spectral) -> LightWalk {
     lw.prev_pdf = le.pdf_dir;
     lw.prev_delta = false;
     lw.cos_out = lw.cos_emit;
-    lw.medium = NO_MEDIUM;
+    lw.media = medium_stack_new();
+    lw.false_hits = 0u;
+    lw.t_pass = 0.0;
     return lw;
 }
 
-// Arrival at ym = `hit`: Beer–Lambert over the segment, and the light-side density of ym
+// Beer–Lambert over a segment of length `t` in the walk's medium.
+fn light_walk_attenuate(lw: ptr<function, LightWalk>, t: f32, sp: Spectral) {
+    let medium = medium_current(lw.media);
+    if HAS_ABSORPTION && medium != NO_MEDIUM {
+        lw.beta *= medium_transmittance(materials[medium], t, sp);
+    }
+}
+
+// Arrival at ym = `hit` (hit.t: the distance from y_{m-1}): the light-side density of ym
 // (1 after a delta vertex).
 fn light_walk_arrive(lw: ptr<function, LightWalk>, hit: SurfaceHit, sp: Spectral) {
     lw.m += 1u;
-    if HAS_ABSORPTION && lw.medium != NO_MEDIUM {
-        lw.beta *= medium_transmittance(materials[lw.medium], hit.t, sp);
-    }
     let t2 = hit.t * hit.t;
     lw.pl_prev = lw.pl_cur;
     if lw.prev_delta {
@@ -280,7 +289,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: 
         return 0u;
     }
     // Absorption along the connection to the camera (a camera inside absorbing glass).
-    v4 *= connection_transmittance(medium_towards(lw.medium, mat, hit.material, ng, wo_w, wc), sqrt(d2), sp);
+    v4 *= connection_transmittance(medium_towards(lw.media, mat, hit.material, ng, wo_w, wc), sqrt(d2), sp);
     // MIS: densities of the other strategies relative to this one (p_t1).
     let pc_m = camera_pdf_dir(c) * abs(dot3(ng, wc)) / d2;
     let pc_back = bsdf_pdf(bsdf, wi, wo);
@@ -353,7 +362,7 @@ fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Materi
         lw.syms.w[j / 16u] |= (s.lobe + 1u) << (2u * (j % 16u));
     }
     if s.event == EVENT_TRANSMIT {
-        lw.medium = medium_after_transmit(lw.medium, mat, hit.material, wi_w, hit.ng);
+        lw.media = medium_after_transmit(lw.media, mat, hit.material, wi_w, hit.ng);
     }
     lw.prev_pdf = s.pdf;
     lw.prev_delta = s.is_delta;
@@ -392,9 +401,28 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         if !h.found {
             break;
         }
-        let hit = integrator_surface(h);
-        light_walk_arrive(&lw, hit, sp);
+        var hit = integrator_surface(h);
+        light_walk_attenuate(&lw, hit.t, sp);
         let mat = materials[hit.material];
+        var enclosing = NO_MEDIUM;
+        if HAS_NESTED {
+            let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
+            if !c.real {
+                // A false hit: no vertex; the ray continues past it.
+                lw.media = c.after;
+                lw.false_hits++;
+                if lw.false_hits > FALSE_HIT_LIMIT {
+                    break;
+                }
+                lw.t_pass += hit.t;
+                lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
+                continue;
+            }
+            enclosing = c.enclosing;
+            hit.t += lw.t_pass;
+            lw.t_pass = 0.0;
+        }
+        light_walk_arrive(&lw, hit, sp);
         let front = dot3(lw.d, hit.ng) < 0.0;
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
             break; // emitters are black surfaces otherwise (as in the path tracer)
@@ -403,12 +431,9 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
         if !on.ok {
             break;
         }
-        var eta = mat.eta;
-        let dispersive = material_is_dispersive(mat, sp);
-        if dispersive {
-            eta = material_ior_at(mat, sp.lambdas.x);
-        }
-        let bsdf = material_bsdf(mat, hit.uv, eta, sp);
+        let ie = interface_eta(mat, enclosing, sp);
+        let dispersive = ie.dispersive;
+        let bsdf = material_bsdf(mat, hit.uv, ie.eta, sp);
         let frame = frame_from_normal(on.ns);
         let wo_w = -lw.d;
         let wo = frame_to_local(frame, wo_w);

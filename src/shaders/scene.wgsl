@@ -60,7 +60,8 @@ struct Material {
     // Texture reference slots (NO_TEXTURE = none): base colour, metallic-roughness.
     base_tex: u32,
     mr_tex: u32,
-    _pad: u32,
+    // Nested dielectrics: where volumes overlap, the higher priority is the medium.
+    priority: i32,
 }
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.

@@ -396,6 +396,7 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
                 let light_changed =
                     slot.emission != m.emission || slot.double_sided != m.double_sided;
                 *slot = *m;
+                r.refresh_features();
                 if light_changed {
                     r.lights = crate::scene::light::LightSet::build(&r.scene);
                 }
@@ -411,6 +412,7 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
                     r.scene.materials = scene.materials;
                     r.scene.punctual_lights = scene.punctual_lights;
                     r.scene.environment = scene.environment;
+                    r.refresh_features();
                     r.lights = crate::scene::light::LightSet::build(&r.scene);
                 }
             }

@@ -109,7 +109,7 @@ impl Bdpt<'_> {
         d2: f32,
         sp: &Spectral,
     ) -> Option<Color> {
-        let m = v.medium_towards(self.pt.scene, w);
+        let m = v.medium_towards(w);
         m?;
         medium_transmittance(self.pt.scene, m, d2.sqrt(), sp)
     }

@@ -113,7 +113,7 @@ impl<'a> Bdpt<'a> {
         let escaped = self.walk(
             cam,
             (self.cam.pos, dir),
-            PathState::new(Color::ONE, false),
+            PathState::new(Color::ONE, false, self.pt.nested),
             self.cam.pdf_dir(dir),
             cam_max,
             TransportMode::Radiance,

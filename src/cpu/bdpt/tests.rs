@@ -26,7 +26,6 @@ fn surface_vertex(sc: &Scene, t: u32, p: Vec3, prev: Vec3) -> Vertex<'static> {
     Vertex {
         ng: n,
         ns: n,
-        material: m,
         bsdf: Some(mat.bsdf(&sc.textures, glam::Vec2::ZERO, mat.ior)),
         w_prev: (prev - p).normalize(),
         tri: t,

@@ -3,7 +3,7 @@
 
 use crate::bsdf::Bsdf;
 use crate::cpu::interaction::Interaction;
-use crate::cpu::medium::{Medium, medium_towards};
+use crate::cpu::medium::Medium;
 use crate::cpu::path_state::PathState;
 use crate::math::Color;
 use crate::paths::Symbol;
@@ -33,7 +33,6 @@ pub(super) struct Vertex<'a> {
     /// emission direction for infinite lights.
     pub ng: Vec3,
     pub ns: Vec3,
-    pub material: u32,
     pub bsdf: Option<Bsdf>,
     /// Throughput up to and including this vertex (RGB in lanes xyz).
     pub beta: Color,
@@ -54,6 +53,9 @@ pub(super) struct Vertex<'a> {
     pub collapsed: bool,
     /// The medium the segment arriving here travelled in.
     pub medium: Medium,
+    /// The medium a segment leaving across the surface travels in (`medium_towards`;
+    /// kept instead of the medium stack so that vertices stay small).
+    pub medium_across: Medium,
 }
 
 impl<'a> Vertex<'a> {
@@ -64,7 +66,6 @@ impl<'a> Vertex<'a> {
             p,
             ng: Vec3::ZERO,
             ns: Vec3::ZERO,
-            material: 0,
             bsdf: None,
             beta,
             pdf_fwd,
@@ -75,20 +76,21 @@ impl<'a> Vertex<'a> {
             tri: 0,
             collapsed: false,
             medium: None,
+            medium_across: None,
         }
     }
 
     /// The vertex of a walk arriving at `it` with state `st`.
-    pub fn surface(it: &Interaction, st: &PathState) -> Vertex<'a> {
+    pub fn surface(scene: &Scene, it: &Interaction, st: &PathState) -> Vertex<'a> {
         Vertex {
             ng: it.ng,
             ns: it.ns,
-            material: it.hit.material,
             bsdf: Some(it.bsdf),
             w_prev: it.wo_w,
             tri: it.hit.tri,
             collapsed: st.collapsed,
-            medium: st.medium,
+            medium: st.medium(scene),
+            medium_across: st.medium_towards(scene, it, -it.wo_w),
             ..Vertex::new(Kind::Surface, it.hit.p, st.beta, 0.0, Symbol::D)
         }
     }
@@ -128,11 +130,12 @@ impl<'a> Vertex<'a> {
     }
 
     /// The medium a segment leaving this vertex along `w` travels in.
-    pub fn medium_towards(&self, scene: &Scene, w: Vec3) -> Medium {
-        if self.kind != Kind::Surface {
-            return self.medium;
+    pub fn medium_towards(&self, w: Vec3) -> Medium {
+        if self.kind != Kind::Surface || w.dot(self.ng) * self.w_prev.dot(self.ng) > 0.0 {
+            self.medium
+        } else {
+            self.medium_across
         }
-        medium_towards(scene, self.medium, self.material, (self.ng, self.w_prev), w)
     }
 }
 

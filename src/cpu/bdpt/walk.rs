@@ -5,7 +5,7 @@ use super::Bdpt;
 use super::vertex::{Kind, Vertex, to_area};
 use crate::bsdf::{BxDF, TransportMode};
 use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards};
-use crate::cpu::path_state::PathState;
+use crate::cpu::path_state::{Interface, PathState};
 use crate::cpu::spectral::Spectral;
 use crate::math::{Color, rng::Sampler};
 use crate::paths::Symbol;
@@ -34,19 +34,29 @@ impl<'a> Bdpt<'a> {
             };
             let hit = self.pt.surface(&h);
             st.attenuate(scene, hit.t, sp);
+            let enclosing = match st.interface(scene, &hit, d) {
+                Interface::Real(m) => m,
+                Interface::Pass => {
+                    // A false hit is no vertex: the area densities use vertex positions.
+                    o = self.pt.pass_through(&hit, d);
+                    continue;
+                }
+                Interface::Lost => break,
+            };
             let prev = path.len() - 1;
-            let Some(it) = Interaction::new(scene, &hit, d, sp, self.pt.bvh.offset_scale()) else {
+            let offset = self.pt.bvh.offset_scale();
+            let Some(it) = Interaction::new(scene, &hit, d, sp, offset, enclosing) else {
                 // Emitters and black back faces end the walk but an emitter still counts as
                 // a vertex (s = 0 strategies hit it), with its raw normals.
                 if scene.materials[hit.material as usize].is_emissive() {
                     let mut v = Vertex {
                         ng: hit.ng,
                         ns: hit.ns,
-                        material: hit.material,
                         w_prev: -d,
                         tri: hit.tri,
                         collapsed: st.collapsed,
-                        medium: st.medium,
+                        medium: st.medium(scene),
+                        medium_across: st.medium(scene),
                         ..Vertex::new(Kind::Surface, hit.p, st.beta, 0.0, Symbol::D)
                     };
                     v.pdf_fwd = to_area(pdf_w, &path[prev], &v);
@@ -55,7 +65,7 @@ impl<'a> Bdpt<'a> {
                 break;
             };
             st.arrive(&it);
-            let mut v = Vertex::surface(&it, &st);
+            let mut v = Vertex::surface(scene, &it, &st);
             v.pdf_fwd = to_area(pdf_w, &path[prev], &v);
             path.push(v);
             if path.len() >= max_verts {
@@ -144,7 +154,7 @@ impl<'a> Bdpt<'a> {
         self.walk(
             path,
             (o, le.dir),
-            PathState::new(beta, false),
+            PathState::new(beta, false, self.pt.nested),
             le.pdf_dir,
             max_verts,
             TransportMode::Importance,

@@ -83,6 +83,7 @@ impl Loader<'_> {
         self.warn_ignored_features(m, ext);
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
+        let priority = self.priority(m, &name, i)?;
 
         let base_color_texture = match &pbr.base_color_texture {
             Some(t) => self.texture_ref(t, true, &name)?,
@@ -117,6 +118,7 @@ impl Loader<'_> {
             attenuation_distance: volume.attenuation_distance,
             specular_factor,
             specular_color,
+            priority,
         };
         if mat.is_emissive() {
             // Contract: an emitter's surface is otherwise black.
@@ -358,6 +360,27 @@ impl Loader<'_> {
             }
         }
         Ok(distribution)
+    }
+
+    /// `extras.priority`: an integer (nested dielectrics: where closed volumes overlap, the
+    /// higher priority is the medium; Schmidt & Budge 2002). Default 0; anything else is
+    /// replaced by 0 with a warning.
+    fn priority(&mut self, m: &json::Material, name: &str, i: usize) -> anyhow::Result<i32> {
+        let Some(x) = extras_value(&m.extras, &format!("/materials/{i}/extras"))? else {
+            return Ok(0);
+        };
+        let Some(v) = x.get("priority") else {
+            return Ok(0);
+        };
+        match v.as_i64().and_then(|p| i32::try_from(p).ok()) {
+            Some(p) => Ok(p),
+            None => {
+                self.warnings.push(format!(
+                    "material '{name}': extras.priority {v} is not a 32-bit integer; using 0"
+                ));
+                Ok(0)
+            }
+        }
     }
 
     /// The contract's material kind from transmission, volume thickness and the
