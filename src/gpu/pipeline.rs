@@ -191,6 +191,7 @@ impl Specialization {
             filter: true,
             spectral: true,
             light_tracing: true,
+            nested: true,
         }
     }
 
