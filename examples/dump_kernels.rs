@@ -62,7 +62,12 @@ fn main() -> Result<()> {
         let wgsl = a.out.join(format!("{}.wgsl", k.entry()));
         std::fs::write(&wgsl, kernels::wgsl(&spec, k)?)
             .with_context(|| format!("writing {}", wgsl.display()))?;
-        println!("{} ({} SPIR-V words), {}", spv.display(), words.len(), wgsl.display());
+        println!(
+            "{} ({} SPIR-V words), {}",
+            spv.display(),
+            words.len(),
+            wgsl.display()
+        );
     }
     Ok(())
 }

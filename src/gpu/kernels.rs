@@ -35,7 +35,10 @@ fn constants(spec: &Specialization) -> naga::back::PipelineConstants {
 }
 
 /// The module specialised for `spec` (overrides substituted) for the entry point `kernel`.
-fn specialised(spec: &Specialization, kernel: Kernel) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
+fn specialised(
+    spec: &Specialization,
+    kernel: Kernel,
+) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
     let (module, info) = module()?;
     let stage = Some((naga::ShaderStage::Compute, kernel.entry()));
     let (m, i) =
@@ -73,9 +76,13 @@ pub fn spirv(spec: &Specialization, kernel: Kernel) -> Result<Vec<u32>> {
 /// the specialised module back out), headed by the constants used.
 pub fn wgsl(spec: &Specialization, kernel: Kernel) -> Result<String> {
     let (module, info) = specialised(spec, kernel)?;
-    let body = naga::back::wgsl::write_string(&module, &info, naga::back::wgsl::WriterFlags::empty())
-        .with_context(|| format!("writing WGSL of {}", kernel.entry()))?;
-    let mut s = format!("// refract kernel `{}`, specialisation constants:\n", kernel.entry());
+    let body =
+        naga::back::wgsl::write_string(&module, &info, naga::back::wgsl::WriterFlags::empty())
+            .with_context(|| format!("writing WGSL of {}", kernel.entry()))?;
+    let mut s = format!(
+        "// refract kernel `{}`, specialisation constants:\n",
+        kernel.entry()
+    );
     for (k, v) in spec.constants() {
         s.push_str(&format!("//   {k} = {v}\n"));
     }
@@ -109,7 +116,11 @@ pub fn buffer_bindings() -> Result<Vec<BufferBinding>> {
         let uniform = match var.space {
             naga::AddressSpace::Uniform => true,
             naga::AddressSpace::Storage { .. } => false,
-            other => anyhow::bail!("binding {}.{} is {other:?}, not a buffer", rb.group, rb.binding),
+            other => anyhow::bail!(
+                "binding {}.{} is {other:?}, not a buffer",
+                rb.group,
+                rb.binding
+            ),
         };
         out.push(BufferBinding {
             group: rb.group,

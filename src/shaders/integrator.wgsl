@@ -519,7 +519,11 @@ fn camera_ray_dir(sx: f32, sy: f32) -> vec3<f32> {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn render(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn render(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    LANE = lane;
     OFFSET_SCALE = params.offset_scale;
     let x = gid.x;
     let y = gid.y;

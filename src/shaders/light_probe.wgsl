@@ -81,7 +81,11 @@ fn la2(a: array<f32, 2>) -> vec2<f32> {
 }
 
 @compute @workgroup_size(64, 1, 1)
-fn light_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn light_probe(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    LANE = lane;
     let i = gid.x;
     if i >= arrayLength(&light_cases) {
         return;

@@ -467,7 +467,11 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
 
 // One light subpath per invocation per sample of the batch (as many as camera paths).
 @compute @workgroup_size(8, 8, 1)
-fn light_trace(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn light_trace(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    LANE = lane;
     if !HAS_LT {
         return;
     }

@@ -196,6 +196,17 @@ fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax:
 
 // gpu::upload checks that the tree is no deeper than this.
 
+// Invocations per workgroup of every kernel that traverses (8×8 or 64×1).
+const WORKGROUP_LANES: u32 = 64u;
+
+// The traversal stacks of the workgroup's invocations live in workgroup memory, not in
+// registers: a 64-entry array per invocation held 64 VGPRs and was zeroed on every call
+// (WGSL zero-initialises function variables). Entry i of lane l is at i·64 + l, so the lanes
+// of a wave touch distinct banks. Each lane only ever reads its own entries: no barrier.
+var<workgroup> BVH_STACK: array<u32, BVH_STACK_SIZE * WORKGROUP_LANES>;
+// This invocation's lane (local_invocation_index), set first thing by every entry point.
+var<private> LANE: u32;
+
 // Closest hit (any_hit = false) or first hit (any_hit = true) along org + t·dir, t ∈ (0, tmax).
 fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
     var hit = Hit(false, tmax_in, 0u, 0.0, 0.0);
@@ -210,7 +221,6 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
             inv_d[k] = 1.0 / dir[k];
         }
     }
-    var stack: array<u32, BVH_STACK_SIZE>;
     var sp = 0u;
     var node = 0u;
     let root = nodes[0];
@@ -246,7 +256,7 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
                     far = l;
                 }
                 if sp < BVH_STACK_SIZE {
-                    stack[sp] = far;
+                    BVH_STACK[sp * WORKGROUP_LANES + LANE] = far;
                     sp++;
                 }
                 node = near;
@@ -263,7 +273,7 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
             break;
         }
         sp--;
-        node = stack[sp];
+        node = BVH_STACK[sp * WORKGROUP_LANES + LANE];
     }
     return hit;
 }
