@@ -1,4 +1,4 @@
-//! `refract` command line: view | render | bench. No subcommand opens the viewer.
+//! `refract` command line: view | render | trace | bench. No subcommand opens the viewer.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 mod cli_duration;
+mod cli_trace;
 mod gpu_render;
 
 use cli_duration::parse_duration;
@@ -33,6 +34,8 @@ enum Command {
     View(ViewArgs),
     /// Render a scene headless to .exr (linear float RGB) or .png (tone-mapped sRGB).
     Render(RenderArgs),
+    /// The path inspector: every vertex of N camera paths through one pixel (JSON or a table).
+    Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
 }
@@ -590,6 +593,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::View(args)) => view(args),
         None => view(ViewArgs::default()),

@@ -71,3 +71,18 @@ pub fn medium_transmittance(scene: &Scene, medium: Medium, t: f32, sp: &Spectral
     let tr = -sa * t;
     Some(Color::new(tr.x.exp(), tr.y.exp(), tr.z.exp(), tr.w.exp()))
 }
+
+/// The refractive index of `medium` for the path's lanes `sp` (1 outside everything; at the
+/// hero wavelength for a dispersive glass in a spectral path, as `Interaction::new` builds
+/// its BSDF). The path inspector reports η_i and η_t through this.
+#[inline]
+pub fn medium_ior(scene: &Scene, medium: Medium, sp: &Spectral) -> f32 {
+    let Some(m) = medium else {
+        return 1.0;
+    };
+    let mat = &scene.materials[m as usize];
+    match sp.lambdas {
+        Some(l) if mat.abbe.is_some() => mat.ior_at(l[0]),
+        _ => mat.ior,
+    }
+}
