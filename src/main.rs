@@ -98,6 +98,10 @@ struct ViewArgs {
     /// adapter such as lavapipe).
     #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
+    /// Open with the path inspector on pixel X Y of the scene's full-resolution image (the
+    /// pixel `refract trace --pixel X Y` traces).
+    #[arg(long, num_args = 2, value_names = ["X", "Y"])]
+    inspect: Option<Vec<u32>>,
 }
 
 #[derive(clap::Args, Clone)]
@@ -572,7 +576,13 @@ fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 fn view(args: ViewArgs) -> Result<()> {
+    let inspect = match args.inspect.as_deref() {
+        None => None,
+        Some(&[x, y]) => Some((x, y)),
+        Some(_) => bail!("--inspect takes two numbers, X and Y"),
+    };
     refract::app::run(refract::app::ViewOptions {
+        inspect,
         scene: args.scene,
         frames: args.frames,
         exit_after: args.exit_after,

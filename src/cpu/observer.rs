@@ -33,6 +33,21 @@ pub enum PathEnd {
     Roulette,
 }
 
+impl PathEnd {
+    /// The name the JSON uses (`escaped`, `max_depth`, …).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            PathEnd::Escaped => "escaped",
+            PathEnd::MaxDepth => "max_depth",
+            PathEnd::Terminated => "terminated",
+            PathEnd::Absorbed => "absorbed",
+            PathEnd::Poisoned => "poisoned",
+            PathEnd::Filtered => "filtered",
+            PathEnd::Roulette => "roulette",
+        }
+    }
+}
+
 /// Receives the camera walk's events in order: `start`, then per surface `surface`,
 /// `emitted`?, `connection`?, `bounce`, `throughput`, and finally `escaped`? and `end`.
 /// Contributions are in the path's colour lanes and already include the path throughput

@@ -25,10 +25,10 @@ pub fn format_table(trace: &PixelTrace) -> String {
 fn path_table(out: &mut String, i: usize, p: &PathRecord) {
     let _ = writeln!(
         out,
-        "\npath {i}: {}  contribution {}  end {:?}",
+        "\npath {i}: {}  contribution {}  end {}",
         p.heckbert,
         rgb(p.contribution),
-        p.end
+        p.end.as_str()
     );
     let _ = writeln!(
         out,
