@@ -183,6 +183,7 @@ impl<'a> Integrator<'a> {
 
     /// One next-event estimate at `it` (times the path throughput), MIS-weighted, reported
     /// to `obs` once a light point is drawn.
+    #[inline(always)]
     fn sample_light<O: PathObserver>(
         &self,
         it: &Interaction,
