@@ -1,4 +1,4 @@
-//! `refract` command line: view | render | bench. No subcommand opens the viewer.
+//! `refract` command line: view | render | trace | bench. No subcommand opens the viewer.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -13,6 +13,7 @@ use std::time::Duration;
 
 mod cli_duration;
 mod cli_load;
+mod cli_trace;
 mod gpu_render;
 
 use cli_duration::parse_duration;
@@ -35,6 +36,8 @@ enum Command {
     View(ViewArgs),
     /// Render a scene headless to .exr (linear float RGB) or .png (tone-mapped sRGB).
     Render(RenderArgs),
+    /// The path inspector: every vertex of N camera paths through one pixel (JSON or a table).
+    Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
 }
@@ -101,6 +104,10 @@ struct ViewArgs {
     /// adapter such as lavapipe).
     #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
+    /// Open with the path inspector on pixel X Y of the scene's full-resolution image (the
+    /// pixel `refract trace --pixel X Y` traces).
+    #[arg(long, num_args = 2, value_names = ["X", "Y"])]
+    inspect: Option<Vec<u32>>,
 }
 
 #[derive(clap::Args, Clone)]
@@ -603,7 +610,13 @@ fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 fn view(args: ViewArgs) -> Result<()> {
+    let inspect = match args.inspect.as_deref() {
+        None => None,
+        Some(&[x, y]) => Some((x, y)),
+        Some(_) => bail!("--inspect takes two numbers, X and Y"),
+    };
     refract::app::run(refract::app::ViewOptions {
+        inspect,
         scene: args.scene,
         frames: args.frames,
         exit_after: args.exit_after,
@@ -625,6 +638,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::View(args)) => view(args),
         None => view(ViewArgs::default()),

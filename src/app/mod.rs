@@ -8,6 +8,8 @@
 
 pub mod backend;
 pub mod edit;
+pub mod inspect;
+pub mod inspect_overlay;
 pub mod panels;
 pub mod screenshot;
 pub mod viewport;
@@ -37,6 +39,8 @@ pub struct ViewOptions {
     pub frames: Option<u64>,
     /// Close after this much time.
     pub exit_after: Option<Duration>,
+    /// Open with the path inspector on this pixel (lectures, screenshots).
+    pub inspect: Option<(u32, u32)>,
     /// Which renderer drives the viewport.
     pub device: Device,
     /// Budgets and URI permission of every glTF the viewer opens.
@@ -88,6 +92,8 @@ pub struct ViewerApp {
     /// Where screenshots go (`screenshots/` by default).
     pub screenshot_dir: PathBuf,
     pub paused: bool,
+    /// The Inspect mode: paths through a clicked pixel.
+    pub inspector: inspect::Inspector,
     backend: Box<dyn Backend>,
     /// The adapter that draws the UI (status bar).
     display_device: String,
@@ -136,6 +142,7 @@ impl ViewerApp {
             open_path: String::new(),
             screenshot_dir: PathBuf::from("screenshots"),
             paused: false,
+            inspector: inspect::Inspector::default(),
             backend,
             display_device: String::new(),
             dialog: None,
@@ -321,6 +328,8 @@ impl ViewerApp {
                 egui::ScrollArea::vertical().show(ui, |ui| panels::side_panel(self, ui));
             });
         self.apply_queued();
+        self.inspect_follow();
+        panels::inspect::side(self, ui);
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let tex = self.backend.display_texture(&ctx, &self.display_params());
             let res = self.settings.resolution(&self.scene);
@@ -335,16 +344,34 @@ impl ViewerApp {
                 self.backend.set_interactive(r.dragging);
             }
             if let Some((sx, sy)) = r.clicked {
-                self.selected = self.pick(sx, sy);
+                if r.alt || self.inspector.enabled {
+                    self.inspector.request((sx, sy));
+                    ctx.request_repaint();
+                } else {
+                    self.selected = self.pick(sx, sy);
+                }
+            }
+            self.inspector.image_rect = Some(r.image_rect);
+            if let Some(t) = &self.inspector.traced {
+                let painter = ui.painter_at(r.image_rect);
+                inspect_overlay::draw(&painter, r.image_rect, t, self.inspector.highlight);
             }
         });
         self.apply_queued();
 
         let ui_time = t0.elapsed();
         self.record_frame(ui_time);
-        if self.backend.is_rendering() || self.dialog.is_some() {
+        if self.backend.is_rendering() || self.dialog.is_some() || self.inspector.is_tracing() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
+    }
+
+    /// Start or collect the inspector's trace for the scene and options as they are now.
+    fn inspect_follow(&mut self) {
+        let generation = self.backend.generation();
+        let (settings, scene) = (&self.settings, &self.scene);
+        self.inspector
+            .update(scene, generation, || settings.render_options(scene));
     }
 
     fn record_frame(&mut self, ui_time: Duration) {
@@ -558,6 +585,11 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
             }
             if let Some(n) = note {
                 app.messages.info = Some(n);
+            }
+            if let Some(px) = opts.inspect {
+                let size = (app.scene.settings.width, app.scene.settings.height);
+                app.inspector.enabled = true;
+                app.inspector.request_pixel(px, size);
             }
             app.exit_frames = opts.frames;
             app.load_limits = opts.limits;

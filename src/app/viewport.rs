@@ -7,7 +7,7 @@ use eframe::egui::{self, Color32, PointerButton, Pos2, Rect, Sense, Vec2};
 use glam::Vec3;
 
 /// What happened in the viewport this frame.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct ViewportResponse {
     /// The orbit was changed (drag or scroll).
     pub camera_changed: bool,
@@ -15,6 +15,22 @@ pub struct ViewportResponse {
     pub clicked: Option<(f32, f32)>,
     /// A drag is in progress (the backend may render at lower resolution meanwhile).
     pub dragging: bool,
+    /// Alt was held during the click (inspect the pixel's paths).
+    pub alt: bool,
+    /// Where the image is drawn (overlays draw into it).
+    pub image_rect: Rect,
+}
+
+impl Default for ViewportResponse {
+    fn default() -> Self {
+        ViewportResponse {
+            camera_changed: false,
+            clicked: None,
+            dragging: false,
+            alt: false,
+            image_rect: Rect::NOTHING,
+        }
+    }
 }
 
 /// Degrees of orbit per point of drag.
@@ -44,9 +60,10 @@ pub fn show(
     let mut out = ViewportResponse::default();
     let (outer, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
     let response = response.on_hover_text(
-        "Drag: orbit · right/middle drag: pan · scroll: zoom · click: select the object's material",
+        "Drag: orbit · right/middle drag: pan · scroll: zoom · click: select the object's material · Alt+click: inspect the paths through a pixel",
     );
     let rect = fit_rect(outer, image_size.0, image_size.1);
+    out.image_rect = rect;
     let painter = ui.painter_at(outer);
     painter.rect_filled(outer, 0.0, Color32::from_gray(16));
     match texture {
@@ -104,6 +121,7 @@ pub fn show(
         let sx = (p.x - rect.min.x) / rect.width();
         let sy = (p.y - rect.min.y) / rect.height();
         out.clicked = Some((sx, sy));
+        out.alt = ui.input(|i| i.modifiers.alt);
     }
     if out.camera_changed {
         let fallback = *orbit;

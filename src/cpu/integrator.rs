@@ -7,6 +7,7 @@
 
 use super::interaction::{Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface};
 use super::medium::medium_transmittance;
+use super::observer::{PathEnd, PathObserver};
 use super::path_state::{Interface, PathState};
 use super::spectral::Spectral;
 use crate::bsdf::{BxDF, TransportMode};
@@ -15,7 +16,7 @@ use crate::math::sampling::power_heuristic;
 use crate::math::{Color, rng::Sampler};
 use crate::paths::{DfaTable, Symbol};
 use crate::scene::Scene;
-use crate::scene::light::LightSet;
+use crate::scene::light::{LiSample, LightSet};
 use glam::{Vec2, Vec3};
 
 /// The path tracer for one prepared scene.
@@ -89,9 +90,23 @@ impl<'a> Integrator<'a> {
     }
 
     /// Radiance along the camera ray (origin, dir) — one path sample, RGB.
+    #[inline]
     pub fn li(&self, origin: Vec3, dir: Vec3, sampler: &mut Sampler) -> Vec3 {
+        self.li_observed(origin, dir, sampler, &mut ())
+    }
+
+    /// [`Integrator::li`] reporting every step of the walk to `obs` (the path inspector);
+    /// with `()` the hooks compile away and this is the renderer's walk.
+    pub fn li_observed<O: PathObserver>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        sampler: &mut Sampler,
+        obs: &mut O,
+    ) -> Vec3 {
         let scene = self.scene;
         let sp = Spectral::new(self.spectral, || sampler.next_1d());
+        obs.start(origin, dir, &sp);
         let mut l = Color::ZERO;
         let mut st = PathState::new(Color::ONE, false, self.nested);
         let (mut o, mut d) = (origin, dir);
@@ -100,13 +115,15 @@ impl<'a> Integrator<'a> {
         let (mut prev_pdf, mut prev_delta) = (0.0f32, true);
         // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
         let mut q = self.step(self.filter.map_or(0, |f| f.start()), Symbol::E);
-        loop {
+        let why = loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
                 // Escaped: the environment (not light-sampled, so MIS weight 1).
                 if self.accepts_light(q) {
-                    l += st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d));
+                    let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d));
+                    obs.escaped(d, c);
+                    l += c;
                 }
-                break;
+                break PathEnd::Escaped;
             };
             let mut hit = self.surface(&h);
             st.attenuate(scene, hit.t, &sp);
@@ -117,21 +134,24 @@ impl<'a> Integrator<'a> {
                     o = self.pass_through(&hit, d);
                     continue;
                 }
-                Interface::Lost => break,
+                Interface::Lost => break PathEnd::Terminated,
             };
             hit.t += t_pass;
             t_pass = 0.0;
+            obs.surface(scene, &hit, &st);
             if self.accepts_light(q)
                 && let Some((le, w)) = self.hit_emission(&hit, d, prev_pdf, prev_delta)
             {
-                l += st.weight() * sp.c(le) * w;
+                let c = st.weight() * sp.c(le) * w;
+                obs.emitted(c);
+                l += c;
             }
             if st.depth + 1 >= self.max_depth {
-                break;
+                break PathEnd::MaxDepth;
             }
             let offset = self.bvh.offset_scale();
             let Some(it) = Interaction::new(scene, &hit, d, &sp, offset, enclosing) else {
-                break;
+                break PathEnd::Terminated;
             };
             st.arrive(&it);
             let uc = sampler.next_1d();
@@ -144,30 +164,37 @@ impl<'a> Integrator<'a> {
                     g: self.accepts_light(self.step(q, Symbol::G)),
                 };
                 if mask.d || mask.g {
-                    l += st.weight() * self.sample_light(&it, &st, ul, ul2, mask, &sp);
+                    l += self.sample_light(&it, &st, (ul, ul2), mask, &sp, obs);
                 }
             }
             let (s, wi) = match it.sample(uc, u2, TransportMode::Radiance) {
                 Bounce::Continue { s, wi } => (s, wi),
-                Bounce::Absorbed => break,
+                Bounce::Absorbed => break PathEnd::Absorbed,
                 // A broken BSDF value: poison the sample so the film's firewall drops and
                 // counts it instead of silently biasing the image.
-                Bounce::Poisoned => return Vec3::NAN,
+                Bounce::Poisoned => {
+                    obs.end(PathEnd::Poisoned);
+                    return Vec3::NAN;
+                }
             };
+            obs.bounce(scene, &it, &st, &s, wi);
             if let Some(f) = self.filter {
                 q = f.step(q, Symbol::from(s.lobe));
                 if !f.can_reach_accept(q) {
-                    break; // nothing this path can still reach counts
+                    break PathEnd::Filtered; // nothing this path can still reach counts
                 }
             }
             st.scatter(scene, &it, &s, wi, TransportMode::Radiance);
             (prev_pdf, prev_delta) = (s.pdf, s.is_delta);
             o = it.spawn(wi);
             d = wi;
-            if !st.survives(self.rr_depth, || sampler.next_1d()) {
-                break;
+            let alive = st.survives(self.rr_depth, || sampler.next_1d());
+            obs.throughput(st.weight());
+            if !alive {
+                break PathEnd::Roulette;
             }
-        }
+        };
+        obs.end(why);
         sp.to_rgb(l)
     }
 
@@ -177,15 +204,17 @@ impl<'a> Integrator<'a> {
         offset_ray_origin_towards(hit.p, hit.ng, d.dot(hit.ng), self.bvh.offset_scale())
     }
 
-    /// One next-event estimate at `it` (without the path throughput), MIS-weighted.
-    fn sample_light(
+    /// One next-event estimate at `it` (times the path throughput), MIS-weighted, reported
+    /// to `obs` once a light point is drawn.
+    #[inline(always)]
+    fn sample_light<O: PathObserver>(
         &self,
         it: &Interaction,
         st: &PathState,
-        ul: f32,
-        ul2: Vec2,
+        (ul, ul2): (f32, Vec2),
         mask: ClassMask,
         sp: &Spectral,
+        obs: &mut O,
     ) -> Color {
         let Some((light, pick)) = self.lights.pick(ul) else {
             return Color::ZERO;
@@ -193,6 +222,23 @@ impl<'a> Integrator<'a> {
         let Some(ls) = light.sample_li(it.hit.p, ul2, pick) else {
             return Color::ZERO;
         };
+        let (c, occluded) = self.connect_light(it, st, &ls, mask, sp);
+        let c = st.weight() * c;
+        obs.connection(it, &ls, c, occluded);
+        c
+    }
+
+    /// The unweighted next-event estimate of the light sample `ls` at `it` and whether its
+    /// shadow ray was blocked.
+    #[inline(always)]
+    fn connect_light(
+        &self,
+        it: &Interaction,
+        st: &PathState,
+        ls: &LiSample,
+        mask: ClassMask,
+        sp: &Spectral,
+    ) -> (Color, bool) {
         let wi = it.frame.to_local(ls.wi);
         let f = if mask.d && mask.g {
             it.bsdf.eval(it.wo, wi, TransportMode::Radiance)
@@ -201,11 +247,11 @@ impl<'a> Integrator<'a> {
             (if mask.d { lv.d } else { Color::ZERO }) + (if mask.g { lv.g } else { Color::ZERO })
         };
         if f.max_element() <= 0.0 || !it.geometric_ok(ls.wi) {
-            return Color::ZERO;
+            return (Color::ZERO, false);
         }
-        let (origin, sdir, stmax) = it.shadow_ray(&ls);
+        let (origin, sdir, stmax) = it.shadow_ray(ls);
         if self.bvh.occluded(origin, sdir, stmax) {
-            return Color::ZERO;
+            return (Color::ZERO, true);
         }
         let w = if ls.is_delta {
             1.0
@@ -216,9 +262,10 @@ impl<'a> Integrator<'a> {
         // Absorption along the shadow ray (a light inside absorbing glass).
         let medium = st.medium_towards(self.scene, it, ls.wi);
         if ls.infinite || medium.is_none() {
-            return c;
+            return (c, false);
         }
         let t = (ls.p_light - it.hit.p).length();
-        medium_transmittance(self.scene, medium, t, sp).map_or(c, |tr| c * tr)
+        let c = medium_transmittance(self.scene, medium, t, sp).map_or(c, |tr| c * tr);
+        (c, false)
     }
 }

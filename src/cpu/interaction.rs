@@ -201,7 +201,7 @@ impl Interaction {
     /// The shadow ray of a light sample: (origin, direction, t_max). Both ends use the offset
     /// rule; the target is rebuilt as p + (p_light − p), the arithmetic the walks have always
     /// used. Infinite lights: along ωi without end.
-    #[inline]
+    #[inline(always)]
     pub fn shadow_ray(&self, ls: &crate::scene::light::LiSample) -> (Vec3, Vec3, f32) {
         let origin = self.spawn(ls.wi);
         if ls.infinite {

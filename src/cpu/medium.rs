@@ -216,7 +216,8 @@ pub fn medium_towards(
     }
 }
 
-/// The IOR of `medium` at the path's hero wavelength (air: 1).
+/// The IOR of `medium` at the path's hero wavelength (air: 1), as `Interaction::new` builds
+/// its BSDF; the path inspector reports η_i and η_t through this.
 #[inline]
 pub fn medium_ior(scene: &Scene, medium: Medium, sp: &Spectral) -> f32 {
     let Some(m) = medium else {

@@ -4,9 +4,11 @@
 //! lights only through `scene::light::Light`.
 
 pub mod bdpt;
+pub mod inspect;
 pub mod integrator;
 pub mod interaction;
 pub mod medium;
+pub mod observer;
 pub mod path_state;
 pub mod render;
 pub mod spectral;

@@ -6,9 +6,26 @@ use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
 use crate::render::{Estimator, RenderOptions, RenderStats};
-use crate::scene::{Features, Scene, light::LightSet};
+use crate::scene::{Camera, Features, Scene, light::LightSet};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
+
+/// The direction of a path tracer's camera ray through pixel `(x, y)` of a `(w, h)` image:
+/// a uniform jitter over the pixel square (box filter), the sampler's first two dimensions.
+/// The renderer and the path inspector draw their camera rays only through this.
+#[inline]
+pub fn camera_ray(
+    cam: &Camera,
+    (x, y): (u32, u32),
+    (w, h): (u32, u32),
+    sampler: &mut Sampler,
+) -> Vec3 {
+    let j = sampler.next_2d();
+    let sx = (x as f32 + j.x) / w as f32;
+    let sy = (y as f32 + j.y) / h as f32;
+    cam.ray_dir(sx, sy, w as f32 / h as f32)
+}
 
 /// A scene prepared for CPU rendering (BVH and light distribution built once).
 pub struct Renderer {
@@ -84,7 +101,6 @@ impl Renderer {
         }
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
-        let aspect = w as f32 / h as f32;
         let cam = &self.scene.camera;
         let seed = opts.seed;
         let result: Option<u64> = film
@@ -100,10 +116,7 @@ impl Renderer {
                     let pixel = y as u32 * w + x as u32;
                     for s in first_spp..first_spp + count {
                         let mut sampler = Sampler::new(pixel, s, seed);
-                        let j = sampler.next_2d();
-                        let sx = (x as f32 + j.x) / w as f32;
-                        let sy = (y as f32 + j.y) / h as f32;
-                        let dir = cam.ray_dir(sx, sy, aspect);
+                        let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
                         let v = integ.li(cam.position, dir, &mut sampler);
                         let ok = if integ.spectral {
                             Film::add_signed_to(px, v)

@@ -47,6 +47,31 @@ impl Camera {
         (self.rotation * Vec3::new(x, y, -1.0)).normalize()
     }
 
+    /// The film point (sx, sy) of world point `p` (the inverse of [`Camera::ray_dir`]): its
+    /// camera-space position projected by the pinhole; None behind the camera (or on its plane).
+    #[inline]
+    pub fn to_film(&self, p: Vec3, aspect: f32) -> Option<(f32, f32)> {
+        self.film_of_local(self.to_local(p), aspect)
+    }
+
+    /// `p` in camera space (right, up, back; the camera looks down −Z).
+    #[inline]
+    pub fn to_local(&self, p: Vec3) -> Vec3 {
+        self.rotation.transpose() * (p - self.position)
+    }
+
+    /// The film point of camera-space `q` (None when `q.z ≥ 0`, not in front).
+    #[inline]
+    pub fn film_of_local(&self, q: Vec3, aspect: f32) -> Option<(f32, f32)> {
+        if q.z >= 0.0 {
+            return None;
+        }
+        let tan_half = (0.5 * self.yfov).tan();
+        let x = q.x / (-q.z * tan_half * aspect);
+        let y = q.y / (-q.z * tan_half);
+        Some((0.5 * (x + 1.0), 0.5 * (1.0 - y)))
+    }
+
     pub fn forward(&self) -> Vec3 {
         -self.rotation.z_axis
     }
@@ -62,5 +87,24 @@ impl Camera {
             self.yfov
         );
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn to_film_inverts_ray_dir() {
+        let cam = Camera::look_at(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 0.7);
+        for (sx, sy) in [(0.5, 0.5), (0.1, 0.9), (0.83, 0.27)] {
+            let p = cam.position + 4.0 * cam.ray_dir(sx, sy, 1.6);
+            let (x, y) = cam.to_film(p, 1.6).expect("in front");
+            assert!(
+                (x - sx).abs() < 1e-5 && (y - sy).abs() < 1e-5,
+                "{x} {y} vs {sx} {sy}"
+            );
+        }
+        assert_eq!(cam.to_film(cam.position - cam.forward(), 1.6), None);
     }
 }

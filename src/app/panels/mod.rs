@@ -2,6 +2,7 @@
 
 pub mod camera;
 pub mod fresnel;
+pub mod inspect;
 pub mod light;
 pub mod material;
 pub mod rendering;

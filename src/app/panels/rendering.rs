@@ -1,4 +1,4 @@
-//! Rendering group: depth, Heckbert path filter, exposure, tone map, pause, spp target,
+//! Rendering group: depth, Heckbert path filter, the path inspector's toggle, exposure, tone map, pause, spp target,
 //! render scale, screenshot and reset.
 
 use crate::app::{Edit, ViewerApp};
@@ -42,6 +42,8 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut render = app.settings.render.clone();
     depth_and_estimator(ui, &mut render, &app.scene);
     path_filter(app, ui);
+    ui.separator();
+    super::inspect::controls(app, ui);
     ui.separator();
     display(app, ui);
     ui.separator();
