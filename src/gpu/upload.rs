@@ -195,6 +195,13 @@ pub fn dist_code(d: MicrofacetDistribution) -> u32 {
 /// Reject what the GPU kernel cannot render. Every material kind, textures, dispersion and
 /// the path filter are supported; what is left are limits (checked when buffers are built).
 pub fn check_supported(scene: &Scene) -> Result<()> {
+    if let Some(e) = &scene.env_map {
+        anyhow::bail!(
+            "the GPU renderer has no environment-image twin yet (environment '{}'): render \
+             such scenes on the CPU (--device cpu)",
+            e.map.name
+        );
+    }
     for (i, t) in scene.textures.iter().enumerate() {
         ensure!(
             (t.width as u64) < (1 << 30) && (t.height as u64) < (1 << 30),
@@ -360,7 +367,7 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet) -> (Vec<Light>, u32) {
                 cdf,
                 ..Default::default()
             };
-            match *l {
+            match l {
                 SceneLight::Triangle(t) => {
                     g.kind = layout::LIGHT_TRIANGLE;
                     g.index = bvh.slot_of_tri.get(t.tri as usize).copied().unwrap_or(0);
@@ -385,6 +392,8 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet) -> (Vec<Light>, u32) {
                 }
                 // Not in the distribution: escaping rays read the environment uniform.
                 SceneLight::Environment(_) => {}
+                // Refused by `check_supported` (no WGSL twin yet).
+                SceneLight::Image(_) => {}
             }
             g
         })

@@ -253,6 +253,7 @@ fn scene(
         punctual_lights: vec![],
         camera,
         environment,
+        env_map: None,
         settings,
         warnings: vec![],
     }

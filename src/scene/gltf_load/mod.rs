@@ -25,6 +25,7 @@ mod accessor;
 mod buffers;
 mod cameras;
 mod decode;
+mod environment;
 mod extras;
 mod files;
 mod lights;
@@ -56,6 +57,11 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 
 /// Transmission factors at or above this make a material a dielectric.
 pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
+
+/// The bytes of the regular file `path` (at most `files::MAX_FILE_BYTES`); `what` names it.
+pub fn read_regular_file(path: &Path, what: &str) -> anyhow::Result<Vec<u8>> {
+    files::read_regular_file(path, files::MAX_FILE_BYTES, what).map_err(|e| anyhow!(e))
+}
 
 /// Load a `.gltf` or `.glb` file.
 pub fn load_path(path: &Path) -> anyhow::Result<Scene> {
@@ -158,7 +164,8 @@ impl Loader<'_> {
             None => None,
         };
         let settings = extras::parse_render_settings(settings_value.as_ref())?;
-        let environment = extras::parse_environment(settings_value.as_ref())?;
+        let (environment, env_map) =
+            environment::parse(settings_value.as_ref(), self.base, &mut self.warnings)?;
 
         for (i, m) in root.materials.iter().enumerate() {
             let mat = self.convert_material(i, m)?;
@@ -207,9 +214,13 @@ impl Loader<'_> {
             punctual_lights: std::mem::take(&mut self.lights),
             camera,
             environment,
+            env_map,
             settings,
-            warnings: std::mem::take(&mut self.warnings.list),
+            warnings: vec![],
         };
+        let mut scene = scene;
+        environment::light_the_lightless(&mut scene, &mut self.warnings);
+        scene.warnings = std::mem::take(&mut self.warnings.list);
         scene
             .validate()
             .with_context(|| format!("'{name}' loaded but is not renderable"))?;
