@@ -29,6 +29,8 @@ pub struct EnvMap {
     pub texels: Vec<Vec3>,
     /// ∝ luminance × sinθ per texel (PBR 4th ed. §12.5.2 `ImageInfiniteLight`).
     pub dist: Distribution2D,
+    /// ∫ luminance dω over the sphere (exact for the piecewise-constant image).
+    pub lum_integral: f32,
     /// Where it came from (file name or generator), for logs and the viewer.
     pub name: String,
 }
@@ -102,11 +104,13 @@ impl EnvMap {
             })
             .collect();
         let dist = Distribution2D::new(&func, width as usize, height as usize);
+        let lum_integral = lum_integral(&texels, width, height);
         let map = EnvMap {
             width,
             height,
             texels,
             dist,
+            lum_integral,
             name: name.to_string(),
         };
         (map, bad)
@@ -121,10 +125,9 @@ impl EnvMap {
         self.texels[y * self.width as usize + x]
     }
 
-    /// ∫ luminance dω over the sphere: Σ lum·sinθ·(2π/W)(π/H) = 2π² × the distribution's
-    /// mean cell value.
+    /// ∫ luminance dω over the sphere.
     pub fn luminance_integral(&self) -> f32 {
-        2.0 * PI * PI * self.dist.marginal.integral
+        self.lum_integral
     }
 
     /// Decode `bytes` of a `.hdr` or `.exr` file (`what` names it in errors), refusing images
@@ -178,6 +181,19 @@ impl EnvMap {
         enc.encode(&px, self.width as usize, self.height as usize)
             .with_context(|| format!("cannot write '{}'", path.display()))
     }
+}
+
+/// Σ luminance × texel solid angle, a row's texels spanning (2π/W)(cos θ₀ − cos θ₁).
+fn lum_integral(texels: &[Vec3], width: u32, height: u32) -> f32 {
+    let mut sum = 0.0f64;
+    for (row, texels) in texels.chunks(width as usize).enumerate() {
+        let t0 = row as f64 / height as f64 * std::f64::consts::PI;
+        let t1 = (row + 1) as f64 / height as f64 * std::f64::consts::PI;
+        let omega = 2.0 * std::f64::consts::PI / width as f64 * (t0.cos() - t1.cos());
+        let lum: f64 = texels.iter().map(|t| luminance(*t).max(0.0) as f64).sum();
+        sum += lum * omega;
+    }
+    sum as f32
 }
 
 /// Replace or adjust the environment image of `scene` from the command line or the viewer:

@@ -37,7 +37,7 @@ bitflags::bitflags! {
         /// A BSDF reads a texture: any base-colour texture, or a metallic-roughness texture
         /// on the metal-rough BRDF (the only one that reads it).
         const TEXTURES = 1 << 11;
-        /// A non-black uniform environment.
+        /// A non-black uniform environment or an environment image.
         const ENVIRONMENT = 1 << 12;
         /// Emissive triangles.
         const AREA_LIGHTS = 1 << 13;
@@ -86,7 +86,10 @@ pub fn compute(scene: &Scene) -> Features {
             f |= Features::AREA_LIGHTS;
         }
     }
-    f.set(Features::ENVIRONMENT, scene.environment.max_element() > 0.0);
+    f.set(
+        Features::ENVIRONMENT,
+        scene.environment.max_element() > 0.0 || scene.env_map.is_some(),
+    );
     f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
     f
 }

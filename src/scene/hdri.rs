@@ -17,7 +17,7 @@ const SUPER: u32 = 3;
 pub const SUN_ELEVATION_DEG: f32 = 35.0;
 pub const SUN_AZIMUTH_DEG: f32 = 120.0;
 pub const SUN_RADIUS_DEG: f32 = 1.2;
-pub const SUN_RADIANCE: Vec3 = Vec3::new(20000.0, 19000.0, 17000.0);
+pub const SUN_RADIANCE: Vec3 = Vec3::new(4000.0, 3800.0, 3400.0);
 
 /// Unit direction at elevation `e` and azimuth `a` (degrees; azimuth = atan2(z, x)).
 pub fn direction(e: f32, a: f32) -> Vec3 {
@@ -106,12 +106,12 @@ fn sun_sky_radiance(d: Vec3) -> Vec3 {
         return SUN_RADIANCE;
     }
     if d.y < 0.0 {
-        return Vec3::new(0.12, 0.10, 0.08);
+        return Vec3::new(0.06, 0.05, 0.04);
     }
-    let zenith = Vec3::new(0.18, 0.32, 0.72);
-    let horizon = Vec3::new(0.75, 0.80, 0.90);
+    let zenith = Vec3::new(0.054, 0.096, 0.216);
+    let horizon = Vec3::new(0.225, 0.24, 0.27);
     let sky = horizon.lerp(zenith, d.y.sqrt());
-    let glow = Vec3::new(1.0, 0.8, 0.5) * (2.0 * (-(1.0 - cos_sun) / 0.02).exp());
+    let glow = Vec3::new(1.0, 0.8, 0.5) * (0.6 * (-(1.0 - cos_sun) / 0.02).exp());
     sky + glow
 }
 
