@@ -296,7 +296,10 @@ fn bench_class(
     // The same runs with the environment image sampled uniformly (same reference).
     for run in cpu_runs.iter().filter(|_| uniform.is_some()) {
         let Some(u) = uniform else { break };
-        eprintln!("  measuring {} with a uniformly sampled environment …", run.label());
+        eprintln!(
+            "  measuring {} with a uniformly sampled environment …",
+            run.label()
+        );
         let (mut p, mut s) = measure(u, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
         label_class(&mut p, &mut s, label);
         s.estimator.push_str(" env uniform");

@@ -610,12 +610,13 @@ fn bench(args: &BenchArgs) -> Result<()> {
 
 fn view(args: ViewArgs) -> Result<()> {
     let env = &args.env;
-    let env = (env.env.is_some() || env.env_strength.is_some() || env.env_rotation.is_some())
-        .then(|| refract::app::EnvOverride {
+    let env = (env.env.is_some() || env.env_strength.is_some() || env.env_rotation.is_some()).then(
+        || refract::app::EnvOverride {
             file: env.env.clone(),
             strength: env.env_strength,
             rotation: env.env_rotation,
-        });
+        },
+    );
     refract::app::run(refract::app::ViewOptions {
         env,
         scene: args.scene,

@@ -156,7 +156,10 @@ mod tests {
         assert_eq!(counts[1], 0, "a zero cell is never sampled");
         for (i, c) in counts.iter().enumerate() {
             let expect = n as f32 * d.func[i] / 8.0;
-            assert!((*c as f32 - expect).abs() <= 2.0, "cell {i}: {c} vs {expect}");
+            assert!(
+                (*c as f32 - expect).abs() <= 2.0,
+                "cell {i}: {c} vs {expect}"
+            );
         }
     }
 

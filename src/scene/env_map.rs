@@ -85,7 +85,12 @@ pub fn rotate_y(d: Vec3, c: f32, s: f32) -> Vec3 {
 impl EnvMap {
     /// From linear RGB texels (row 0 at the top); non-finite or negative components become 0
     /// and are counted in the returned number.
-    pub fn from_texels(width: u32, height: u32, mut texels: Vec<Vec3>, name: &str) -> (EnvMap, u64) {
+    pub fn from_texels(
+        width: u32,
+        height: u32,
+        mut texels: Vec<Vec3>,
+        name: &str,
+    ) -> (EnvMap, u64) {
         assert_eq!(texels.len() as u64, width as u64 * height as u64);
         let mut bad = 0u64;
         for t in &mut texels {
@@ -177,7 +182,11 @@ impl EnvMap {
         let file = std::fs::File::create(path)
             .with_context(|| format!("cannot create '{}'", path.display()))?;
         let enc = image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file));
-        let px: Vec<image::Rgb<f32>> = self.texels.iter().map(|t| image::Rgb(t.to_array())).collect();
+        let px: Vec<image::Rgb<f32>> = self
+            .texels
+            .iter()
+            .map(|t| image::Rgb(t.to_array()))
+            .collect();
         enc.encode(&px, self.width as usize, self.height as usize)
             .with_context(|| format!("cannot write '{}'", path.display()))
     }

@@ -128,11 +128,19 @@ pub fn sun_sky(width: u32) -> EnvMap {
 /// The shipped studio map (generated once per process), strength 1, no rotation.
 pub fn studio_env() -> EnvImage {
     static MAP: OnceLock<Arc<EnvMap>> = OnceLock::new();
-    EnvImage::new(MAP.get_or_init(|| Arc::new(studio(HDRI_WIDTH))).clone(), 1.0, 0.0)
+    EnvImage::new(
+        MAP.get_or_init(|| Arc::new(studio(HDRI_WIDTH))).clone(),
+        1.0,
+        0.0,
+    )
 }
 
 /// The shipped sun-and-sky map (generated once per process), strength 1, no rotation.
 pub fn sun_sky_env() -> EnvImage {
     static MAP: OnceLock<Arc<EnvMap>> = OnceLock::new();
-    EnvImage::new(MAP.get_or_init(|| Arc::new(sun_sky(HDRI_WIDTH))).clone(), 1.0, 0.0)
+    EnvImage::new(
+        MAP.get_or_init(|| Arc::new(sun_sky(HDRI_WIDTH))).clone(),
+        1.0,
+        0.0,
+    )
 }

@@ -14,10 +14,14 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .on_hover_text("An equirectangular .hdr or .exr image (three.js/glTF-viewer mapping).");
         if ui
             .button("Load")
-            .on_hover_text("Light the scene with this image; on failure the current lighting stays.")
+            .on_hover_text(
+                "Light the scene with this image; on failure the current lighting stays.",
+            )
             .clicked()
         {
-            app.push(Edit::Environment(EnvEdit::Load(app.env_path.trim().to_owned())));
+            app.push(Edit::Environment(EnvEdit::Load(
+                app.env_path.trim().to_owned(),
+            )));
         }
     });
     let Some(img) = app.base.env_map.as_ref() else {

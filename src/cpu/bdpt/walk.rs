@@ -1,8 +1,8 @@
 //! The random walks of both subpaths: one loop for camera (radiance) and light (importance)
 //! transport, on the shared per-vertex step (`Interaction`, `PathState`).
 
-use super::{Bdpt, BdptMode};
 use super::vertex::{Kind, Vertex, to_area};
+use super::{Bdpt, BdptMode};
 use crate::bsdf::{BxDF, TransportMode};
 use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards};
 use crate::cpu::path_state::PathState;

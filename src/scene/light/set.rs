@@ -93,7 +93,11 @@ fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
         });
     }
     if let Some(img) = &scene.env_map {
-        lights.push(Light::Image(ImageEnvironment::new(img.clone(), center, radius)));
+        lights.push(Light::Image(ImageEnvironment::new(
+            img.clone(),
+            center,
+            radius,
+        )));
     }
     lights
 }
@@ -134,7 +138,10 @@ impl LightSet {
             }
         }
         let (environment, env_pick) = match lights.last() {
-            Some(l @ Light::Image(_)) => (l.clone(), (*weights.last().unwrap_or(&0.0) as f64 / total) as f32),
+            Some(l @ Light::Image(_)) => (
+                l.clone(),
+                (*weights.last().unwrap_or(&0.0) as f64 / total) as f32,
+            ),
             _ => (
                 Light::Environment(UniformEnvironment {
                     radiance: scene.environment,

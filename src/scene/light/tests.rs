@@ -281,6 +281,9 @@ fn image_environment_samples_follow_pdf_li() {
     assert!((total_p - 1.0).abs() < 1e-4, "∫ pdf_li dω = {total_p}");
     let dof = (dof - 1) as f64;
     let limit = dof + 5.0 * (2.0 * dof).sqrt();
-    assert!(chi2 < limit, "χ² = {chi2:.1} over {dof} dof (limit {limit:.1})");
+    assert!(
+        chi2 < limit,
+        "χ² = {chi2:.1} over {dof} dof (limit {limit:.1})"
+    );
     assert_eq!(counts[5], 0, "the black texel is never sampled");
 }
