@@ -372,8 +372,10 @@ pub const LIGHT_TRIANGLE: u32 = 0;
 pub const LIGHT_POINT: u32 = 1;
 pub const LIGHT_SPOT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
-/// The uniform environment (not in the light distribution yet).
+/// The uniform environment (not in the light distribution).
 pub const LIGHT_ENVIRONMENT: u32 = 4;
+/// The environment image (in the distribution; its block in `texels`: `upload::pack_environment`).
+pub const LIGHT_IMAGE: u32 = 5;
 
 /// Deepest BVH2 the WGSL traversal stack handles (`upload::MAX_BVH_DEPTH`).
 pub const BVH_STACK_SIZE: u32 = super::upload::MAX_BVH_DEPTH;

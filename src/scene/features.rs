@@ -43,6 +43,8 @@ bitflags::bitflags! {
         const AREA_LIGHTS = 1 << 13;
         /// Point, spot or directional lights.
         const PUNCTUAL_LIGHTS = 1 << 14;
+        /// An environment image (importance-sampled, in the light distribution).
+        const ENV_IMAGE = 1 << 15;
     }
 }
 
@@ -91,5 +93,6 @@ pub fn compute(scene: &Scene) -> Features {
         scene.environment.max_element() > 0.0 || scene.env_map.is_some(),
     );
     f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
+    f.set(Features::ENV_IMAGE, scene.env_map.is_some());
     f
 }
