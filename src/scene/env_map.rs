@@ -59,10 +59,15 @@ impl EnvImage {
     }
 }
 
-/// (u, t) ∈ [0,1]² of the image direction `d` (unit; t = 1 − v = θ/π).
+/// (u, t) ∈ [0,1]² of the image direction `d` (unit; t = 1 − v = θ/π). At the poles
+/// (x = z = 0) u is 0.5 (atan2(0, 0) is implementation-defined in WGSL).
 #[inline]
 pub fn dir_to_uv(d: Vec3) -> Vec2 {
-    let u = d.z.atan2(d.x) * (0.5 / PI) + 0.5;
+    let u = if d.x == 0.0 && d.z == 0.0 {
+        0.5
+    } else {
+        d.z.atan2(d.x) * (0.5 / PI) + 0.5
+    };
     let t = d.y.clamp(-1.0, 1.0).acos() / PI;
     Vec2::new(u, t)
 }

@@ -117,9 +117,13 @@ fn env_rotate_y(d: vec3<f32>, c: f32, s: f32) -> vec3<f32> {
     return vec3<f32>(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
 }
 
-// Twin of `env_map::dir_to_uv`.
+// Twin of `env_map::dir_to_uv` (u = 0.5 at the poles: atan2(0, 0) is undefined in WGSL).
 fn env_dir_to_uv(d: vec3<f32>) -> vec2<f32> {
-    return vec2<f32>(atan2(d.z, d.x) * (0.5 / PI) + 0.5, acos(clamp(d.y, -1.0, 1.0)) / PI);
+    var u = 0.5;
+    if d.x != 0.0 || d.z != 0.0 {
+        u = atan2(d.z, d.x) * (0.5 / PI) + 0.5;
+    }
+    return vec2<f32>(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
 }
 
 // Twin of `env_map::uv_to_dir`.
