@@ -553,7 +553,10 @@ fn image_environment_twin_parity() {
         let scene = image_scene(importance);
         let set = LightSet::build(&scene);
         let env = set.lights.len() - 1;
-        assert!(matches!(set.lights[env], Light::Image(_)), "the image is the last light");
+        assert!(
+            matches!(set.lights[env], Light::Image(_)),
+            "the image is the last light"
+        );
         let mut cases = Vec::new();
         for light in 0..set.lights.len() {
             cases_of(&set, light, &mut cases);

@@ -58,7 +58,11 @@ pub fn run_light_probe(
         storage,
     );
     let lights = init("lights", upload::checked_bytes("lights", &lights)?, storage);
-    let texels = init("texels", upload::checked_bytes("textures", &texels)?, storage);
+    let texels = init(
+        "texels",
+        upload::checked_bytes("textures", &texels)?,
+        storage,
+    );
     let input = init("light probe cases", bytemuck::cast_slice(cases), storage);
     let out_size = (cases.len() * LightProbeOut::size() as usize) as u64;
     let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {

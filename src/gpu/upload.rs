@@ -390,7 +390,11 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
                     g.kind = layout::LIGHT_IMAGE;
                     g.index = env_offset;
                     g.intensity = [e.image.strength; 3];
-                    g.direction = [e.cos_rot, e.sin_rot, if e.image.importance { 1.0 } else { 0.0 }];
+                    g.direction = [
+                        e.cos_rot,
+                        e.sin_rot,
+                        if e.image.importance { 1.0 } else { 0.0 },
+                    ];
                 }
             }
             g
