@@ -17,9 +17,13 @@
 //! `sample_le` takes it as `u_side` (the CPU walks always draw it); and the GPU starts no
 //! light subpaths at lights at infinity (`light_sample_le` invalid, `light_pdf_le` (0, 0)).
 //!
+//! The environment image (`ImageEnvironment`) is the one light at infinity in the selection
+//! distribution: next-event estimation samples it and an escaping ray weights it by MIS
+//! (`LightSet::env_weight`); the uniform environment stays outside it (weight 1 on escape).
+//!
 //! # Adding a light type
 //!
-//! An image environment, say, is one more variant, in three places:
+//! A new light is one more variant, in three places (the image environment was added so):
 //! 1. Rust: a file here with the type and its `sample_li`, `pdf_li`, `le`, `sample_le`,
 //!    `pdf_le` and `power` (each formula with its citation), a `Light` variant dispatching
 //!    to them, its entry in `LightSet::build` (`scene_lights`), and its consistency cases in
