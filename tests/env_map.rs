@@ -186,7 +186,13 @@ fn sun_sky_scene() -> Scene {
     sphere(&mut m, Vec3::new(-0.45, 0.4, 0.0), 0.4, 24, 48, 1);
     sphere(&mut m, Vec3::new(0.45, 0.4, 0.0), 0.4, 24, 48, 2);
     // Normal X × Z = −Y: facing the floor.
-    quad(&mut m, Vec3::new(-0.2, 1.6, -0.6), Vec3::X * 0.4, Vec3::Z * 0.4, 3);
+    quad(
+        &mut m,
+        Vec3::new(-0.2, 1.6, -0.6),
+        Vec3::X * 0.4,
+        Vec3::Z * 0.4,
+        3,
+    );
     let cam = Camera::look_at(
         Vec3::new(0.0, 1.2, 2.6),
         Vec3::new(0.0, 0.3, 0.0),

@@ -849,14 +849,7 @@ pub fn sun_sky() -> Scene {
         Vec3::Y,
         0.5,
     );
-    let mut s = scene(
-        "sun-sky",
-        m,
-        materials,
-        cam,
-        Vec3::ZERO,
-        settings(320, 180),
-    );
+    let mut s = scene("sun-sky", m, materials, cam, Vec3::ZERO, settings(320, 180));
     s.env_map = Some(super::hdri::sun_sky_env());
     s
 }
