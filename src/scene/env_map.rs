@@ -179,7 +179,9 @@ impl EnvMap {
         let what = format!("environment image '{}'", path.display());
         let bytes = super::gltf_load::read_regular_file(path, &what)?;
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        EnvMap::decode(&bytes, ext, &what)
+        let (mut map, warnings) = EnvMap::decode(&bytes, ext, &what)?;
+        map.name = path.display().to_string();
+        Ok((map, warnings))
     }
 
     /// Write the map as a Radiance `.hdr` (RGBE) file.

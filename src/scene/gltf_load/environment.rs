@@ -65,7 +65,8 @@ fn parse_image(
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("");
-    let (map, w) = EnvMap::decode(&bytes, ext, &what)?;
+    let (mut map, w) = EnvMap::decode(&bytes, ext, &what)?;
+    map.name = rel.clone();
     for m in w {
         warnings.push(m);
     }
