@@ -1,6 +1,7 @@
 //! Development tool: dump a scene (after loading) as OBJ meshes per material plus a JSON
 //! description, so `tools/mitsuba_ref.py` can render the same scene in Mitsuba 3.
-//! Usage: cargo run --release --example dump_scene -- builtin:cornell-glass /tmp/dump
+//! Usage: cargo run --release --example dump_scene -- builtin:cornell-glass /tmp/dump [env.hdr]
+//! (the optional environment image replaces the scene's, as `render --env` does).
 
 use glam::Vec3;
 use refract::scene::{MaterialKind, Scene};
@@ -8,8 +9,19 @@ use std::fmt::Write as _;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
-    anyhow::ensure!(args.len() == 3, "usage: dump_scene <scene> <out-dir>");
-    let scene = Scene::load(&args[1])?;
+    anyhow::ensure!(
+        args.len() == 3 || args.len() == 4,
+        "usage: dump_scene <scene> <out-dir> [env.hdr]"
+    );
+    let mut scene = Scene::load(&args[1])?;
+    if let Some(env) = args.get(3) {
+        refract::scene::env_map::override_environment(
+            &mut scene,
+            Some(std::path::Path::new(env)),
+            None,
+            None,
+        )?;
+    }
     let dir = std::path::Path::new(&args[2]);
     std::fs::create_dir_all(dir)?;
     let mut mats = Vec::new();
@@ -59,8 +71,21 @@ fn main() -> anyhow::Result<()> {
             "double_sided": m.double_sided,
         }));
     }
+    // The environment image as linear EXR next to the meshes (Mitsuba's `envmap`).
+    let env_map = match &scene.env_map {
+        Some(e) => {
+            let m = &e.map;
+            let px: Vec<f32> = m.texels.iter().flat_map(|t| t.to_array()).collect();
+            let img = image::Rgb32FImage::from_raw(m.width, m.height, px)
+                .ok_or_else(|| anyhow::anyhow!("environment image size"))?;
+            img.save(dir.join("env.exr"))?;
+            serde_json::json!({ "file": "env.exr", "strength": e.strength, "rotation": e.rotation })
+        }
+        None => serde_json::Value::Null,
+    };
     let c = scene.camera;
     let json = serde_json::json!({
+        "env_map": env_map,
         "materials": mats,
         "camera": { "position": c.position.to_array(), "forward": c.forward().to_array(),
                     "up": c.rotation.y_axis.to_array(), "yfov": c.yfov },

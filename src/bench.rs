@@ -51,6 +51,9 @@ pub struct BenchOptions {
     /// `LS+DE` for the caustic alone and `LS+DS+E` for its mirror image; empty = one run on
     /// all paths.
     pub paths: Vec<String>,
+    /// Also measure every CPU estimator with the environment image sampled uniformly on the
+    /// sphere instead of by importance (labelled "… env uniform"; scenes with an image only).
+    pub env_uniform: bool,
 }
 
 /// One point of an error-vs-time curve.
@@ -195,16 +198,24 @@ pub fn bench_scene_cpu(
     o: &BenchOptions,
 ) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
     let mut scene = Scene::load_with(spec, &o.limits)?;
-    let lit = !scene.emissive_triangles().is_empty()
-        || !scene.punctual_lights.is_empty()
-        || scene.environment.max_element() > 0.0;
     anyhow::ensure!(
-        lit,
+        scene.has_light(),
         "scene '{spec}' has no light (no emissive triangle, punctual light or environment): \
          every image is black, there is no error to measure"
     );
     scene.settings.width = o.width;
     scene.settings.height = o.height;
+    let uniform = match &scene.env_map {
+        Some(e) if o.env_uniform => {
+            let mut u = scene.clone();
+            u.env_map = Some(crate::scene::env_map::EnvImage {
+                importance: false,
+                ..e.clone()
+            });
+            Some(Renderer::new(u)?)
+        }
+        _ => None,
+    };
     let r = Renderer::new(scene)?;
     let classes: Vec<Option<&str>> = if o.paths.is_empty() {
         vec![None]
@@ -213,7 +224,7 @@ pub fn bench_scene_cpu(
     };
     let (mut points, mut sums) = (Vec::new(), Vec::new());
     for class in classes {
-        let (p, s) = bench_class(&r, spec, o, class)?;
+        let (p, s) = bench_class(&r, uniform.as_ref(), spec, o, class)?;
         points.extend(p);
         sums.extend(s);
     }
@@ -224,6 +235,7 @@ pub fn bench_scene_cpu(
 /// estimator on every requested device.
 fn bench_class(
     r: &Renderer,
+    uniform: Option<&Renderer>,
     spec: &str,
     o: &BenchOptions,
     class: Option<&str>,
@@ -280,6 +292,22 @@ fn bench_class(
         eprintln!("  measuring {} …", run.label());
         let (mut p, mut s) = measure(r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
         label_class(&mut p, &mut s, label);
+        points.extend(p);
+        sums.push(s);
+    }
+    // The same runs with the environment image sampled uniformly (same reference).
+    for run in cpu_runs.iter().filter(|_| uniform.is_some()) {
+        let Some(u) = uniform else { break };
+        eprintln!(
+            "  measuring {} with a uniformly sampled environment …",
+            run.label()
+        );
+        let (mut p, mut s) = measure(u, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
+        label_class(&mut p, &mut s, label);
+        s.estimator.push_str(" env uniform");
+        for q in &mut p {
+            q.estimator.push_str(" env uniform");
+        }
         points.extend(p);
         sums.push(s);
     }

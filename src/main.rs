@@ -86,6 +86,40 @@ struct BenchArgs {
     paths: Vec<String>,
     #[arg(long)]
     threads: Option<usize>,
+    /// Also measure each CPU estimator with the environment image sampled uniformly (the
+    /// comparison for environment importance sampling).
+    #[arg(long)]
+    env_uniform: bool,
+}
+
+/// An environment image from the command line (overrides the scene's).
+#[derive(clap::Args, Clone, Default)]
+struct EnvArgs {
+    /// Equirectangular environment image (.hdr or .exr) lighting the scene.
+    #[arg(long)]
+    env: Option<PathBuf>,
+    /// Radiance multiplier of the environment image (default 1, or the scene's).
+    #[arg(long, allow_hyphen_values = true)]
+    env_strength: Option<f32>,
+    /// Rotation of the environment image about +Y in degrees (default 0, or the scene's).
+    #[arg(long, allow_hyphen_values = true)]
+    env_rotation: Option<f32>,
+}
+
+impl EnvArgs {
+    /// Apply to `scene`; warnings are printed.
+    fn apply(&self, scene: &mut Scene) -> Result<()> {
+        let w = refract::scene::env_map::override_environment(
+            scene,
+            self.env.as_deref(),
+            self.env_strength,
+            self.env_rotation,
+        )?;
+        for w in w {
+            eprintln!("warning: {w}");
+        }
+        Ok(())
+    }
 }
 
 #[derive(clap::Args, Clone, Default)]
@@ -108,6 +142,8 @@ struct ViewArgs {
     /// pixel `refract trace --pixel X Y` traces).
     #[arg(long, num_args = 2, value_names = ["X", "Y"])]
     inspect: Option<Vec<u32>>,
+    #[command(flatten)]
+    env: EnvArgs,
 }
 
 #[derive(clap::Args, Clone)]
@@ -176,6 +212,8 @@ struct RenderArgs {
     /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
     #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
+    #[command(flatten)]
+    env: EnvArgs,
 }
 
 fn parse_tonemap(s: &str) -> Result<ToneMap> {
@@ -240,6 +278,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
+    args.env.apply(&mut scene)?;
     let mut sidecar_spp = None;
     if let Some(s) = &sidecar {
         // Headless, a sidecar's impossible material value is an error naming its key.
@@ -598,6 +637,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
         cpu,
         gpu,
         paths: args.paths.clone(),
+        env_uniform: args.env_uniform,
     };
     let pool = thread_pool(args.threads.filter(|&t| t > 0))?;
     let table = pool.install(|| refract::bench::run(&opts))?;
@@ -615,8 +655,17 @@ fn view(args: ViewArgs) -> Result<()> {
         Some(&[x, y]) => Some((x, y)),
         Some(_) => bail!("--inspect takes two numbers, X and Y"),
     };
+    let env = &args.env;
+    let env = (env.env.is_some() || env.env_strength.is_some() || env.env_rotation.is_some()).then(
+        || refract::app::EnvOverride {
+            file: env.env.clone(),
+            strength: env.env_strength,
+            rotation: env.env_rotation,
+        },
+    );
     refract::app::run(refract::app::ViewOptions {
         inspect,
+        env,
         scene: args.scene,
         frames: args.frames,
         exit_after: args.exit_after,

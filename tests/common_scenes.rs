@@ -85,6 +85,7 @@ pub fn scene(name: &str, mesh: Mesh, materials: Vec<Material>, camera: Camera, e
         punctual_lights: vec![],
         camera,
         environment: Vec3::splat(env),
+        env_map: None,
         settings: RenderSettings {
             width: 32,
             height: 32,

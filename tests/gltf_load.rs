@@ -142,8 +142,7 @@ fn every_builtin_loads_and_validates() {
             s.mesh.triangle_count()
         );
         assert_eq!(s.name, *name);
-        let lit = !s.emissive_triangles().is_empty() || s.environment.max_element() > 0.0;
-        assert!(lit, "{name} has no light");
+        assert!(s.has_light(), "{name} has no light");
         // Every shading normal is unit length and on the front side of its triangle.
         for t in 0..s.mesh.triangle_count() {
             let g = geometric_normal(&s.mesh, t);
@@ -359,6 +358,15 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
     assert!((ca.yfov - cb.yfov).abs() < 1e-5);
     assert_eq!(a.settings, b.settings, "{n}: settings");
     assert_eq!(a.environment, b.environment, "{n}: environment");
+    assert_eq!(
+        a.env_map
+            .as_ref()
+            .map(|e| (e.strength, e.rotation, e.map.width, e.map.height)),
+        b.env_map
+            .as_ref()
+            .map(|e| (e.strength, e.rotation, e.map.width, e.map.height)),
+        "{n}: environment image"
+    );
     assert_eq!(a.punctual_lights.len(), b.punctual_lights.len());
 }
 
@@ -367,7 +375,11 @@ fn builtins_round_trip_through_glb() {
     for name in NAMES {
         let a = Scene::load(&format!("builtin:{name}")).unwrap();
         let glb = export_glb(&a).unwrap();
-        let b = load_slice(&glb, None, name).unwrap();
+        // An environment image is referenced as `<name>.hdr` next to the file: the shipped
+        // HDRIs in assets/.
+        let assets = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+        let base = a.env_map.as_ref().map(|_| assets.as_path());
+        let b = load_slice(&glb, base, name).unwrap();
         assert_same_scene(&a, &b);
         assert!(
             !b.warnings
@@ -895,7 +907,8 @@ fn extras_render_and_environment() {
     );
     assert_eq!(s.environment, Vec3::new(0.5, 1.0, 2.0));
 
-    // Partial settings keep the defaults; missing environment is black.
+    // Partial settings keep the defaults; a missing environment is black, and a file with no
+    // light at all is lit by the built-in studio environment, with a warning.
     let s = load(&one_triangle(
         json!({"scenes": [{"nodes": [0], "extras": {"render": {"spp": 4}}}]}),
     ))
@@ -905,6 +918,17 @@ fn extras_render_and_environment() {
         (4, 512, 5)
     );
     assert_eq!(s.environment, Vec3::ZERO);
+    assert_eq!(
+        s.env_map.as_ref().map(|e| e.map.name.as_str()),
+        Some("builtin studio")
+    );
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("no light") && w.contains("studio")),
+        "{:?}",
+        s.warnings
+    );
 
     let e = load(&one_triangle(
         json!({"scenes": [{"nodes": [0], "extras": {"render": {"width": "big"}}}]}),

@@ -262,25 +262,18 @@ fn errors_name_their_source() {
         ],
         &["--threads"],
     );
-    // bench on a scene without any light says so.
+    // A glTF without any light is lit by the built-in studio environment, with a warning
+    // (it used to be black, and `bench` refused it).
     let unlit = unlit_gltf(&tmp_dir("unlit"), "{}");
-    fails_naming(
-        &[
-            "bench",
-            "--scenes",
-            &unlit,
-            "--out",
-            &s(&d.join("bench")),
-            "--cache",
-            &s(&d.join("cache")),
-            "--budget",
-            "10ms",
-            "--width",
-            "4",
-            "--height",
-            "4",
-        ],
-        &["no light", "tri.gltf"],
+    let (code, err, _) = refract(&[
+        "render", "--scene", &unlit, "--out", &out, "--spp", "1", "--width", "4", "--height", "4",
+        "--device", "cpu", "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.lines()
+            .any(|l| l.starts_with("warning:") && l.contains("no light") && l.contains("studio")),
+        "no studio warning:\n{err}"
     );
 }
 

@@ -89,6 +89,9 @@ fn directional_light_irradiance() {
         irradiance: Vec3::splat(e),
     };
     let expect = 0.5 / std::f64::consts::PI * e as f64;
-    // Light tracing cannot start paths on a directional light (documented); the others must agree.
+    // Light tracing starts a directional light's paths on the disk covering the scene's
+    // bounding sphere, here the whole 100 m floor: too few land in the 8×8-pixel view for this
+    // test's noise bound (measured σ 0.037 against 0.024; the mean agreed). Light tracing from
+    // a light at infinity is checked in tests/env_map.rs.
     check(light, expect, &[Estimator::Path, Estimator::Bdpt]);
 }

@@ -441,3 +441,59 @@ fn gpu_window_under_xvfb_is_not_black() {
         "the window looked black (best mean brightness {best:.1}/255 over {shots} screenshots)\n{log}"
     );
 }
+
+/// The Environment group: a typed `.hdr` path + Load lights the scene with it (the rendered
+/// image changes), strength and rotation edits reach the scene, a bad path is an error that
+/// keeps the current lighting.
+#[test]
+fn environment_panel_loads_an_image_and_edits_it() {
+    let sky = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/sun-sky.hdr");
+    let mut h = harness(small_app());
+    step_until(&mut h, "first samples", |a| a.backend().spp() >= 1);
+    h.get_by_label_contains("No environment image");
+    h.state_mut().env_path = sky.display().to_string();
+    h.step();
+    h.get_by_label("Load").click();
+    h.step();
+    h.step();
+    assert!(
+        h.state().messages.error.is_none(),
+        "{:?}",
+        h.state().messages.error
+    );
+    let env = h
+        .state()
+        .scene
+        .env_map
+        .clone()
+        .expect("the scene has the image");
+    assert_eq!((env.map.width, env.strength, env.rotation), (512, 1.0, 0.0));
+    h.get_by_label_contains("sun-sky.hdr (512×256)");
+    step_until(&mut h, "samples of the lit scene", |a| {
+        a.backend().spp() >= 2
+    });
+    // Strength and rotation, as the sliders push them.
+    h.state_mut().push(refract::app::Edit::Environment(
+        refract::app::EnvEdit::Adjust {
+            strength: 0.5,
+            rotation: 45.0,
+        },
+    ));
+    h.step();
+    let env = h.state().scene.env_map.clone().expect("still lit");
+    assert_eq!((env.strength, env.rotation), (0.5, 45.0));
+    // A missing file: an error naming it, the image stays.
+    h.state_mut().env_path = "/nonexistent/sky.hdr".into();
+    h.step();
+    h.get_by_label("Load").click();
+    h.step();
+    h.step();
+    let err = h.state().messages.error.clone().expect("an error is shown");
+    assert!(err.contains("/nonexistent/sky.hdr"), "{err}");
+    assert_eq!(
+        h.state().scene.env_map.as_ref().map(|e| e.strength),
+        Some(0.5)
+    );
+    let spp = h.state().backend().spp();
+    step_until(&mut h, "rendering to go on", |a| a.backend().spp() > spp);
+}

@@ -27,7 +27,20 @@ scene = {
         "sampler": {"type": "independent", "sample_count": spp},
     },
 }
-if max(s["environment"]) > 0:
+if s.get("env_map"):
+    # refract (three.js): u = atan2(z, x)/2π + 1/2; Mitsuba's envmap: u = atan2(x', -z')/2π in
+    # its local frame, so local = R_y(-90°) world; refract's rotation turns the map about +Y.
+    # Mitsuba filters the map bilinearly, refract reads the nearest texel: repeat every texel
+    # 8 × 8 so the bilinear blur shrinks to an eighth of a texel.
+    import numpy as np
+    e = s["env_map"]
+    px = np.array(mi.Bitmap(os.path.join(d, e["file"])))[..., :3].astype(np.float32)
+    px = np.repeat(np.repeat(px, 8, axis=0), 8, axis=1)
+    mi.Bitmap(px).write(os.path.join(d, "env_x8.exr"))
+    scene["env"] = {"type": "envmap", "filename": os.path.join(d, "env_x8.exr"),
+                    "scale": e["strength"],
+                    "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], e["rotation"] + 90.0)}
+elif max(s["environment"]) > 0:
     scene["env"] = {"type": "constant", "radiance": {"type": "rgb", "value": s["environment"]}}
 for i, m in enumerate(s["materials"]):
     rgb = lambda v: {"type": "rgb", "value": v}

@@ -40,6 +40,17 @@ pub enum Edit {
     Pause(bool),
     /// Drop every sample and start again.
     Restart,
+    /// Load an environment image or change its strength and rotation.
+    Environment(EnvEdit),
+}
+
+/// An environment-image edit (the image lives in the loaded scene, `ViewerApp::base`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvEdit {
+    /// Load this `.hdr`/`.exr` file (on failure the current lighting stays).
+    Load(String),
+    /// Strength and rotation (degrees about +Y) of the current image.
+    Adjust { strength: f32, rotation: f32 },
 }
 
 impl ViewerApp {
@@ -90,6 +101,26 @@ impl ViewerApp {
                 self.backend.set_paused(paused);
             }
             Edit::Restart => self.backend.reset(),
+            Edit::Environment(e) => self.apply_environment(e),
+        }
+    }
+
+    /// Load or adjust the environment image of the loaded scene, then relight.
+    fn apply_environment(&mut self, e: EnvEdit) {
+        let (file, strength, rotation) = match &e {
+            EnvEdit::Load(path) => (Some(std::path::Path::new(path)), None, None),
+            EnvEdit::Adjust { strength, rotation } => (None, Some(*strength), Some(*rotation)),
+        };
+        let mut base = self.base.clone();
+        match crate::scene::env_map::override_environment(&mut base, file, strength, rotation)
+            .and_then(|w| base.validate().map(|_| w))
+        {
+            Ok(warnings) => {
+                self.base = base;
+                self.report_warnings(&warnings);
+                self.lights_follow();
+            }
+            Err(err) => self.messages.error = Some(format!("{err:#}")),
         }
     }
 

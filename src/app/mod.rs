@@ -21,7 +21,7 @@ use crate::scene::edits::Orbit;
 use crate::scene::gltf_load::LoadLimits;
 use crate::scene::{Material, Scene};
 use backend::{Backend, CpuBackend, DisplayParams};
-pub use edit::Edit;
+pub use edit::{Edit, EnvEdit};
 use eframe::egui;
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -45,6 +45,16 @@ pub struct ViewOptions {
     pub device: Device,
     /// Budgets and URI permission of every glTF the viewer opens.
     pub limits: LoadLimits,
+    /// `--env`, `--env-strength`, `--env-rotation`.
+    pub env: Option<EnvOverride>,
+}
+
+/// An environment image given on the command line.
+#[derive(Clone, Debug, Default)]
+pub struct EnvOverride {
+    pub file: Option<std::path::PathBuf>,
+    pub strength: Option<f32>,
+    pub rotation: Option<f32>,
 }
 
 /// A message shown at the top of the side panel until dismissed.
@@ -89,6 +99,8 @@ pub struct ViewerApp {
     pub messages: Messages,
     /// Scene path typed into the Scene panel.
     pub open_path: String,
+    /// Environment image path typed into the Environment panel.
+    pub env_path: String,
     /// Where screenshots go (`screenshots/` by default).
     pub screenshot_dir: PathBuf,
     pub paused: bool,
@@ -140,6 +152,7 @@ impl ViewerApp {
             filter_error: None,
             messages: Messages::default(),
             open_path: String::new(),
+            env_path: String::new(),
             screenshot_dir: PathBuf::from("screenshots"),
             paused: false,
             inspector: inspect::Inspector::default(),
@@ -277,8 +290,17 @@ impl ViewerApp {
         });
         if let Some(p) = dropped.first() {
             let spec = p.display().to_string();
-            self.open_path = spec.clone();
-            self.push(Edit::OpenScene(spec));
+            let is_env = p
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("hdr") || e.eq_ignore_ascii_case("exr"));
+            if is_env {
+                self.env_path = spec.clone();
+                self.push(Edit::Environment(EnvEdit::Load(spec)));
+            } else {
+                self.open_path = spec.clone();
+                self.push(Edit::OpenScene(spec));
+            }
         }
         let (f12, ctrl_s) = ctx.input_mut(|i| {
             (
@@ -550,7 +572,16 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
     // Load before opening the window so a bad path is a plain CLI error.
-    let base = Scene::load_with(&spec, &opts.limits)?;
+    let mut base = Scene::load_with(&spec, &opts.limits)?;
+    if let Some(e) = &opts.env {
+        let warnings = crate::scene::env_map::override_environment(
+            &mut base,
+            e.file.as_deref(),
+            e.strength,
+            e.rotation,
+        )?;
+        base.warnings.extend(warnings);
+    }
     base.validate()?;
     for w in &base.warnings {
         eprintln!("warning: {w}");

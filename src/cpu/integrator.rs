@@ -84,7 +84,7 @@ impl<'a> Integrator<'a> {
         let w = if prev_delta {
             1.0
         } else {
-            power_heuristic(prev_pdf, light.pdf_li(pick, hit.t, hit.ng.dot(d).abs()))
+            power_heuristic(prev_pdf, light.pdf_li(pick, d, hit.t, hit.ng.dot(d).abs()))
         };
         Some((le, w))
     }
@@ -117,9 +117,10 @@ impl<'a> Integrator<'a> {
         let mut q = self.step(self.filter.map_or(0, |f| f.start()), Symbol::E);
         let why = loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
-                // Escaped: the environment (not light-sampled, so MIS weight 1).
+                // Escaped: the environment, MIS-weighted against NEE when it is light-sampled.
                 if self.accepts_light(q) {
-                    let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d));
+                    let w = self.lights.env_weight(d, prev_pdf, prev_delta);
+                    let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
                     obs.escaped(d, c);
                     l += c;
                 }

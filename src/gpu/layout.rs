@@ -373,8 +373,10 @@ pub const LIGHT_TRIANGLE: u32 = 0;
 pub const LIGHT_POINT: u32 = 1;
 pub const LIGHT_SPOT: u32 = 2;
 pub const LIGHT_DIRECTIONAL: u32 = 3;
-/// The uniform environment (not in the light distribution yet).
+/// The uniform environment (not in the light distribution).
 pub const LIGHT_ENVIRONMENT: u32 = 4;
+/// The environment image (in the distribution; its block in `texels`: `upload::pack_environment`).
+pub const LIGHT_IMAGE: u32 = 5;
 
 /// Nested dielectrics: entries of the medium stack and the false hits a path may pass
 /// (`scene::nesting`).

@@ -22,9 +22,10 @@ pub fn run_light_probe(
     let set = LightSet::build(scene);
     let bvh = upload::build_bvh(scene)?;
     let triangles = upload::pack_triangles(scene, &bvh, &set);
-    let (_, tex_slots) = upload::pack_textures(scene);
+    let (mut texels, tex_slots) = upload::pack_textures(scene);
+    let env_offset = upload::pack_environment(&set, &mut texels);
     let materials = upload::pack_materials(scene, &tex_slots);
-    let (lights, light_count) = upload::pack_lights(&bvh, &set);
+    let (lights, light_count) = upload::pack_lights(&bvh, &set, env_offset);
     let e = scene.environment;
     let params = LightProbeParams {
         environment: [e.x, e.y, e.z, 0.0],
@@ -57,6 +58,11 @@ pub fn run_light_probe(
         storage,
     );
     let lights = init("lights", upload::checked_bytes("lights", &lights)?, storage);
+    let texels = init(
+        "texels",
+        upload::checked_bytes("textures", &texels)?,
+        storage,
+    );
     let input = init("light probe cases", bytemuck::cast_slice(cases), storage);
     let out_size = (cases.len() * LightProbeOut::size() as usize) as u64;
     let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -65,7 +71,8 @@ pub fn run_light_probe(
         usage: storage | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    // Binding numbers of scene.wgsl (triangles 2, materials 4, lights 5) and light_probe.wgsl.
+    // Binding numbers of scene.wgsl (triangles 2, materials 4, lights 5, texels 8) and
+    // light_probe.wgsl.
     dispatch_once(
         ctx,
         &module,
@@ -77,6 +84,7 @@ pub fn run_light_probe(
             (5, &lights),
             (6, &input),
             (7, &output),
+            (8, &texels),
         ],
         cases.len() as u32,
     );

@@ -134,6 +134,8 @@ pub struct Specialization {
     /// Emissive triangles (area lights).
     pub area_lights: bool,
     pub punctual_lights: bool,
+    /// An environment image (next-event estimation samples it; escaping rays weight it).
+    pub env_image: bool,
     /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
     pub absorption: bool,
     /// Some BSDF reads a texture.
@@ -163,6 +165,7 @@ impl Specialization {
             beckmann: f.contains(Features::BECKMANN),
             area_lights: f.contains(Features::AREA_LIGHTS),
             punctual_lights: f.contains(Features::PUNCTUAL_LIGHTS),
+            env_image: f.contains(Features::ENV_IMAGE),
             absorption: f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS),
             textures: f.contains(Features::TEXTURES),
             filter: false,
@@ -192,6 +195,7 @@ impl Specialization {
             spectral: true,
             light_tracing: true,
             nested: true,
+            env_image: true,
         }
     }
 
@@ -211,6 +215,7 @@ impl Specialization {
             ("HAS_LIGHTS", b(self.area_lights)),
             ("HAS_PUNCTUAL", b(self.punctual_lights)),
             ("HAS_ENVIRONMENT", 1.0),
+            ("HAS_ENV_IMAGE", b(self.env_image)),
             ("HAS_ABSORPTION", b(self.absorption)),
             ("HAS_TEXTURES", b(self.textures)),
             ("HAS_FILTER", b(self.filter)),

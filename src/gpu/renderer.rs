@@ -68,6 +68,8 @@ struct Buffers {
     filter: wgpu::Buffer,
     /// Light-tracing splats: per pixel and channel a 64-bit fixed-point sum (two u32).
     splats: wgpu::Buffer,
+    /// Where the environment image's block starts in `texels` (`upload::pack_environment`).
+    env_offset: u32,
 }
 
 /// The GPU progressive renderer for one scene.
@@ -191,9 +193,10 @@ impl GpuRenderer {
     ) -> Result<BuiltBuffers> {
         let tris = upload::pack_triangles(scene, bvh, light_set);
         let verts = upload::pack_vertices(scene);
-        let (texels, tex_slots) = upload::pack_textures(scene);
+        let (mut texels, tex_slots) = upload::pack_textures(scene);
+        let env_offset = upload::pack_environment(light_set, &mut texels);
         let mats = upload::pack_materials(scene, &tex_slots);
-        let (lights, light_count) = upload::pack_lights(bvh, light_set);
+        let (lights, light_count) = upload::pack_lights(bvh, light_set, env_offset);
         let pixels = opts.width as u64 * opts.height as u64;
         let accum_bytes = pixels * 16;
         let splat_bytes = pixels * SPLAT_BYTES_PER_PIXEL;
@@ -246,6 +249,7 @@ impl GpuRenderer {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            env_offset,
         };
         Ok((buffers, light_count, tex_slots))
     }
@@ -532,7 +536,8 @@ impl GpuRenderer {
                 || a.kind != b.kind
         };
         if textures_changed {
-            let (texels, slots) = upload::pack_textures(&self.scene);
+            let (mut texels, slots) = upload::pack_textures(&self.scene);
+            let env_offset = upload::pack_environment(&self.light_set, &mut texels);
             self.buffers.texels = storage(
                 &self.ctx,
                 "texels",
@@ -546,6 +551,10 @@ impl GpuRenderer {
             );
             self.tex_slots = slots;
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+            if env_offset != self.buffers.env_offset {
+                self.buffers.env_offset = env_offset;
+                self.rebuild_lights()?;
+            }
         }
         let packed = upload::pack_material(
             &self.scene,
@@ -628,7 +637,8 @@ impl GpuRenderer {
             0,
             upload::checked_bytes("triangles", &tris)?,
         );
-        let (lights, count) = upload::pack_lights(&self.bvh, &self.light_set);
+        let (lights, count) =
+            upload::pack_lights(&self.bvh, &self.light_set, self.buffers.env_offset);
         let bytes = upload::checked_bytes("lights", &lights)?;
         if bytes.len() as u64 <= self.buffers.lights.size() {
             self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);

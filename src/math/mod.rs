@@ -2,6 +2,7 @@
 //! colour (sRGB, luminance, black body) and spectral helpers. Knows nothing about scenes, renderers or the UI.
 
 pub mod color;
+pub mod distribution;
 pub mod frame;
 pub mod rng;
 pub mod sampling;

@@ -23,6 +23,8 @@ pub const NAMES: &[&str] = &[
     "materials",
     "caustic-mirror",
     "glass-of-water",
+    "env-spheres",
+    "sun-sky",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -36,6 +38,8 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "materials" => Ok(materials()),
         "caustic-mirror" => Ok(caustic_mirror()),
         "glass-of-water" => Ok(glass_of_water::glass_of_water()),
+        "env-spheres" => Ok(env_spheres()),
+        "sun-sky" => Ok(sun_sky()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")
@@ -257,6 +261,7 @@ fn scene(
         punctual_lights: vec![],
         camera,
         environment,
+        env_map: None,
         settings,
         warnings: vec![],
     }
@@ -785,4 +790,70 @@ pub fn materials() -> Scene {
         Vec3::splat(0.1),
         settings(640, 360),
     )
+}
+
+/// Image-based lighting: a white diffuse, a gold glossy metal (roughness 0.3), a smooth glass
+/// (IOR 1.5) and a blue plastic sphere (roughness 0.2), r = 0.35 m, on a grey floor
+/// (albedo 0.5, 30 × 30 m) under the generated sun-and-sky HDRI (`assets/sun-sky.hdr`, sun at
+/// 35° elevation); no other light.
+pub fn env_spheres() -> Scene {
+    let gold = Vec3::new(0.95, 0.78, 0.42);
+    let materials = vec![
+        Material::diffuse("floor", Vec3::splat(0.5)),
+        Material::diffuse("white", Vec3::splat(0.8)),
+        glossy_metal("gold-r0.3", gold, 0.3),
+        Material::glass("glass", 1.5),
+        plastic("blue-plastic", Vec3::new(0.1, 0.25, 0.8), 0.2),
+    ];
+    let mut m = Mesh::default();
+    rect(&mut m, Vec3::ZERO, Vec3::Y, 30.0, 30.0, 0);
+    for k in 0..4 {
+        let x = -1.2 + 0.8 * k as f32;
+        sphere(&mut m, Vec3::new(x, 0.35, 0.0), 0.35, 48, 96, 1 + k);
+    }
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.1, 3.2),
+        Vec3::new(0.0, 0.3, 0.0),
+        Vec3::Y,
+        0.6,
+    );
+    let mut s = scene(
+        "env-spheres",
+        m,
+        materials,
+        cam,
+        Vec3::ZERO,
+        settings(480, 270),
+    );
+    s.env_map = Some(super::hdri::sun_sky_env());
+    s
+}
+
+/// The benchmark of environment importance sampling: a white diffuse, a blue plastic
+/// (roughness 0.45) and a gold glossy metal sphere (roughness 0.6), r = 0.35 m, on a grey
+/// floor under the generated sun-and-sky HDRI; nothing specular, so no caustic hides the
+/// difference the sampling of the sun makes.
+pub fn sun_sky() -> Scene {
+    let gold = Vec3::new(0.95, 0.78, 0.42);
+    let materials = vec![
+        Material::diffuse("floor", Vec3::splat(0.5)),
+        Material::diffuse("white", Vec3::splat(0.8)),
+        plastic("blue-plastic", Vec3::new(0.1, 0.25, 0.8), 0.45),
+        glossy_metal("gold-r0.6", gold, 0.6),
+    ];
+    let mut m = Mesh::default();
+    rect(&mut m, Vec3::ZERO, Vec3::Y, 30.0, 30.0, 0);
+    for k in 0..3 {
+        let x = -0.8 + 0.8 * k as f32;
+        sphere(&mut m, Vec3::new(x, 0.35, 0.0), 0.35, 24, 48, 1 + k);
+    }
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.1, 3.2),
+        Vec3::new(0.0, 0.3, 0.0),
+        Vec3::Y,
+        0.5,
+    );
+    let mut s = scene("sun-sky", m, materials, cam, Vec3::ZERO, settings(320, 180));
+    s.env_map = Some(super::hdri::sun_sky_env());
+    s
 }

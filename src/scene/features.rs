@@ -37,7 +37,7 @@ bitflags::bitflags! {
         /// A BSDF reads a texture: any base-colour texture, or a metallic-roughness texture
         /// on the metal-rough BRDF (the only one that reads it).
         const TEXTURES = 1 << 11;
-        /// A non-black uniform environment.
+        /// A non-black uniform environment or an environment image.
         const ENVIRONMENT = 1 << 12;
         /// Emissive triangles.
         const AREA_LIGHTS = 1 << 13;
@@ -46,6 +46,8 @@ bitflags::bitflags! {
         /// Nested dielectrics: the bounds of two solid-glass materials overlap, or one sets
         /// `extras.priority` (paths keep a medium stack; `cpu::medium`).
         const NESTED = 1 << 15;
+        /// An environment image (importance-sampled, in the light distribution).
+        const ENV_IMAGE = 1 << 16;
     }
 }
 
@@ -93,7 +95,11 @@ pub fn compute(scene: &Scene) -> Features {
         Features::NESTED,
         super::nesting::nested_volumes(scene, &used),
     );
-    f.set(Features::ENVIRONMENT, scene.environment.max_element() > 0.0);
+    f.set(
+        Features::ENVIRONMENT,
+        scene.environment.max_element() > 0.0 || scene.env_map.is_some(),
+    );
     f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
+    f.set(Features::ENV_IMAGE, scene.env_map.is_some());
     f
 }

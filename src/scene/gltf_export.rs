@@ -257,7 +257,7 @@ fn root_json(scene: &Scene, p: Parts) -> (Value, Vec<u8>) {
                     "width": s.width, "height": s.height, "max_depth": s.max_depth,
                     "rr_depth": s.rr_depth, "spp": s.spp
                 },
-                "environment": scene.environment.to_array()
+                "environment": environment_json(scene)
             }
         }],
         "nodes": p.nodes,
@@ -423,4 +423,21 @@ fn glb(json_bytes: &[u8], bin: &[u8]) -> Vec<u8> {
         out.extend_from_slice(&b);
     }
     out
+}
+
+/// `extras.environment`: `[r, g, b]`, or for an environment image `{"uri", "strength",
+/// "rotation"}` naming `<name>.hdr` next to the exported file (the shipped HDRIs are called
+/// "builtin NAME": `assets/NAME.hdr`).
+fn environment_json(scene: &Scene) -> Value {
+    match &scene.env_map {
+        Some(e) => {
+            let name = e.map.name.strip_prefix("builtin ").unwrap_or(&e.map.name);
+            let file = std::path::Path::new(name)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "environment".into());
+            json!({ "uri": format!("{file}.hdr"), "strength": e.strength, "rotation": e.rotation })
+        }
+        None => json!(scene.environment.to_array()),
+    }
 }

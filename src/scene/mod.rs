@@ -5,9 +5,11 @@
 pub mod builtin;
 pub mod camera;
 pub mod edits;
+pub mod env_map;
 pub mod features;
 pub mod gltf_export;
 pub mod gltf_load;
+pub mod hdri;
 pub mod light;
 pub mod material;
 pub mod nesting;
@@ -124,8 +126,10 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     pub punctual_lights: Vec<PunctualLight>,
     pub camera: Camera,
-    /// Uniform radiance of escaping rays.
+    /// Uniform radiance of escaping rays (ignored when `env_map` is set).
     pub environment: Vec3,
+    /// An equirectangular environment image (importance-sampled); replaces `environment`.
+    pub env_map: Option<env_map::EnvImage>,
     pub settings: RenderSettings,
     /// Non-fatal problems found while loading (unsupported extensions, skipped primitives …).
     pub warnings: Vec<String>,
@@ -160,6 +164,14 @@ impl Scene {
                 m.is_emissive() && self.mesh.area(t as usize) > 0.0
             })
             .collect()
+    }
+
+    /// Does anything emit: an emissive triangle, a punctual light or an environment?
+    pub fn has_light(&self) -> bool {
+        !self.emissive_triangles().is_empty()
+            || !self.punctual_lights.is_empty()
+            || self.environment.max_element() > 0.0
+            || self.env_map.is_some()
     }
 
     /// Axis-aligned bounds of all vertices (min, max).
@@ -225,6 +237,12 @@ impl Scene {
             self.environment.is_finite() && self.environment.min_element() >= 0.0,
             "environment radiance must be finite and non-negative"
         );
+        if let Some(e) = &self.env_map {
+            ensure!(
+                e.strength.is_finite() && e.strength >= 0.0 && e.rotation.is_finite(),
+                "environment image strength must be finite and ≥ 0 and its rotation finite"
+            );
+        }
         self.camera.validate()?;
         Ok(())
     }

@@ -313,8 +313,22 @@ fn lt_mis_arrive(ps: ptr<function, PathState>, hit: SurfaceHit) {
     }
 }
 
-// The ray escaped: the uniform environment (not light-sampled yet, so MIS weight 1).
+// The ray escaped: the environment image, MIS-weighted against next-event estimation (the
+// only other strategy that reaches it: no light subpath starts at infinity on the GPU); else
+// the uniform environment (not light-sampled, so MIS weight 1). Twin of the escape in
+// `Integrator::li` (`LightSet::env_weight`).
 fn integrator_add_escaped(ps: ptr<function, PathState>) {
+    let env = light_set_environment();
+    if env.prob > 0.0 && integrator_accepts_light(ps.q) {
+        let le = light_le(env.light, vec3<f32>(0.0), -ps.d);
+        var w = 1.0;
+        if !ps.prev_delta {
+            let p_light = light_pdf_li(env.light, env.prob, 1.0, vec3<f32>(0.0), ps.d);
+            w = power_heuristic(ps.prev_pdf, p_light);
+        }
+        ps.l += ps.beta * spectral_c(ps.sp, le) * w;
+        return;
+    }
     if HAS_ENVIRONMENT && integrator_accepts_light(ps.q) {
         let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), ps.d);
         ps.l += ps.beta * spectral_c(ps.sp, le);
@@ -474,7 +488,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         let ul2 = sampler_next_2d(sampler);
 
         // Next-event estimation.
-        if (HAS_LIGHTS || HAS_PUNCTUAL) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
+        if (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
             let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
             if mask.d || mask.g {
                 ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt, ps.media, mat);

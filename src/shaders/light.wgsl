@@ -11,9 +11,11 @@
 // RGB; the walk maps them to its colour lanes (`spectral_c`).
 //
 // Variants: emissive triangles (area lights, one-sided unless double-sided), point, spot
-// (glTF smooth falloff) and directional lights (KHR_lights_punctual), and the uniform
-// environment. The environment is not in the light distribution yet: escaped rays add
-// `light_le` of `light_environment` with MIS weight 1.
+// (glTF smooth falloff) and directional lights (KHR_lights_punctual), the uniform
+// environment and the environment image. The uniform environment is not in the light
+// distribution: escaped rays add `light_le` of `light_environment` with MIS weight 1. The
+// image is (the last entry, `light_set_environment`), importance-sampled ∝ luminance × sinθ
+// from its block in `texels` (`upload::pack_environment`); escaped rays weight it by MIS.
 //
 // Differences from the Rust twin (tests/light_twin.rs asserts them): `light_sample_le` draws
 // a double-sided emitter's side from its sampler (Rust `sample_le` takes `u_side`), reports
@@ -28,6 +30,7 @@
 // Pipeline specialisation: area and punctual lights compiled out when a scene has none.
 override HAS_LIGHTS: bool = true;
 override HAS_PUNCTUAL: bool = true;
+override HAS_ENV_IMAGE: bool = true;
 
 // A light picked from the distribution, with its selection probability (0 = none).
 struct LightPick {
@@ -76,6 +79,135 @@ fn light_environment(radiance: vec3<f32>) -> Light {
     l.kind = LIGHT_ENVIRONMENT;
     l.intensity = array<f32, 3>(radiance.x, radiance.y, radiance.z);
     return l;
+}
+
+// The environment image as a light with its selection probability (prob = 0: none). It is
+// the last light of the distribution (`LightSet::build`); twin of `LightSet::env_pick`.
+fn light_set_environment() -> LightPick {
+    var none: LightPick;
+    let n = params.light_count;
+    if !HAS_ENV_IMAGE || n == 0u || lights[n - 1u].kind != LIGHT_IMAGE {
+        return none;
+    }
+    var prev = 0.0;
+    if n > 1u {
+        prev = lights[n - 2u].cdf;
+    }
+    return LightPick(lights[n - 1u], lights[n - 1u].cdf - prev);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The environment image (twin of `ImageEnvironment`, src/scene/light/image_environment.rs, and
+// `env_map`): three.js's equirectangular mapping, u = atan2(d.z, d.x)/2π + ½, t = θ/π (row 0
+// at the top), rotated about +Y by (cos, sin) = light.direction.xy; light.direction.z = 1:
+// importance sampling, 0: uniform directions. PBR 4th ed. §12.5.2, §A.5.6.
+
+// Header of the image block: width, height, first texel, first CDF float.
+fn light_image_header(light: Light) -> vec4<u32> {
+    return bitcast<vec4<u32>>(texels[light.index]);
+}
+
+// Float k of the CDF area (four per vec4).
+fn light_image_float(h: vec4<u32>, k: u32) -> f32 {
+    return texels[h.w + k / 4u][k % 4u];
+}
+
+// Twin of `env_map::rotate_y`.
+fn env_rotate_y(d: vec3<f32>, c: f32, s: f32) -> vec3<f32> {
+    return vec3<f32>(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+}
+
+// Twin of `env_map::dir_to_uv` (u = 0.5 at the poles: atan2(0, 0) is undefined in WGSL).
+fn env_dir_to_uv(d: vec3<f32>) -> vec2<f32> {
+    var u = 0.5;
+    if d.x != 0.0 || d.z != 0.0 {
+        u = atan2(d.z, d.x) * (0.5 / PI) + 0.5;
+    }
+    return vec2<f32>(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
+}
+
+// Twin of `env_map::uv_to_dir`.
+fn env_uv_to_dir(uv: vec2<f32>) -> vec3<f32> {
+    let phi = (uv.x - 0.5) * 2.0 * PI;
+    let theta = uv.y * PI;
+    let s = sin(theta);
+    return vec3<f32>(s * cos(phi), cos(theta), s * sin(phi));
+}
+
+// The texel (r, g, b, p(u,t)) containing image coordinates uv (nearest; `EnvMap::lookup_uv`).
+fn light_image_texel(h: vec4<u32>, uv: vec2<f32>) -> vec4<f32> {
+    let x = min(u32(uv.x * f32(h.x)), h.x - 1u);
+    let y = min(u32(uv.y * f32(h.y)), h.y - 1u);
+    return texels[h.z + y * h.x + x];
+}
+
+// World direction towards the environment → image coordinates.
+fn light_image_uv(light: Light, wi: vec3<f32>) -> vec2<f32> {
+    return env_dir_to_uv(env_rotate_y(wi, light.direction[0], -light.direction[1]));
+}
+
+// Radiance arriving from direction wi (`ImageEnvironment::radiance`).
+fn light_image_radiance(light: Light, wi: vec3<f32>) -> vec3<f32> {
+    let t = light_image_texel(light_image_header(light), light_image_uv(light, wi));
+    return light.intensity[0] * t.xyz;
+}
+
+// Solid-angle density of the sampled direction wi, p(u,t) / (2π² sinθ) (PBR 3rd ed.
+// §14.2.4); 1/4π without importance sampling. Twin of `ImageEnvironment::pdf_dir`.
+fn light_image_pdf_dir(light: Light, wi: vec3<f32>) -> f32 {
+    if light.direction[2] == 0.0 {
+        return UNIFORM_SPHERE_PDF;
+    }
+    let uv = light_image_uv(light, wi);
+    let sin_t = sin(uv.y * PI);
+    if sin_t <= 0.0 {
+        return 0.0;
+    }
+    return light_image_texel(light_image_header(light), uv).w / (2.0 * PI * PI * sin_t);
+}
+
+// Sample one piecewise-constant CDF of n cells starting at float `base` with u: the
+// continuous coordinate in [0,1) and the cell. Twin of `Distribution1D::sample`
+// (PBR 4th ed. §A.5.1, `FindInterval`).
+fn light_image_sample_1d(h: vec4<u32>, base: u32, n: u32, u: f32) -> vec2<f32> {
+    var lo = 0u;
+    var hi = n + 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if light_image_float(h, base + mid) <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let i = clamp(lo, 1u, n) - 1u;
+    let c0 = light_image_float(h, base + i);
+    let c1 = light_image_float(h, base + i + 1u);
+    var du = 0.5;
+    if c1 > c0 {
+        du = (u - c0) / (c1 - c0);
+    }
+    let x = min((f32(i) + clamp(du, 0.0, 1.0)) / f32(n), 1.0 - 1.1920929e-7);
+    return vec2<f32>(x, f32(i));
+}
+
+// A direction towards the environment and its solid-angle density (0: none). Twin of
+// `ImageEnvironment::sample_dir` (PBR 4th ed. §12.5.2 `ImageInfiniteLight::SampleLi`).
+fn light_image_sample_dir(light: Light, u: vec2<f32>) -> vec4<f32> {
+    if light.direction[2] == 0.0 {
+        return vec4<f32>(uniform_sphere(u), UNIFORM_SPHERE_PDF);
+    }
+    let h = light_image_header(light);
+    let row = light_image_sample_1d(h, h.y * (h.x + 1u), h.y, u.y);
+    let col = light_image_sample_1d(h, u32(row.y) * (h.x + 1u), h.x, u.x);
+    let uv = vec2<f32>(col.x, row.x);
+    let p = texels[h.z + u32(row.y) * h.x + u32(col.y)].w;
+    let sin_t = sin(uv.y * PI);
+    if p <= 0.0 || sin_t <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let wi = env_rotate_y(env_uv_to_dir(uv), light.direction[0], light.direction[1]);
+    return vec4<f32>(wi, p / (2.0 * PI * PI * sin_t));
 }
 
 // glTF spot-light angular falloff (KHR_lights_punctual spec, "Spot"): smooth, squared
@@ -162,6 +294,14 @@ fn light_sample_li(light: Light, p_ref: vec3<f32>, u: vec2<f32>, pick: f32) -> L
             let wi = uniform_sphere(u);
             s = LightLiSample(true, v3(light.intensity), wi, pick * UNIFORM_SPHERE_PDF, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
         }
+        case LIGHT_IMAGE: {
+            if HAS_ENV_IMAGE {
+                let d = light_image_sample_dir(light, u);
+                if d.w > 0.0 {
+                    s = LightLiSample(true, light_image_radiance(light, d.xyz), d.xyz, pick * d.w, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
+                }
+            }
+        }
         default: {}
     }
     return s;
@@ -235,6 +375,12 @@ fn light_pdf_li(light: Light, pick: f32, dist: f32, n_light: vec3<f32>, wi: vec3
         case LIGHT_ENVIRONMENT: {
             return pick * UNIFORM_SPHERE_PDF;
         }
+        case LIGHT_IMAGE: {
+            if HAS_ENV_IMAGE {
+                return pick * light_image_pdf_dir(light, wi);
+            }
+            return 0.0;
+        }
         default: {
             return 0.0;
         }
@@ -259,6 +405,11 @@ fn light_le(light: Light, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
         }
         case LIGHT_POINT, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT: {
             return v3(light.intensity);
+        }
+        case LIGHT_IMAGE: {
+            if HAS_ENV_IMAGE {
+                return light_image_radiance(light, -w);
+            }
         }
         default: {}
     }

@@ -412,6 +412,7 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
                     r.scene.materials = scene.materials;
                     r.scene.punctual_lights = scene.punctual_lights;
                     r.scene.environment = scene.environment;
+                    r.scene.env_map = scene.env_map;
                     r.refresh_features();
                     r.lights = crate::scene::light::LightSet::build(&r.scene);
                 }

@@ -594,6 +594,7 @@ impl Backend for GpuBackend {
                 || old.as_ref().is_none_or(|o| {
                     o.punctual_lights != scene.punctual_lights
                         || o.materials.len() != scene.materials.len()
+                        || o.env_map != scene.env_map
                 });
             if rebuild {
                 let opts = *r.options();

@@ -19,7 +19,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             ui.label(egui::RichText::new("No area light in this scene.").weak());
         }
     }
-    environment_slider(ui, l, app.base.environment);
+    if app.base.env_map.is_some() {
+        ui.label(egui::RichText::new("Environment: an image (see Environment).").weak());
+    } else {
+        environment_slider(ui, l, app.base.environment);
+    }
     if l.intensity.is_nan() {
         l.intensity = 1.0;
     }

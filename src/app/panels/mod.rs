@@ -1,6 +1,7 @@
 //! The side panel: one group per concern, every control with a one-sentence physics tooltip.
 
 pub mod camera;
+pub mod environment;
 pub mod fresnel;
 pub mod inspect;
 pub mod light;
@@ -18,6 +19,7 @@ pub fn side_panel(app: &mut ViewerApp, ui: &mut egui::Ui) {
     group(ui, "Material", true, |ui| material::show(app, ui));
     group(ui, "Fresnel", true, |ui| fresnel::show(app, ui));
     group(ui, "Light", true, |ui| light::show(app, ui));
+    group(ui, "Environment", true, |ui| environment::show(app, ui));
     group(ui, "Camera", false, |ui| camera::show(app, ui));
     group(ui, "Rendering", true, |ui| rendering::show(app, ui));
 }

@@ -251,7 +251,12 @@ impl Bdpt<'_> {
             v *= tr;
         }
         let collapse = y.collapsed || z.collapsed;
-        if infinite || self.mode != BdptMode::Full {
+        if infinite {
+            // A light at infinity has two strategies only: this connection (s = 1) and the
+            // camera subpath escaping towards it (s = 0, `env_escape_weight`).
+            return Self::finish(v * self.infinite_weight(&y, &z, w_zy), collapse);
+        }
+        if self.mode != BdptMode::Full {
             return Self::finish(v, collapse);
         }
         Self::finish(v * self.mis_weight(light, cam, t, None), collapse)

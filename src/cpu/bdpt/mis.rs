@@ -8,6 +8,43 @@ use crate::bsdf::BxDF;
 use crate::math::Frame;
 
 impl Bdpt<'_> {
+    /// Solid-angle density of sampling the BSDF at surface vertex `z` towards `w` (from
+    /// its predecessor's direction); 0 for delta lobes.
+    fn bsdf_pdf_dir(&self, z: &Vertex, w: glam::Vec3) -> f32 {
+        match z.bsdf {
+            Some(b) if !b.is_delta() => {
+                let frame = Frame::from_normal(z.ns);
+                b.pdf(frame.to_local(z.w_prev), frame.to_local(w))
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Power-heuristic weight of connecting camera vertex `z` to the light at infinity `y`
+    /// along `w` (s = 1) against the camera subpath's BSDF sample escaping along `w` (s = 0);
+    /// 1 for a delta direction (directional light). Veach 1997 §9.2.4.
+    pub(super) fn infinite_weight(&self, y: &Vertex, z: &Vertex, w: glam::Vec3) -> f32 {
+        let Some((light, pick)) = y.light() else {
+            return 1.0;
+        };
+        let p_light = light.pdf_li(pick, w, 1.0, 1.0);
+        if p_light <= 0.0 {
+            return 1.0;
+        }
+        crate::math::sampling::power_heuristic(p_light, self.bsdf_pdf_dir(z, w))
+    }
+
+    /// The weight of the camera subpath `cam` escaping along `d` to the environment (s = 0)
+    /// against the s = 1 connection at its last vertex.
+    pub(super) fn env_escape_weight(&self, cam: &[Vertex], d: glam::Vec3) -> f32 {
+        match cam.last() {
+            Some(z) if cam.len() >= 2 && !z.delta => {
+                self.pt.lights.env_weight(d, self.bsdf_pdf_dir(z, d), false)
+            }
+            _ => 1.0,
+        }
+    }
+
     /// Area density at `to` of sampling the BSDF at `v` given the other direction `w_other`.
     pub(super) fn bsdf_pdf_area(&self, v: &Vertex, w_other: glam::Vec3, to: &Vertex) -> f32 {
         let Some(b) = v.bsdf else {

@@ -10,9 +10,11 @@
 //! correction |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (Veach 1997, §5.3, eq. 5.19). Absorbing
 //! media attenuate every walk segment and every connection (Beer–Lambert).
 //!
-//! Scope: lights at infinity (directional) are connected only by the s = 1 strategy (they
-//! start no light subpath here), so their weight is 1; the environment is reached only by
-//! camera subpaths (weight 1).
+//! Scope: lights at infinity start no light subpath in the full estimator: a directional light
+//! is connected only by the s = 1 strategy (weight 1); an image environment by s = 1 and by
+//! camera subpaths escaping to it (s = 0), the two MIS-weighted against each other as in the
+//! path tracer; a uniform environment only by escaping camera subpaths (weight 1). Pure light
+//! tracing walks from every light, those at infinity included (from their bounding disk).
 
 mod camera;
 mod connect;
@@ -129,7 +131,7 @@ impl<'a> Bdpt<'a> {
             && cam.len() <= max_depth
             && self.accepted(&[], None, None, cam)
         {
-            Self::finish(b * sp.c(env), collapsed)
+            Self::finish(b * sp.c(env) * self.env_escape_weight(cam, d), collapsed)
         } else {
             Color::ZERO
         }

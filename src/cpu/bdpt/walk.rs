@@ -1,8 +1,8 @@
 //! The random walks of both subpaths: one loop for camera (radiance) and light (importance)
 //! transport, on the shared per-vertex step (`Interaction`, `PathState`).
 
-use super::Bdpt;
 use super::vertex::{Kind, Vertex, to_area};
+use super::{Bdpt, BdptMode};
 use crate::bsdf::{BxDF, TransportMode};
 use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards};
 use crate::cpu::path_state::{Interface, PathState};
@@ -117,15 +117,23 @@ impl<'a> Bdpt<'a> {
             return;
         };
         let kind = Kind::Light { light, pick };
-        if le.infinite {
-            // Only the s = 1 strategy connects to a light at infinity, along −n.
+        if le.infinite && self.mode == BdptMode::Full {
+            // Only the s = 1 strategy connects to a light at infinity, along −n; the vertex
+            // carries 1/(pick · p_dir) (p_dir = 1 for a delta direction).
             path.push(Vertex {
                 ng: le.n,
                 ns: le.n,
-                ..Vertex::new(kind, Vec3::ZERO, Color::splat(1.0 / pick), pick, Symbol::L)
+                ..Vertex::new(
+                    kind,
+                    Vec3::ZERO,
+                    Color::splat(1.0 / (pick * le.pdf_dir)),
+                    pick,
+                    Symbol::L,
+                )
             });
             return;
         }
+        // (Light tracing walks from a light at infinity too: from its bounding disk.)
         let v0 = Vertex {
             ng: le.n,
             ns: le.n,
@@ -141,7 +149,7 @@ impl<'a> Bdpt<'a> {
         if le.pdf_dir <= 0.0 || le.l.max_element() <= 0.0 {
             return;
         }
-        let (o, cos) = if le.delta_pos {
+        let (o, cos) = if le.delta_pos || le.infinite {
             (le.p, 1.0)
         } else {
             (

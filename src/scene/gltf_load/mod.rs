@@ -25,6 +25,7 @@ mod accessor;
 mod buffers;
 mod cameras;
 mod decode;
+mod environment;
 mod extras;
 mod files;
 mod json_error;
@@ -209,7 +210,12 @@ impl Loader<'_> {
         };
         let settings =
             extras::parse_render_settings(settings_value.as_ref(), &mut self.warnings.list)?;
-        let environment = extras::parse_environment(settings_value.as_ref())?;
+        let (environment, env_map) = environment::parse(
+            settings_value.as_ref(),
+            self.base,
+            &self.limits,
+            &mut self.warnings,
+        )?;
 
         for (i, m) in root.materials.iter().enumerate() {
             let mat = self.convert_material(i, m)?;
@@ -258,9 +264,13 @@ impl Loader<'_> {
             punctual_lights: std::mem::take(&mut self.lights),
             camera,
             environment,
+            env_map,
             settings,
-            warnings: std::mem::take(&mut self.warnings.list),
+            warnings: vec![],
         };
+        let mut scene = scene;
+        environment::light_the_lightless(&mut scene, &mut self.warnings);
+        scene.warnings = std::mem::take(&mut self.warnings.list);
         scene
             .validate()
             .with_context(|| format!("'{name}' loaded but is not renderable"))?;

@@ -1,7 +1,7 @@
 //! Uniform environment: the same radiance from every direction (PBR 4th ed. §12.5.1
 //! `UniformInfiniteLight`). Escaping rays add it; it is not in the NEE distribution (the
 //! walks add it with MIS weight 1 on escape), so `sample_li` serves tests and light tracing
-//! from the environment. An image environment becomes one more variant next to this one.
+//! from the environment. The image environment (`image_environment.rs`) is in it.
 
 use super::{LeSample, LiSample};
 use crate::math::{Frame, sampling};

@@ -17,9 +17,13 @@
 //! `sample_le` takes it as `u_side` (the CPU walks always draw it); and the GPU starts no
 //! light subpaths at lights at infinity (`light_sample_le` invalid, `light_pdf_le` (0, 0)).
 //!
+//! The environment image (`ImageEnvironment`) is the one light at infinity in the selection
+//! distribution: next-event estimation samples it and an escaping ray weights it by MIS
+//! (`LightSet::env_weight`); the uniform environment stays outside it (weight 1 on escape).
+//!
 //! # Adding a light type
 //!
-//! An image environment, say, is one more variant, in three places:
+//! A new light is one more variant, in three places (the image environment was added so):
 //! 1. Rust: a file here with the type and its `sample_li`, `pdf_li`, `le`, `sample_le`,
 //!    `pdf_le` and `power` (each formula with its citation), a `Light` variant dispatching
 //!    to them, its entry in `LightSet::build` (`scene_lights`), and its consistency cases in
@@ -33,6 +37,7 @@
 
 mod directional;
 mod environment;
+mod image_environment;
 mod point;
 mod set;
 mod spot;
@@ -44,6 +49,7 @@ mod tests;
 pub use crate::math::color::luminance;
 pub use directional::DirectionalLight;
 pub use environment::UniformEnvironment;
+pub use image_environment::ImageEnvironment;
 pub use point::PointLight;
 pub use set::LightSet;
 pub use spot::{SpotLight, spot_falloff};
@@ -52,7 +58,7 @@ pub use triangle::TriangleLight;
 use glam::{Vec2, Vec3};
 
 /// One light of the scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Light {
     /// An emissive triangle (diffuse area light).
     Triangle(TriangleLight),
@@ -61,6 +67,8 @@ pub enum Light {
     Directional(DirectionalLight),
     /// Uniform radiance from every direction (escaping rays).
     Environment(UniformEnvironment),
+    /// An equirectangular image at infinity, importance-sampled (in the NEE distribution).
+    Image(ImageEnvironment),
 }
 
 /// Incident illumination sampled at a reference point (pbrt-v4 `LightLiSample`).
@@ -144,16 +152,19 @@ impl Light {
             Light::Spot(l) => l.sample_li(p, pick),
             Light::Directional(l) => l.sample_li(pick),
             Light::Environment(l) => l.sample_li(u, pick),
+            Light::Image(l) => l.sample_li(u, pick),
         }
     }
 
-    /// Solid-angle density of `sample_li` for a point on the light at distance `dist` seen
-    /// under `cos_light` = |n_light·ω| (0 for delta lights; PBR 4th ed. eq. 12.3).
+    /// Solid-angle density of `sample_li` for direction `wi` (towards the light) reaching a
+    /// point on the light at distance `dist` seen under `cos_light` = |n_light·ω| (0 for delta
+    /// lights; PBR 4th ed. eq. 12.3).
     #[inline]
-    pub fn pdf_li(&self, pick: f32, dist: f32, cos_light: f32) -> f32 {
+    pub fn pdf_li(&self, pick: f32, wi: Vec3, dist: f32, cos_light: f32) -> f32 {
         match self {
             Light::Triangle(l) => l.pdf_li(pick, dist, cos_light),
             Light::Environment(l) => l.pdf_li(pick),
+            Light::Image(l) => l.pdf_li(pick, wi),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
         }
     }
@@ -170,6 +181,7 @@ impl Light {
             Light::Spot(l) => l.le(w),
             Light::Directional(l) => l.irradiance,
             Light::Environment(l) => l.radiance,
+            Light::Image(l) => l.radiance(-w),
         }
     }
 
@@ -183,6 +195,7 @@ impl Light {
             Light::Spot(l) => Some(l.sample_le(u_dir, pick)),
             Light::Directional(l) => Some(l.sample_le(u_pos, pick)),
             Light::Environment(l) => Some(l.sample_le(u_pos, u_dir, pick)),
+            Light::Image(l) => l.sample_le(u_pos, u_dir, pick),
         }
     }
 
@@ -198,6 +211,7 @@ impl Light {
             Light::Spot(l) => (pick, l.pdf_dir(w)),
             Light::Directional(l) => (pick * l.pdf_pos(), 0.0),
             Light::Environment(l) => l.pdf_le(pick),
+            Light::Image(l) => l.pdf_le(pick, w),
         }
     }
 
@@ -210,6 +224,7 @@ impl Light {
             Light::Spot(l) => l.power(),
             Light::Directional(l) => l.power(),
             Light::Environment(l) => l.power(),
+            Light::Image(l) => l.power(),
         }
     }
 
@@ -220,6 +235,9 @@ impl Light {
 
     /// The light is at infinity (directional, environment).
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Light::Directional(_) | Light::Environment(_))
+        matches!(
+            self,
+            Light::Directional(_) | Light::Environment(_) | Light::Image(_)
+        )
     }
 }

@@ -1,7 +1,10 @@
 //! The scene's lights and the discrete distribution next-event estimation and light tracing
 //! pick them from: proportional to (approximate) emitted power (pbrt-v4 `PowerLightSampler`).
 
-use super::{DirectionalLight, Light, PointLight, SpotLight, TriangleLight, UniformEnvironment};
+use super::{
+    DirectionalLight, ImageEnvironment, Light, PointLight, SpotLight, TriangleLight,
+    UniformEnvironment,
+};
 use crate::scene::{PunctualLight, Scene};
 use glam::Vec3;
 
@@ -16,8 +19,12 @@ pub struct LightSet {
     pub tri_pick_prob: Vec<f32>,
     /// Index into `lights` of each scene triangle's area light (`u32::MAX`: none).
     tri_light: Vec<u32>,
-    /// The environment (uniform radiance of escaping rays; not in the distribution).
+    /// The environment escaping rays read: a uniform one (not in the distribution) or the
+    /// image environment (also the last entry of `lights`).
     pub environment: Light,
+    /// Selection probability of the environment in the distribution (0: not in it, so an
+    /// escaping ray takes it with MIS weight 1).
+    pub env_pick: f32,
 }
 
 impl Default for LightSet {
@@ -32,6 +39,7 @@ impl Default for LightSet {
                 center: Vec3::ZERO,
                 radius: 1.0,
             }),
+            env_pick: 0.0,
         }
     }
 }
@@ -84,6 +92,13 @@ fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
             }),
         });
     }
+    if let Some(img) = &scene.env_map {
+        lights.push(Light::Image(ImageEnvironment::new(
+            img.clone(),
+            center,
+            radius,
+        )));
+    }
     lights
 }
 
@@ -122,17 +137,40 @@ impl LightSet {
                 tri_light[t.tri as usize] = i as u32;
             }
         }
+        let (environment, env_pick) = match lights.last() {
+            Some(l @ Light::Image(_)) => (
+                l.clone(),
+                (*weights.last().unwrap_or(&0.0) as f64 / total) as f32,
+            ),
+            _ => (
+                Light::Environment(UniformEnvironment {
+                    radiance: scene.environment,
+                    center,
+                    radius,
+                }),
+                0.0,
+            ),
+        };
         LightSet {
             lights,
             cdf,
             tri_pick_prob,
             tri_light,
-            environment: Light::Environment(UniformEnvironment {
-                radiance: scene.environment,
-                center,
-                radius,
-            }),
+            environment,
+            env_pick,
         }
+    }
+
+    /// MIS weight of the environment reached by an escaping ray along `d` after a BSDF
+    /// sample of density `prev_pdf` (power heuristic against `sample_li`; 1 after a delta
+    /// lobe or when the environment is not in the distribution).
+    #[inline]
+    pub fn env_weight(&self, d: Vec3, prev_pdf: f32, prev_delta: bool) -> f32 {
+        if prev_delta || self.env_pick <= 0.0 {
+            return 1.0;
+        }
+        let p_light = self.environment.pdf_li(self.env_pick, d, 1.0, 1.0);
+        crate::math::sampling::power_heuristic(prev_pdf, p_light)
     }
 
     pub fn is_empty(&self) -> bool {

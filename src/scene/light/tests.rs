@@ -7,7 +7,29 @@
 
 use super::*;
 use crate::math::rng::Sampler;
+use crate::scene::env_map::{EnvImage, EnvMap};
 use std::f32::consts::PI;
+use std::sync::Arc;
+
+/// A 24 × 12 environment image of varied (seeded) texels with one bright "sun" texel,
+/// rotated by `rotation` degrees.
+/// (Without importance sampling the bright texel is left out: uniform directions would hit
+/// it too rarely for the power estimate's 1% tolerance.)
+pub(crate) fn image_light(rotation: f32, importance: bool) -> ImageEnvironment {
+    let (w, h) = (24u32, 12u32);
+    let mut rng = Sampler::new(77, 0, 1);
+    let mut t: Vec<Vec3> = (0..w * h)
+        .map(|_| Vec3::new(rng.next_1d(), rng.next_1d(), rng.next_1d()) * 2.0)
+        .collect();
+    if importance {
+        t[(3 * w + 7) as usize] = Vec3::new(300.0, 280.0, 250.0);
+    }
+    t[5] = Vec3::ZERO;
+    let (map, _) = EnvMap::from_texels(w, h, t, "test");
+    let mut img = EnvImage::new(Arc::new(map), 1.5, rotation);
+    img.importance = importance;
+    ImageEnvironment::new(img, Vec3::new(0.0, 1.0, 0.0), 1.5)
+}
 
 fn lights() -> Vec<Light> {
     let v = [
@@ -40,6 +62,8 @@ fn lights() -> Vec<Light> {
             center: Vec3::new(0.0, 1.0, 0.0),
             radius: 1.5,
         }),
+        Light::Image(image_light(30.0, true)),
+        Light::Image(image_light(-75.0, false)),
     ]
 }
 
@@ -63,7 +87,7 @@ fn pdf_li_matches_sample_li() {
                     "{l:?}: a delta light's pdf is its selection probability"
                 );
                 assert_eq!(
-                    l.pdf_li(pick, 1.0, 1.0),
+                    l.pdf_li(pick, s.wi, 1.0, 1.0),
                     0.0,
                     "{l:?}: pdf_li of a delta light"
                 );
@@ -71,7 +95,7 @@ fn pdf_li_matches_sample_li() {
             }
             let dist = (s.p_light - p).length();
             let cos = s.n_light.dot(s.wi).abs();
-            let q = l.pdf_li(pick, dist, cos);
+            let q = l.pdf_li(pick, s.wi, dist, cos);
             assert!(
                 (q - s.pdf).abs() <= 1e-4 * s.pdf,
                 "{l:?}: pdf_li {q} vs sample_li {}",
@@ -125,7 +149,7 @@ fn pdf_le_matches_sample_le() {
 fn emission_estimator_recovers_power() {
     let mut rng = Sampler::new(3, 0, 7);
     for l in lights() {
-        let expect = match l {
+        let expect = match &l {
             Light::Triangle(t) => t.power() as f64,
             Light::Point(p) => p.power() as f64,
             Light::Directional(d) => d.power() as f64,
@@ -133,6 +157,7 @@ fn emission_estimator_recovers_power() {
             // E[L/(p_pos p_dir)] = 4π·πr²·L = `power`.
             Light::Spot(_) => continue,
             Light::Environment(e) => e.power() as f64,
+            Light::Image(e) => e.power() as f64,
         };
         let n = 200_000;
         let mut sum = 0.0f64;
@@ -162,9 +187,11 @@ fn emission_estimator_recovers_power() {
 fn infinite_lights_emit_through_the_bounding_sphere() {
     let mut rng = Sampler::new(4, 0, 9);
     for l in lights().into_iter().filter(|l| l.is_infinite()) {
-        let (c, r) = match l {
+        let l = l.clone();
+        let (c, r) = match &l {
             Light::Directional(d) => (d.center, d.radius),
             Light::Environment(e) => (e.center, e.radius),
+            Light::Image(e) => (e.center, e.radius),
             _ => unreachable!(),
         };
         for _ in 0..256 {
@@ -182,15 +209,81 @@ fn infinite_lights_emit_through_the_bounding_sphere() {
                 "{l:?}: ray passes {miss} from the centre (r = {r})"
             );
         }
+        let expect = match &l {
+            Light::Directional(d) => PI * r * r * luminance(d.irradiance),
+            Light::Environment(e) => 4.0 * PI * PI * r * r * luminance(e.radiance),
+            // πr² ∫L dω with ∫ by the midpoint rule over the texels' solid angles.
+            Light::Image(e) => {
+                let m = &e.image.map;
+                let (w, h) = (m.width as usize, m.height as usize);
+                let mut sum = 0.0f64;
+                for (i, t) in m.texels.iter().enumerate() {
+                    let row = i / w;
+                    let (t0, t1) = (row as f64 / h as f64, (row + 1) as f64 / h as f64);
+                    let omega = 2.0 * std::f64::consts::PI / w as f64
+                        * ((t0 * std::f64::consts::PI).cos() - (t1 * std::f64::consts::PI).cos());
+                    sum += luminance(*t) as f64 * omega;
+                }
+                (PI * r * r) as f64 as f32 * e.image.strength * sum as f32
+            }
+            _ => 0.0,
+        };
         assert!(
-            (l.power()
-                - match l {
-                    Light::Directional(d) => PI * r * r * luminance(d.irradiance),
-                    Light::Environment(e) => 4.0 * PI * PI * r * r * luminance(e.radiance),
-                    _ => 0.0,
-                })
-            .abs()
-                < 1e-3
+            (l.power() - expect).abs() <= 1e-3 * expect.max(1.0),
+            "{l:?}: power {} vs {expect}",
+            l.power()
         );
     }
+}
+
+/// χ² goodness of fit of the image environment's `sample_li` against `pdf_li`, binned by
+/// texel of the (rotated) map: a texel's probability is ∫ pdf_li dω = pdf_li(centre) ·
+/// 2π² sinθ_c / (W·H) exactly (the density is p(u,t)/(2π² sinθ), piecewise constant in
+/// (u, t)). 500k samples; the statistic must stay below dof + 5·√(2·dof) (about 5σ).
+#[test]
+fn image_environment_samples_follow_pdf_li() {
+    use crate::scene::env_map::{dir_to_uv, rotate_y, uv_to_dir};
+    let l = image_light(37.0, true);
+    let light = Light::Image(l.clone());
+    let (w, h) = (l.image.map.width as usize, l.image.map.height as usize);
+    let (c, s) = (l.cos_rot, l.sin_rot);
+    let n = 500_000usize;
+    let mut counts = vec![0usize; w * h];
+    let mut rng = Sampler::new(11, 0, 2);
+    for _ in 0..n {
+        let ls = light
+            .sample_li(Vec3::ZERO, rng.next_2d(), 1.0)
+            .expect("sample");
+        let uv = dir_to_uv(rotate_y(ls.wi, c, -s));
+        let x = ((uv.x * w as f32) as usize).min(w - 1);
+        let y = ((uv.y * h as f32) as usize).min(h - 1);
+        counts[y * w + x] += 1;
+    }
+    let (mut chi2, mut dof, mut total_p) = (0.0f64, 0usize, 0.0f64);
+    for y in 0..h {
+        for x in 0..w {
+            let uv = glam::Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+            let wi = rotate_y(uv_to_dir(uv), c, s);
+            let sin_t = (uv.y * PI).sin() as f64;
+            let p = light.pdf_li(1.0, wi, 1.0, 1.0) as f64 * 2.0 * (PI as f64).powi(2) * sin_t
+                / (w * h) as f64;
+            total_p += p;
+            let k = counts[y * w + x] as f64;
+            if p == 0.0 {
+                assert_eq!(k, 0.0, "texel ({x}, {y}) has pdf 0 but was sampled");
+                continue;
+            }
+            let e = p * n as f64;
+            chi2 += (k - e).powi(2) / e;
+            dof += 1;
+        }
+    }
+    assert!((total_p - 1.0).abs() < 1e-4, "∫ pdf_li dω = {total_p}");
+    let dof = (dof - 1) as f64;
+    let limit = dof + 5.0 * (2.0 * dof).sqrt();
+    assert!(
+        chi2 < limit,
+        "χ² = {chi2:.1} over {dof} dof (limit {limit:.1})"
+    );
+    assert_eq!(counts[5], 0, "the black texel is never sampled");
 }
