@@ -48,6 +48,7 @@ fn main() -> anyhow::Result<()> {
         punctual_lights: vec![],
         camera: cam,
         environment: Vec3::splat(0.1),
+        env_map: None,
         settings: RenderSettings {
             width: 128,
             height: 96,

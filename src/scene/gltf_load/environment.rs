@@ -3,13 +3,13 @@
 //! rules as buffers and textures (a regular file inside the scene's folder); and the
 //! fallback for a file with no light at all: the built-in studio environment, with a warning.
 
+use super::limits::LoadLimits;
 use super::{Warnings, extras, files, uri};
 use crate::scene::Scene;
 use crate::scene::env_map::{EnvImage, EnvMap};
 use anyhow::{anyhow, bail};
 use glam::Vec3;
 use serde_json::Value;
-use super::limits::LoadLimits;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -21,10 +21,9 @@ pub(super) fn parse(
     warnings: &mut Warnings,
 ) -> anyhow::Result<(Vec3, Option<EnvImage>)> {
     match extras.and_then(|e| e.get("environment")) {
-        Some(obj @ Value::Object(_)) => Ok((
-            Vec3::ZERO,
-            Some(parse_image(obj, base, limits, warnings)?),
-        )),
+        Some(obj @ Value::Object(_)) => {
+            Ok((Vec3::ZERO, Some(parse_image(obj, base, limits, warnings)?)))
+        }
         _ => Ok((extras::parse_environment(extras)?, None)),
     }
 }
