@@ -145,6 +145,8 @@ impl Bvh {
                 &mut core,
             )
         };
+        let mut cwbvh = cwbvh;
+        widen_child_boxes(&mut cwbvh);
         let leaf_to_tri = cwbvh.primitive_indices.clone();
         let leaf_tris = leaf_to_tri
             .iter()
@@ -229,6 +231,42 @@ impl Bvh {
                 None => f32::INFINITY,
             }
         })
+    }
+}
+
+/// Grow every child box of every node by one quantisation step on each side where the
+/// 8-bit grid allows it, so obvhs' node test is conservative. The test evaluates a slab
+/// plane as `q·(2^e/d) + (p − o)/d`: two terms of the size of |p − o|/|d| that cancel, so
+/// its rounding error (about 2⁻²⁴·|p − o|/|d|) is not small against the plane's own
+/// distance when the ray passes within ~1e-7·|p − o| of a face. A ray along −Z through the
+/// equator vertex of nested spheres (x = y = −4e-8 there) rejected the boxes of the
+/// triangles it hits and returned the far side of the innermost sphere (t = 3.76 instead of 2;
+/// `tests/stress.rs::axis_rays_through_vertices_hit_the_nearest_surface`). One step,
+/// 2^e ≥ node extent / 255, exceeds that error whenever the ray origin is within 2¹⁶ node
+/// extents of the node — every ray of a scene within 2¹⁶ of its size — at the price of
+/// slightly larger boxes (Ize 2013, "Robust BVH Ray Traversal", makes the same trade with a
+/// factor on t). q = 0 needs no step: that plane is p itself, a single rounding. A box that
+/// is flat on a grid line in an axis (lo = hi: a wall, the ceiling) is not thickened in it:
+/// both of its planes round alike, and thickening made every shadow ray ending just below
+/// an area light on the ceiling enter the ceiling's boxes (+83% shadow-ray instructions on
+/// cornell-glass; with the exemption +1.2%, closest hits +2.6%, callgrind, 64² × 4 spp).
+fn widen_child_boxes(bvh: &mut CwBvh) {
+    for node in &mut bvh.nodes {
+        for c in 0..8 {
+            if node.is_child_empty(c) {
+                continue;
+            }
+            for (lo, hi) in [
+                (&mut node.child_min_x, &mut node.child_max_x),
+                (&mut node.child_min_y, &mut node.child_max_y),
+                (&mut node.child_min_z, &mut node.child_max_z),
+            ] {
+                if lo[c] < hi[c] {
+                    lo[c] = lo[c].saturating_sub(1);
+                    hi[c] = hi[c].saturating_add(1);
+                }
+            }
+        }
     }
 }
 

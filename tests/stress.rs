@@ -464,3 +464,68 @@ fn glass_scenes_at_every_scale() {
         }
     }
 }
+
+/// Ray/triangle distance in f64 (Möller & Trumbore 1997), edges included with a margin: the
+/// reference for the BVH.
+fn brute_t(mesh: &Mesh, o: Vec3, d: Vec3) -> Option<f64> {
+    let (o, d) = (o.as_dvec3(), d.as_dvec3());
+    let mut best: Option<f64> = None;
+    for t in 0..mesh.triangle_count() {
+        let [a, b, c] = mesh.tri(t).map(|v| v.as_dvec3());
+        let (e1, e2) = (b - a, c - a);
+        let p = d.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < 1e-300 {
+            continue;
+        }
+        let s = o - a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let v = d.dot(q) / det;
+        let tt = e2.dot(q) / det;
+        if u >= -1e-9 && v >= -1e-9 && u + v <= 1.0 + 1e-9 && tt > 1e-9 {
+            best = Some(best.map_or(tt, |x: f64| x.min(tt)));
+        }
+    }
+    best
+}
+
+/// Axis-aligned rays exactly through mesh vertices (a camera ray along −Z through x = 0 is
+/// the everyday case): the BVH's closest hit must be the nearest surface, and an occlusion
+/// query short of it must see it. obvhs' node test lost such hits when a ray passed within
+/// ~1e-7 of a box face (three nested spheres returned the innermost sphere's far side);
+/// `bvh::widen_child_boxes` makes it conservative.
+#[test]
+fn axis_rays_through_vertices_hit_the_nearest_surface() {
+    let mut spheres = Mesh::default();
+    for i in 0..6 {
+        refract::scene::builtin::sphere(&mut spheres, Vec3::ZERO, 1.0 - 0.12 * i as f32, 32, 64, 0);
+    }
+    let cornell = Scene::load("builtin:cornell-glass").expect("built-in").mesh;
+    let (mut checked, mut wrong) = (0, Vec::new());
+    for (name, mesh) in [("spheres", &spheres), ("cornell-glass", &cornell)] {
+        let bvh = refract::bvh::Bvh::build(mesh);
+        for (i, v) in mesh.positions.iter().enumerate().step_by(7) {
+            for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+                let o = *v + axis * 10.0;
+                let d = -axis;
+                let Some(want) = brute_t(mesh, o, d) else {
+                    continue;
+                };
+                checked += 1;
+                let got = bvh.intersect(o, d, f32::INFINITY).map(|h| h.t as f64);
+                let occluded = bvh.occluded(o, d, (want + 1e-3) as f32);
+                if got.is_none_or(|g| (g - want).abs() > 1e-4 * want) || !occluded {
+                    wrong.push(format!("{name} vertex {i} along {d}: {got:?} vs {want}"));
+                }
+            }
+        }
+    }
+    assert!(checked > 1000, "only {checked} rays");
+    assert!(
+        wrong.is_empty(),
+        "{} of {checked} rays:\n{}",
+        wrong.len(),
+        wrong[..wrong.len().min(10)].join("\n")
+    );
+}
