@@ -497,3 +497,41 @@ fn environment_panel_loads_an_image_and_edits_it() {
     let spp = h.state().backend().spp();
     step_until(&mut h, "rendering to go on", |a| a.backend().spp() > spp);
 }
+
+/// Selecting a material shows it without changing it (issue 17, part 6): values outside the
+/// sliders' ranges — IOR 4.5, V_d 0.5 (below the glTF clamp, possible from a sidecar or an
+/// API edit), an absorption distance of 1000 m and a colour component of 0 — survive frames
+/// of the open material panel, and a slider edit then writes exactly the edited value.
+#[test]
+fn selecting_a_material_never_changes_it() {
+    let mut app = small_app();
+    let mut m = app.scene.materials[GLASS].clone();
+    m.ior = 4.5;
+    m.abbe = Some(0.5);
+    m.attenuation_distance = 1000.0;
+    m.attenuation_color = glam::Vec3::new(0.0, 0.5, 1.0);
+    app.set_material(GLASS, m.clone());
+    let mut h = harness(app);
+    h.state_mut().selected = Some(GLASS);
+    for _ in 0..5 {
+        h.step();
+    }
+    let shown = &h.state().scene.materials[GLASS];
+    assert_eq!(
+        (
+            shown.ior,
+            shown.abbe,
+            shown.attenuation_distance,
+            shown.attenuation_color
+        ),
+        (m.ior, m.abbe, m.attenuation_distance, m.attenuation_color),
+        "looking changed the material"
+    );
+    h.get_by_role_and_label(Role::Slider, "IOR")
+        .set_value_accesskit(3.7);
+    h.step();
+    h.step();
+    let edited = &h.state().scene.materials[GLASS];
+    assert_eq!(edited.ior, 3.7, "IOR 3.7 is inside the widened 1–4 range");
+    assert_eq!(edited.abbe, m.abbe, "the untouched Abbe number is kept");
+}

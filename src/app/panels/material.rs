@@ -17,8 +17,13 @@ pub const IOR_PRESETS: &[(&str, f32)] = &[
     ("diamond", 2.42),
 ];
 
-/// The IOR slider's range; typed values are clamped into it.
-pub const IOR_RANGE: std::ops::RangeInclusive<f32> = 1.0..=3.0;
+/// The IOR slider's range (diamond is 2.42, germanium in the infrared ≈ 4). Values outside
+/// it — from a file, say — are shown and kept as they are: every control here writes back
+/// only what the user changed, never a clamped copy of what they only looked at.
+pub const IOR_RANGE: std::ops::RangeInclusive<f32> = 1.0..=4.0;
+
+/// The Abbe-number slider's range (V_d 1 disperses wildly, 100 hardly at all).
+pub const ABBE_RANGE: std::ops::RangeInclusive<f32> = 1.0..=100.0;
 
 fn kind_label(k: MaterialKind) -> &'static str {
     match k {
@@ -191,15 +196,16 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     }
 
     let mut c = m.base_color.to_array();
+    let mut changed = false;
     ui.horizontal(|ui| {
-        ui.color_edit_button_rgb(&mut c).on_hover_text(match m.kind {
+        changed = ui.color_edit_button_rgb(&mut c).on_hover_text(match m.kind {
             MaterialKind::Diffuse => "Albedo: the fraction of light reflected at each wavelength band (linear RGB).",
             MaterialKind::Glass | MaterialKind::ThinGlass => "Transmission tint at the surface (white for clear glass; use absorption for coloured solids).",
             _ => "Reflectance: the fraction of light the surface reflects (linear RGB).",
-        });
+        }).changed();
         ui.label("Base colour");
     });
-    if c.iter().all(|v| v.is_finite()) {
+    if changed && c.iter().all(|v| v.is_finite()) {
         m.base_color = glam::Vec3::from_array(c).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
     }
 
@@ -209,21 +215,18 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
 }
 
 fn ior_controls(ui: &mut egui::Ui, m: &mut Material) {
-    let old = m.ior;
-    let mut ior = m.ior.clamp(*IOR_RANGE.start(), *IOR_RANGE.end());
-    ui.add(
+    let mut ior = m.ior;
+    let r = ui.add(
         Slider::new(&mut ior, IOR_RANGE)
             .text("IOR")
-            .clamping(SliderClamping::Always)
+            .clamping(SliderClamping::Edits)
             .max_decimals(3),
     )
     .on_hover_text("Index of refraction n: light is c/n slower inside, so it bends by Snell's law n₁ sinθ₁ = n₂ sinθ₂.");
-    // A typed "NaN" or garbage never reaches the renderer.
-    m.ior = if ior.is_finite() && ior > 0.0 {
-        ior.clamp(*IOR_RANGE.start(), *IOR_RANGE.end())
-    } else {
-        old
-    };
+    // Only an edit is written back; a typed "NaN" or garbage never reaches the renderer.
+    if r.changed() && ior.is_finite() && ior > 0.0 {
+        m.ior = ior;
+    }
     ui.horizontal_wrapped(|ui| {
         for (name, n) in IOR_PRESETS {
             if ui
@@ -289,14 +292,14 @@ fn roughness_controls(ui: &mut egui::Ui, m: &mut Material) {
     }
     if r != Rough::Smooth {
         let mut rough = m.roughness;
-        ui.add(
+        let resp = ui.add(
             Slider::new(&mut rough, 0.01..=1.0)
                 .text("Roughness")
-                .clamping(SliderClamping::Always),
+                .clamping(SliderClamping::Edits),
         )
         .on_hover_text("Perceptual roughness r; the microfacet slope spread is α = r², so highlights blur as r grows.");
-        if rough.is_finite() {
-            m.roughness = rough.clamp(0.01, 1.0);
+        if resp.changed() && rough.is_finite() {
+            m.roughness = rough.clamp(0.0, 1.0);
         }
     }
 }
@@ -309,19 +312,20 @@ fn dispersion_controls(ui: &mut egui::Ui, m: &mut Material) {
         m.abbe = None;
         return;
     }
-    let mut v = m.abbe.unwrap_or(40.0);
-    ui.add(
-        Slider::new(&mut v, 10.0..=100.0)
+    let Some(mut v) = m.abbe else {
+        m.abbe = Some(40.0); // just switched on
+        return;
+    };
+    let r = ui.add(
+        Slider::new(&mut v, ABBE_RANGE)
             .text("Abbe number V_d")
-            .clamping(SliderClamping::Always)
+            .clamping(SliderClamping::Edits)
             .logarithmic(true),
     )
     .on_hover_text("V_d = (n_d − 1)/(n_F − n_C): low values disperse strongly (flint ≈ 36), high values weakly (crown ≈ 59).");
-    m.abbe = Some(if v.is_finite() {
-        v.clamp(10.0, 100.0)
-    } else {
-        40.0
-    });
+    if r.changed() && v.is_finite() && v > 0.0 {
+        m.abbe = Some(v);
+    }
 }
 
 fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
@@ -333,13 +337,17 @@ fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
         return;
     }
     let mut c = m.attenuation_color.to_array();
+    let mut changed = false;
     ui.horizontal(|ui| {
-        ui.color_edit_button_rgb(&mut c).on_hover_text(
-            "The colour white light has after travelling the absorption distance inside.",
-        );
+        changed = ui
+            .color_edit_button_rgb(&mut c)
+            .on_hover_text(
+                "The colour white light has after travelling the absorption distance inside.",
+            )
+            .changed();
         ui.label("Absorption colour");
     });
-    if c.iter().all(|v| v.is_finite()) {
+    if changed && c.iter().all(|v| v.is_finite()) {
         m.attenuation_color =
             glam::Vec3::from_array(c).clamp(glam::Vec3::splat(1e-4), glam::Vec3::ONE);
     }
@@ -348,18 +356,17 @@ fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
     } else {
         1.0
     };
-    ui.add(
-        Slider::new(&mut d, 0.01..=100.0)
-            .text("Distance (m)")
-            .logarithmic(true)
-            .clamping(SliderClamping::Always),
-    )
-    .on_hover_text(
-        "Path length inside after which light has the absorption colour; σ = −ln(colour)/distance.",
-    );
-    m.attenuation_distance = if d.is_finite() && d > 0.0 {
-        d.clamp(0.01, 100.0)
-    } else {
-        1.0
-    };
+    let r = ui
+        .add(
+            Slider::new(&mut d, 0.01..=100.0)
+                .text("Distance (m)")
+                .logarithmic(true)
+                .clamping(SliderClamping::Edits),
+        )
+        .on_hover_text(
+            "Path length inside after which light has the absorption colour; σ = −ln(colour)/distance.",
+        );
+    if (r.changed() || !m.attenuation_distance.is_finite()) && d.is_finite() && d > 0.0 {
+        m.attenuation_distance = d;
+    }
 }
