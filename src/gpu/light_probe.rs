@@ -49,18 +49,22 @@ pub fn run_light_probe(
     );
     let triangles = init(
         "triangles",
-        upload::checked_bytes("triangles", &triangles)?,
+        upload::checked_bytes("triangles", &triangles, ctx.max_binding_bytes())?,
         storage,
     );
     let materials = init(
         "materials",
-        upload::checked_bytes("materials", &materials)?,
+        upload::checked_bytes("materials", &materials, ctx.max_binding_bytes())?,
         storage,
     );
-    let lights = init("lights", upload::checked_bytes("lights", &lights)?, storage);
+    let lights = init(
+        "lights",
+        upload::checked_bytes("lights", &lights, ctx.max_binding_bytes())?,
+        storage,
+    );
     let texels = init(
         "texels",
-        upload::checked_bytes("textures", &texels)?,
+        upload::checked_bytes("textures", &texels, ctx.max_binding_bytes())?,
         storage,
     );
     let input = init("light probe cases", bytemuck::cast_slice(cases), storage);

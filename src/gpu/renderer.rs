@@ -96,6 +96,33 @@ pub struct GpuRenderer {
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
 const SPLAT_BYTES_PER_PIXEL: u64 = 24;
 
+/// Whether `opts` make the kernels trace light subpaths in `scene` (`lt+pt`, or `auto`
+/// resolving to it).
+fn light_tracing_for(opts: &RenderOptions, scene: &Scene) -> bool {
+    matches!(opts.estimator.resolve(scene), Estimator::LtPt)
+}
+
+/// The splat film's size: the whole image with light tracing; without it the binding still
+/// needs a buffer, so one pixel (path tracing at 4K no longer pays 24 B per pixel for it).
+fn splat_film_bytes(light_tracing: bool, opts: &RenderOptions) -> u64 {
+    let pixels = if light_tracing {
+        opts.width as u64 * opts.height as u64
+    } else {
+        1
+    };
+    pixels * SPLAT_BYTES_PER_PIXEL
+}
+
+/// A zeroed splat film of `bytes`.
+fn splat_film(ctx: &GpuContext, bytes: u64) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("light-tracing splats"),
+        size: bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// Buffers, light count and the texture reference slots of each material.
 type BuiltBuffers = (Buffers, u32, Vec<(u32, u32)>);
 
@@ -199,13 +226,21 @@ impl GpuRenderer {
         let (lights, light_count) = upload::pack_lights(bvh, light_set, env_offset);
         let pixels = opts.width as u64 * opts.height as u64;
         let accum_bytes = pixels * 16;
-        let splat_bytes = pixels * SPLAT_BYTES_PER_PIXEL;
+        let splat_bytes = splat_film_bytes(light_tracing_for(opts, scene), opts);
+        let cap = ctx.max_binding_bytes();
         ensure!(
-            splat_bytes <= upload::MAX_BUFFER_BYTES,
-            "image {}x{} too large for the GPU accumulation buffer (limit {} MiB)",
+            accum_bytes.max(splat_bytes) <= cap,
+            "image {}x{} too large for this GPU: its {} film needs {} MiB, the device binds at \
+             most {} MiB per buffer",
             opts.width,
             opts.height,
-            upload::MAX_BUFFER_BYTES >> 20
+            if splat_bytes > accum_bytes {
+                "light-tracing splat"
+            } else {
+                "accumulation"
+            },
+            accum_bytes.max(splat_bytes) >> 20,
+            cap >> 20
         );
         let buffers = Buffers {
             params: ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -214,11 +249,31 @@ impl GpuRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            nodes: storage(ctx, "bvh nodes", upload::checked_bytes("BVH", &bvh.nodes)?),
-            triangles: storage(ctx, "triangles", upload::checked_bytes("triangles", &tris)?),
-            vertices: storage(ctx, "vertices", upload::checked_bytes("vertices", &verts)?),
-            materials: storage(ctx, "materials", upload::checked_bytes("materials", &mats)?),
-            lights: storage(ctx, "lights", upload::checked_bytes("lights", &lights)?),
+            nodes: storage(
+                ctx,
+                "bvh nodes",
+                upload::checked_bytes("BVH", &bvh.nodes, ctx.max_binding_bytes())?,
+            ),
+            triangles: storage(
+                ctx,
+                "triangles",
+                upload::checked_bytes("triangles", &tris, ctx.max_binding_bytes())?,
+            ),
+            vertices: storage(
+                ctx,
+                "vertices",
+                upload::checked_bytes("vertices", &verts, ctx.max_binding_bytes())?,
+            ),
+            materials: storage(
+                ctx,
+                "materials",
+                upload::checked_bytes("materials", &mats, ctx.max_binding_bytes())?,
+            ),
+            lights: storage(
+                ctx,
+                "lights",
+                upload::checked_bytes("lights", &lights, ctx.max_binding_bytes())?,
+            ),
             accum: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("accum"),
                 size: accum_bytes,
@@ -235,7 +290,11 @@ impl GpuRenderer {
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            texels: storage(ctx, "texels", upload::checked_bytes("textures", &texels)?),
+            texels: storage(
+                ctx,
+                "texels",
+                upload::checked_bytes("textures", &texels, ctx.max_binding_bytes())?,
+            ),
             filter: ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -243,12 +302,7 @@ impl GpuRenderer {
                     contents: bytemuck::cast_slice(&[0u32; layout::FILTER_WORDS]),
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
-            splats: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("light-tracing splats"),
-                size: splat_bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            splats: splat_film(ctx, splat_bytes),
             env_offset,
         };
         Ok((buffers, light_count, tex_slots))
@@ -541,13 +595,13 @@ impl GpuRenderer {
             self.buffers.texels = storage(
                 &self.ctx,
                 "texels",
-                upload::checked_bytes("textures", &texels)?,
+                upload::checked_bytes("textures", &texels, self.ctx.max_binding_bytes())?,
             );
             let mats = upload::pack_materials(&self.scene, &slots);
             self.ctx.queue.write_buffer(
                 &self.buffers.materials,
                 0,
-                upload::checked_bytes("materials", &mats)?,
+                upload::checked_bytes("materials", &mats, self.ctx.max_binding_bytes())?,
             );
             self.tex_slots = slots;
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
@@ -571,6 +625,7 @@ impl GpuRenderer {
         }
         self.features = self.scene.features();
         self.respecialize();
+        self.fit_splat_film()?;
         self.reset();
         Ok(())
     }
@@ -583,8 +638,32 @@ impl GpuRenderer {
     ) -> Specialization {
         let mut spec = Specialization::from_features(features);
         spec.filter = opts.filter.is_some();
-        spec.light_tracing = matches!(opts.estimator.resolve(scene), Estimator::LtPt);
+        spec.light_tracing = light_tracing_for(opts, scene);
         spec
+    }
+
+    /// Give the splat film the size the current specialisation needs (a whole film with light
+    /// tracing, one pixel's worth otherwise) and rebind when it changes.
+    fn fit_splat_film(&mut self) -> Result<()> {
+        let want = splat_film_bytes(self.spec.light_tracing, &self.opts);
+        if want == self.buffers.splats.size() {
+            return Ok(());
+        }
+        let cap = self.ctx.max_binding_bytes();
+        ensure!(
+            want <= cap,
+            "image {}x{} too large for light tracing on this GPU: its splat film needs {} MiB, \
+             the device binds at most {} MiB per buffer",
+            self.opts.width,
+            self.opts.height,
+            want >> 20,
+            cap >> 20
+        );
+        self.buffers.splats = self.ctx.scoped("cannot create the splat film", || {
+            splat_film(&self.ctx, want)
+        })?;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        Ok(())
     }
 
     /// Compile the pipelines `spec` dispatches (cached).
@@ -609,6 +688,7 @@ impl GpuRenderer {
         gpu_estimator(estimator, &self.scene)?;
         self.opts.estimator = estimator;
         self.respecialize();
+        self.fit_splat_film()?;
         self.reset();
         Ok(())
     }
@@ -635,11 +715,11 @@ impl GpuRenderer {
         self.ctx.queue.write_buffer(
             &self.buffers.triangles,
             0,
-            upload::checked_bytes("triangles", &tris)?,
+            upload::checked_bytes("triangles", &tris, self.ctx.max_binding_bytes())?,
         );
         let (lights, count) =
             upload::pack_lights(&self.bvh, &self.light_set, self.buffers.env_offset);
-        let bytes = upload::checked_bytes("lights", &lights)?;
+        let bytes = upload::checked_bytes("lights", &lights, self.ctx.max_binding_bytes())?;
         if bytes.len() as u64 <= self.buffers.lights.size() {
             self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);
         } else {

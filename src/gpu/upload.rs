@@ -12,9 +12,6 @@ use glam::{Vec2, Vec3};
 use obvhs::{BvhBuildParams, triangle::Triangle as ObvhsTriangle};
 use std::time::{Duration, Instant};
 
-/// Largest storage buffer we create (DESIGN: ≤ 128 MiB per buffer).
-pub const MAX_BUFFER_BYTES: u64 = 128 << 20;
-
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
 pub const MAX_BVH_DEPTH: u32 = 64;
 
@@ -407,14 +404,20 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
     (out, count)
 }
 
-/// Bytes of a slice, with the 128 MiB per-buffer check.
-pub fn checked_bytes<'a, T: bytemuck::Pod>(what: &str, data: &'a [T]) -> Result<&'a [u8]> {
+/// Bytes of a slice, checked against `cap`, the device's largest storage binding
+/// ([`super::GpuContext::max_binding_bytes`]).
+pub fn checked_bytes<'a, T: bytemuck::Pod>(
+    what: &str,
+    data: &'a [T],
+    cap: u64,
+) -> Result<&'a [u8]> {
     let bytes: &[u8] = bytemuck::cast_slice(data);
     ensure!(
-        (bytes.len() as u64) <= MAX_BUFFER_BYTES,
-        "scene too large for the GPU renderer: {what} needs {} MiB (limit {} MiB per buffer)",
+        (bytes.len() as u64) <= cap,
+        "scene too large for this GPU: {what} needs {} MiB, the device binds at most {} MiB \
+         per buffer",
         bytes.len() >> 20,
-        MAX_BUFFER_BYTES >> 20
+        cap >> 20
     );
     Ok(bytes)
 }
