@@ -1137,7 +1137,7 @@ fn gpu_renders_4k_and_8k_in_path_mode() {
     let mut opts = RenderOptions::from_scene(&scene);
     opts.width = 3840;
     opts.height = 2160;
-    let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts.clone()).unwrap();
+    let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
     for (w, h) in [(3840u32, 2160u32), (7680, 4320)] {
         if u64::from(w) * u64::from(h) * 16 > cap {
             eprintln!("SKIP {w}x{h}: the accumulation film exceeds this device's binding");
@@ -1146,7 +1146,7 @@ fn gpu_renders_4k_and_8k_in_path_mode() {
         g.set_options(RenderOptions {
             width: w,
             height: h,
-            ..opts.clone()
+            ..opts
         })
         .unwrap();
         let img = g.render(1).unwrap();

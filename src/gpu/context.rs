@@ -75,7 +75,7 @@ impl GpuContext {
     /// fixed cap: 128 MiB is the WebGPU default, desktop GPUs bind 2–4 GiB).
     pub fn max_binding_bytes(&self) -> u64 {
         let l = self.device.limits();
-        u64::from(l.max_storage_buffer_binding_size).min(l.max_buffer_size)
+        l.max_storage_buffer_binding_size.min(l.max_buffer_size)
     }
 
     /// Open a device on `adapter` with the adapter's own limits.
