@@ -147,6 +147,11 @@ gpu_struct! {
         pub debug_pixel: u32,
         /// The scene's ray-offset scale (`bvh::offset_scale`).
         pub offset_scale: f32,
+        /// First image row of this submission (a dispatch may cover a band of rows).
+        pub tile_y0: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
     }
 }
 

@@ -12,6 +12,7 @@
 //! - [`kernels`]: each entry point of a specialisation as WGSL and SPIR-V (dumps, register budgets).
 //! - [`prelude`]: the WGSL constants generated from their Rust definitions.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
+//! - [`submissions`]: batch and row-band sizes bounded in time per submission.
 //! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
 pub mod context;
@@ -21,6 +22,7 @@ pub mod light_probe;
 pub mod pipeline;
 pub mod prelude;
 pub mod renderer;
+pub mod submissions;
 pub mod tonemap;
 pub mod upload;
 

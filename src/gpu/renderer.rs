@@ -6,6 +6,8 @@
 use super::GpuContext;
 use super::layout::{self, GpuLayout, Params};
 use super::pipeline::{Kernel, Pipelines, Specialization};
+pub use super::submissions::SUBMISSION_BUDGET;
+use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
 use crate::paths::{DfaTable, PathFilter};
@@ -86,6 +88,8 @@ pub struct GpuRenderer {
     bind_group: wgpu::BindGroup,
     spp: u64,
     elapsed: Duration,
+    /// Batch and band sizes from measured submission times.
+    submissions: Submissions,
     debug_pixel: u32,
     /// Texture reference slots of each material (`upload::pack_textures`).
     tex_slots: Vec<(u32, u32)>,
@@ -189,6 +193,7 @@ impl GpuRenderer {
             bind_group,
             spp: 0,
             elapsed: Duration::ZERO,
+            submissions: Submissions::default(),
             debug_pixel: u32::MAX,
             tex_slots,
             features,
@@ -410,20 +415,41 @@ impl GpuRenderer {
             w_new: (1.0 / (n + k)) as f32,
             debug_pixel: self.debug_pixel,
             offset_scale: self.bvh.offset_scale,
+            tile_y0: 0,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         }
     }
 
-    /// Samples per pixel per dispatch ([`RenderOptions::pass_spp`]).
+    /// Samples per pixel per dispatch: [`RenderOptions::pass_spp`] until a submission has
+    /// been timed, then what [`GpuRenderer::render_with`] last planned.
     pub fn batch_spp(&self) -> u32 {
-        self.opts.pass_spp()
+        self.submissions
+            .last_k
+            .unwrap_or_else(|| self.opts.pass_spp())
     }
 
-    /// Queue one dispatch adding `k` samples per pixel (does not wait).
+    /// Bound the wall time of one submission of [`GpuRenderer::render_with`] (default
+    /// [`SUBMISSION_BUDGET`]).
+    pub fn set_submission_budget(&mut self, budget: Duration) {
+        self.submissions.budget = budget;
+    }
+
+    /// Queue one dispatch adding `k` samples per pixel to the whole image (does not wait).
     pub fn dispatch(&mut self, k: u32) {
         if k == 0 {
             return;
         }
-        let params = self.params(k);
+        self.submit(k, 0, self.opts.height);
+        self.spp += k as u64;
+    }
+
+    /// Queue `k` samples per pixel for image rows `y0 .. y0 + rows` (all rows with light
+    /// tracing, whose splats land anywhere); `self.spp` is not advanced.
+    fn submit(&mut self, k: u32, y0: u32, rows: u32) {
+        let mut params = self.params(k);
+        params.tile_y0 = y0;
         self.ctx
             .queue
             .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
@@ -431,7 +457,7 @@ impl GpuRenderer {
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-        let groups = (self.opts.width.div_ceil(8), self.opts.height.div_ceil(8));
+        let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
         if self.spec.light_tracing {
             // Light subpaths first: `render` folds their splats into the film (wgpu orders the
             // two passes' storage accesses).
@@ -457,7 +483,6 @@ impl GpuRenderer {
             pass.dispatch_workgroups(groups.0, groups.1, 1);
         }
         self.ctx.queue.submit([enc.finish()]);
-        self.spp += k as u64;
     }
 
     /// Add `spp` samples per pixel (in batches) and return the accumulated image.
@@ -474,12 +499,21 @@ impl GpuRenderer {
         mut progress: impl FnMut(u64),
     ) -> Result<GpuImage> {
         let start = Instant::now();
-        let batch = self.batch_spp();
         let mut done = 0u32;
         while done < spp {
-            let k = batch.min(spp - done);
-            self.dispatch(k);
-            self.ctx.wait()?;
+            let (w, h) = (self.opts.width, self.opts.height);
+            let (k, rows) = self
+                .submissions
+                .plan(w, h, spp - done, self.spec.light_tracing);
+            for y0 in (0..h).step_by(rows as usize) {
+                let band = rows.min(h - y0);
+                let t = Instant::now();
+                self.submit(k, y0, band);
+                self.ctx.wait()?;
+                self.submissions
+                    .observe(t.elapsed(), u64::from(w) * u64::from(band) * u64::from(k));
+            }
+            self.spp += k as u64;
             done += k;
             progress(self.spp);
             if budget.is_some_and(|b| start.elapsed() >= b) {

@@ -37,6 +37,11 @@ struct Params {
     debug_pixel: u32,
     // the scene's ray-offset scale (bvh::offset_scale), copied into OFFSET_SCALE
     offset_scale: f32,
+    // first image row of this submission (a dispatch may cover a band of rows)
+    tile_y0: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 struct Stats {
@@ -540,7 +545,7 @@ fn render(
     LANE = lane;
     OFFSET_SCALE = params.offset_scale;
     let x = gid.x;
-    let y = gid.y;
+    let y = gid.y + params.tile_y0;
     let w = params.width;
     let h = params.height;
     if x >= w || y >= h {
