@@ -28,3 +28,4 @@ pub mod upload;
 
 pub use context::GpuContext;
 pub use renderer::{GpuImage, GpuRenderer, gpu_estimator};
+pub use submissions::SUBMISSION_BUDGET;

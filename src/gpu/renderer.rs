@@ -6,7 +6,6 @@
 use super::GpuContext;
 use super::layout::{self, GpuLayout, Params};
 use super::pipeline::{Kernel, Pipelines, Specialization};
-pub use super::submissions::SUBMISSION_BUDGET;
 use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
@@ -443,6 +442,26 @@ impl GpuRenderer {
         }
         self.submit(k, 0, self.opts.height);
         self.spp += k as u64;
+    }
+
+    /// Queue `k` samples per pixel for the rows `y0 .. y0 + rows` only (does not wait): one
+    /// band of a pass the caller completes with [`GpuRenderer::end_pass`] once every row has
+    /// its `k` samples (the viewer's bounded frames). Not with light tracing, whose splats need
+    /// whole-image passes ([`GpuRenderer::needs_whole_image`]).
+    pub fn dispatch_band(&mut self, k: u32, y0: u32, rows: u32) {
+        if k > 0 && rows > 0 && y0 < self.opts.height {
+            self.submit(k, y0, rows.min(self.opts.height - y0));
+        }
+    }
+
+    /// Every row of a banded pass now has `k` more samples.
+    pub fn end_pass(&mut self, k: u32) {
+        self.spp += k as u64;
+    }
+
+    /// True when every submission must cover the whole image (light tracing).
+    pub fn needs_whole_image(&self) -> bool {
+        self.spec.light_tracing
     }
 
     /// Queue `k` samples per pixel for image rows `y0 .. y0 + rows` (all rows with light

@@ -115,9 +115,17 @@ impl Drop for Poller {
 }
 
 /// One queued dispatch.
+/// Pixels of the first, untimed band of a viewer pass.
+const PROBE_PIXELS: u32 = 1 << 14;
+
 struct Batch {
+    /// Samples per pixel of its pass.
     k: u32,
+    /// Pixels it covers (the whole image, or a band of rows).
     pixels: u64,
+    /// Samples per pixel it completes for the whole image when it finishes: `k` for a
+    /// whole-image batch or a pass's last band, 0 for an earlier band.
+    completes: u32,
     generation: u64,
     submitted: Instant,
     /// Set by the `on_submitted_work_done` callback: when the GPU finished.
@@ -161,6 +169,10 @@ pub struct GpuBackend {
     elapsed: Duration,
     dropped: u64,
     in_flight: Option<Batch>,
+    /// A banded pass under way: (samples per pixel, first row not yet submitted). Used where
+    /// one sample of the whole image would overrun the frame budget (a slow GPU, GL's
+    /// synchronous submissions), so no frame waits for more than a band.
+    pass: Option<(u32, u32)>,
     /// Measured GPU time per pixel sample (moving average over batches).
     sec_per_sample: Option<f64>,
     budget: Duration,
@@ -221,6 +233,7 @@ impl GpuBackend {
             elapsed: Duration::ZERO,
             dropped: 0,
             in_flight: None,
+            pass: None,
             sec_per_sample: None,
             budget: DEFAULT_BUDGET,
             tonemap,
@@ -272,6 +285,7 @@ impl GpuBackend {
     /// Every edit: a new generation with no samples.
     fn bump(&mut self) {
         self.generation += 1;
+        self.pass = None;
         self.done_spp = 0;
         self.elapsed = Duration::ZERO;
         self.dropped = 0;
@@ -427,7 +441,7 @@ impl GpuBackend {
                 None => per,
             });
             if b.generation == self.generation {
-                self.done_spp += b.k as u64;
+                self.done_spp += b.completes as u64;
                 self.elapsed += dt;
             }
         }
@@ -708,7 +722,47 @@ impl Backend for GpuBackend {
             return;
         }
         let o = r.options();
-        let pixels = o.width as u64 * o.height as u64;
+        let (w, h) = (o.width, o.height);
+        let pixels = w as u64 * h as u64;
+        // Bands of rows where one sample of the whole image would take too long: with
+        // synchronous submissions (GL: the batch runs inside `submit`, which froze the UI for
+        // 0.7 s on llvmpipe) beyond the frame budget; on a hardware GPU (watchdogs) beyond
+        // `SUBMISSION_BUDGET`. A software Vulkan device runs asynchronously and has no
+        // watchdog: whole images. Untimed, a first band of ~2¹⁴ pixels measures the device.
+        let band_time = if self.poller.thread.is_none() {
+            Some(budget)
+        } else if r.is_software() {
+            None
+        } else {
+            Some(budget.max(crate::gpu::SUBMISSION_BUDGET))
+        };
+        let band_rows = match (per, band_time) {
+            _ if r.needs_whole_image() => None,
+            (_, None) => None,
+            (Some(s), Some(t)) => {
+                let rows = (t.as_secs_f64() / (s * w.max(1) as f64)) as u32 / 8 * 8;
+                (rows < h).then_some(rows.max(8))
+            }
+            (None, Some(_)) => {
+                let rows = (PROBE_PIXELS / w.max(1)) / 8 * 8;
+                (rows < h).then_some(rows.max(8))
+            }
+        };
+        if self.pass.is_some() || band_rows.is_some() {
+            let (k, y0) = self.pass.unwrap_or((1, 0));
+            let rows = band_rows.unwrap_or(h).min(h - y0);
+            let last = y0 + rows >= h;
+            self.poller.kick();
+            let before = Instant::now();
+            r.dispatch_band(k, y0, rows);
+            if last {
+                r.end_pass(k);
+            }
+            self.pass = (!last).then_some((k, y0 + rows));
+            let batch = (k, w as u64 * rows as u64, if last { k } else { 0 });
+            self.track(batch, generation, before);
+            return;
+        }
         let mut k = match per {
             // The first batch of a generation: one sample, to show the edit at once.
             _ if queued == 0 => 1,
@@ -726,30 +780,7 @@ impl Backend for GpuBackend {
         self.poller.kick();
         let before = Instant::now();
         r.dispatch(k);
-        let done = Arc::new(Mutex::new(None));
-        {
-            let done = Arc::clone(&done);
-            let busy = Arc::clone(&self.poller.busy);
-            let repaint = self.repaint.clone();
-            self.ctx.queue.on_submitted_work_done(move || {
-                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some(Instant::now());
-                busy.store(false, Ordering::Release);
-                if let Some(c) = repaint {
-                    c.request_repaint();
-                }
-            });
-        }
-        self.in_flight = Some(Batch {
-            k,
-            pixels,
-            generation,
-            // Without a poller thread (GL) the driver may run the batch inside the submission.
-            submitted: match self.poller.thread {
-                Some(_) => Instant::now(),
-                None => before,
-            },
-            done,
-        });
+        self.track((k, pixels, k), generation, before);
     }
 
     fn spp(&self) -> u64 {
@@ -865,5 +896,37 @@ impl Backend for GpuBackend {
 
     fn take_message(&mut self) -> Option<String> {
         self.message.take()
+    }
+}
+
+impl GpuBackend {
+    /// Follow the submission just made: (samples per pixel, pixels covered, samples per pixel
+    /// it completes), submitted at `before`.
+    fn track(&mut self, (k, pixels, completes): (u32, u64, u32), generation: u64, before: Instant) {
+        let done = Arc::new(Mutex::new(None));
+        {
+            let done = Arc::clone(&done);
+            let busy = Arc::clone(&self.poller.busy);
+            let repaint = self.repaint.clone();
+            self.ctx.queue.on_submitted_work_done(move || {
+                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some(Instant::now());
+                busy.store(false, Ordering::Release);
+                if let Some(c) = repaint {
+                    c.request_repaint();
+                }
+            });
+        }
+        self.in_flight = Some(Batch {
+            k,
+            pixels,
+            completes,
+            generation,
+            // Without a poller thread (GL) the driver may run the batch inside the submission.
+            submitted: match self.poller.thread {
+                Some(_) => Instant::now(),
+                None => before,
+            },
+            done,
+        });
     }
 }
