@@ -180,7 +180,7 @@ impl EnvMap {
         let bytes = super::gltf_load::read_regular_file(
             path,
             super::gltf_load::limits::DEFAULT_MAX_FILE_BYTES,
-            &what,
+            "environment image",
         )
         .map_err(anyhow::Error::msg)?;
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
