@@ -1282,3 +1282,68 @@ fn material_priority_is_read_from_extras() {
         );
     }
 }
+
+/// Everyday texture formats (issue 18, part 3): JPEG (most glTF files' colour textures) and
+/// WebP decode like PNG; the image's own bytes decide the format, whatever `mimeType` says.
+#[test]
+fn jpeg_and_webp_textures_load() {
+    let img = image::RgbImage::from_pixel(8, 4, image::Rgb([200, 100, 50]));
+    let encode = |f: image::ImageFormat| {
+        let mut out = std::io::Cursor::new(Vec::new());
+        match f {
+            image::ImageFormat::WebP => image::DynamicImage::ImageRgba8(
+                image::DynamicImage::ImageRgb8(img.clone()).to_rgba8(),
+            )
+            .write_to(&mut out, f)
+            .unwrap(),
+            _ => img.write_to(&mut out, f).unwrap(),
+        }
+        out.into_inner()
+    };
+    for (f, mime, tol) in [
+        (image::ImageFormat::Jpeg, "image/jpeg", 0.02),
+        (image::ImageFormat::WebP, "image/webp", 1e-6),
+    ] {
+        let mut b = Bin::default();
+        let p = b.vec3(&TRI);
+        let view = b.raw_view(&encode(f));
+        let doc = json!({
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": p}, "material": 0}]}],
+            "images": [{"bufferView": view, "mimeType": mime}],
+            "textures": [{"source": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+        });
+        let s = load(&b.finish(doc)).unwrap();
+        assert!(
+            s.warnings.iter().all(|w| !w.contains("texture")),
+            "{mime}: {:?}",
+            s.warnings
+        );
+        let t = &s.textures[s.materials[0].base_color_texture.unwrap().texture as usize];
+        assert_eq!((t.width, t.height), (8, 4), "{mime}");
+        // sRGB 200/255 → linear 0.5776 (lossy JPEG: within a few levels).
+        assert!(
+            (t.texels[0].x - 0.577_58).abs() < tol * 4.0 + 1e-5,
+            "{mime}: {}",
+            t.texels[0]
+        );
+    }
+}
+
+/// The camera's `aspectRatio` shapes the image when `extras.render` gives no size (longer
+/// side 512); an explicit size wins.
+#[test]
+fn camera_aspect_ratio_sizes_the_image_without_extras() {
+    let cam = |extras: Value| {
+        one_triangle(json!({
+            "scenes": [{"nodes": [0, 1], "extras": extras}],
+            "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3]}],
+            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "aspectRatio": 2.0}}]
+        }))
+    };
+    let s = load(&cam(json!({}))).unwrap();
+    assert_eq!((s.settings.width, s.settings.height), (512, 256));
+    let s = load(&cam(json!({"render": {"width": 300}}))).unwrap();
+    assert_eq!((s.settings.width, s.settings.height), (300, 512));
+}

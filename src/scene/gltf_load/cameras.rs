@@ -26,6 +26,9 @@ impl Loader<'_> {
                     bail!("camera {ci}: yfov {yfov} is outside (0, π) radians");
                 }
                 self.check_clip_planes(ci, p.znear, p.zfar);
+                self.camera_aspect = p
+                    .aspect_ratio
+                    .filter(|a| a.is_finite() && (1.0 / 64.0..=64.0).contains(a));
                 let c = Camera::from_matrix(world, yfov);
                 c.validate()
                     .with_context(|| format!("camera {ci} on node {ni}"))?;
@@ -54,6 +57,17 @@ impl Loader<'_> {
                  0 < znear < zfar); ignored, as a path tracer does not clip"
             ));
         }
+    }
+}
+
+/// The image size for a camera of aspect ratio `a` (width / height) when the file gives no
+/// size: the longer side 512, the default's, the other rounded (at least 1).
+pub(super) fn size_for_aspect(a: f32) -> (u32, u32) {
+    let short = |x: f32| (x.round() as u32).max(1);
+    if a >= 1.0 {
+        (512, short(512.0 / a))
+    } else {
+        (short(512.0 * a), 512)
     }
 }
 

@@ -113,3 +113,11 @@ pub(super) fn parse_environment(extras: Option<&Value>) -> anyhow::Result<Vec3> 
     }
     Ok(v)
 }
+
+/// True when `extras.render` sets the image's width or height (else the camera's aspect
+/// ratio may shape it).
+pub(super) fn has_image_size(extras: Option<&Value>) -> bool {
+    extras
+        .and_then(|e| e.get("render"))
+        .is_some_and(|r| r.get("width").is_some() || r.get("height").is_some())
+}

@@ -13,7 +13,8 @@
 //!   alone would say Diffuse/Mirror/GlossyMetal (the texture changes them per texel).
 //! - Emissive materials are area lights whose surface is black (kind Diffuse, albedo 0).
 //! - The base colour of glass is kept as written (the contract's dielectric ignores it).
-//! - The camera's `aspectRatio` is ignored: the image size comes from `extras.render`.
+//! - The image size comes from `extras.render`; without a width or height there, the chosen
+//!   camera's `aspectRatio` shapes it (longer side 512).
 //!
 //! Files: raw decoding (`decode`: the GLB container; `uri`: percent-encoded and base64 URIs;
 //! `accessor`: bounds-checked strided and sparse accessor reads) apart from the mapping onto
@@ -111,6 +112,7 @@ pub fn load_slice_with(
         buffers,
         base,
         limits: *limits,
+        camera_aspect: None,
         texture_pixels: 0,
         warnings: Warnings::default(),
         textures: vec![],
@@ -177,6 +179,8 @@ struct Loader<'a> {
     buffers: Vec<&'a [u8]>,
     base: Option<&'a Path>,
     limits: LoadLimits,
+    /// The chosen camera's `aspectRatio`, if it has a valid one.
+    camera_aspect: Option<f32>,
     /// Texels of the textures loaded so far (against `limits.max_texture_pixels`).
     texture_pixels: u64,
     warnings: Warnings,
@@ -208,8 +212,9 @@ impl Loader<'_> {
             Some(s) => extras::extras_value(&s.extras, "/scenes/0/extras")?,
             None => None,
         };
-        let settings =
+        let mut settings =
             extras::parse_render_settings(settings_value.as_ref(), &mut self.warnings.list)?;
+        let sized = extras::has_image_size(settings_value.as_ref());
         let (environment, env_map) = environment::parse(
             settings_value.as_ref(),
             self.base,
@@ -252,6 +257,9 @@ impl Loader<'_> {
             );
         }
 
+        if !sized && let Some(a) = self.camera_aspect {
+            (settings.width, settings.height) = cameras::size_for_aspect(a);
+        }
         let camera = match self.camera {
             Some(c) => c,
             None => default_camera(&self.mesh, &settings),
