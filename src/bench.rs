@@ -16,7 +16,10 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 mod plot;
+mod quick;
+
 pub use plot::plot;
+pub use quick::quick;
 
 /// Bump when a change alters rendered images (invalidates cached references).
 pub const RENDERER_VERSION: u32 = 1;
@@ -594,71 +597,4 @@ pub fn run(o: &BenchOptions) -> Result<String> {
     std::fs::write(o.out.join("bench.md"), &table)
         .with_context(|| format!("cannot write '{}'", o.out.join("bench.md").display()))?;
     Ok(table)
-}
-
-/// `refract bench --quick`: micro-benchmarks of BVH traversal and BSDF sampling on one core.
-pub fn quick(spec: &str) -> Result<String> {
-    use crate::bsdf::{BxDF, TransportMode};
-    use crate::math::{rng::Sampler, sampling};
-    let scene = Scene::load(spec)?;
-    let r = Renderer::new(scene)?;
-    let (lo, hi) = r.scene.bounds();
-    let n = 400_000u32;
-    let mut s = Sampler::new(0, 0, 1);
-    let rays: Vec<(Vec3, Vec3)> = (0..n)
-        .map(|_| {
-            let u = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d());
-            let o = lo + (hi - lo) * (0.1 + 0.8 * u);
-            (o, sampling::uniform_sphere(s.next_2d()))
-        })
-        .collect();
-    let t = Instant::now();
-    let mut hits = 0u32;
-    for (o, d) in &rays {
-        hits += r.bvh.intersect(*o, *d, f32::INFINITY).is_some() as u32;
-    }
-    let closest = n as f64 / t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let mut occl = 0u32;
-    for (o, d) in &rays {
-        occl += r.bvh.occluded(*o, *d, 1.0) as u32;
-    }
-    let shadow = n as f64 / t.elapsed().as_secs_f64();
-    let mut out = format!(
-        "BVH ({} triangles, built in {:.1} ms): {:.2} M closest-hit rays/s, {:.2} M shadow rays/s (1 core, incoherent; {hits} hits, {occl} occluded)\n",
-        r.scene.mesh.triangle_count(),
-        r.bvh.build_time.as_secs_f64() * 1e3,
-        closest / 1e6,
-        shadow / 1e6
-    );
-    let bsdfs: Vec<(&str, crate::bsdf::Bsdf)> = vec![
-        (
-            "lambert",
-            crate::bsdf::Bsdf::Lambert(crate::bsdf::Lambert {
-                albedo: Vec3::splat(0.8).extend(0.0),
-            }),
-        ),
-        (
-            "smooth dielectric",
-            crate::bsdf::Bsdf::SmoothDielectric(crate::bsdf::SmoothDielectric { eta: 1.5 }),
-        ),
-    ];
-    for (name, b) in bsdfs {
-        let m = 2_000_000u32;
-        let mut s = Sampler::new(1, 0, 2);
-        let t = Instant::now();
-        let mut acc = 0.0f32;
-        for _ in 0..m {
-            let wo = sampling::cosine_hemisphere(s.next_2d());
-            if let Some(x) = b.sample(wo, s.next_1d(), s.next_2d(), TransportMode::Radiance) {
-                acc += x.weight.x;
-            }
-        }
-        let ns = t.elapsed().as_secs_f64() * 1e9 / m as f64;
-        let _ = writeln!(
-            out,
-            "BSDF sample {name}: {ns:.1} ns/sample (checksum {acc:.1})"
-        );
-    }
-    Ok(out)
 }

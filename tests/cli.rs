@@ -248,3 +248,43 @@ fn bench_measures_each_path_class() {
     );
     assert!(std::path::Path::new(&format!("{out}/bench.png")).exists());
 }
+
+/// `bench --quick` (issue 14, part 4) reports closest-hit and shadow rays/s on one core and
+/// on all threads, and cornell-glass samples/s on one thread and on all: every figure a
+/// positive number.
+#[test]
+fn bench_quick_reports_one_core_and_all_core_rates() {
+    let (ok, out, err) = refract(&["bench", "--quick"]);
+    assert!(ok, "{err}");
+    // The number just before the first (or, for the all-thread figure, last) `before`.
+    let figure = |line: &str, before: &str, last: bool| -> f64 {
+        let at = if last {
+            line.rfind(before)
+        } else {
+            line.find(before)
+        };
+        let i = at.unwrap_or_else(|| panic!("no '{before}' in '{line}'"));
+        let num: String = line[..i].trim_end().rsplit(' ').next().unwrap_or("").into();
+        num.parse()
+            .unwrap_or_else(|_| panic!("'{num}' before '{before}' in '{line}'"))
+    };
+    for key in ["closest-hit:", "shadow:", "cornell-glass 256²"] {
+        let line = out
+            .lines()
+            .find(|l| l.contains(key))
+            .unwrap_or_else(|| panic!("no {key} line:\n{out}"));
+        let (one, all) = if key.starts_with("cornell") {
+            (
+                figure(line, "M samples/s on 1 thread", false),
+                figure(line, "M samples/s on ", true),
+            )
+        } else {
+            (
+                figure(line, "M rays/s on 1 core", false),
+                figure(line, "M rays/s on ", true),
+            )
+        };
+        assert!(one > 0.0 && all > 0.0, "{line}");
+        assert!(line.contains("threads"), "{line}");
+    }
+}
