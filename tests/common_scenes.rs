@@ -229,3 +229,54 @@ pub fn floor_scene(light: refract::scene::PunctualLight, yfov: f32) -> Scene {
     s.settings.max_depth = 2;
     s
 }
+
+/// Independent CPU renders for block Z-tests: `runs` films of `r` with `est` at `spp`
+/// (seeds `seed0`, `seed0 + 1`, …), each as block means; none may drop a sample.
+pub fn cpu_block_runs(
+    r: &refract::cpu::Renderer,
+    est: refract::render::Estimator,
+    spp: u32,
+    filter: Option<&str>,
+    seed0: u32,
+    runs: u32,
+) -> Vec<Vec<f64>> {
+    let filter = filter.map(|f| refract::paths::PathFilter::parse(f).expect("valid regex"));
+    (0..runs)
+        .map(|i| {
+            let mut opts = refract::render::RenderOptions::from_scene(&r.scene);
+            opts.seed = seed0 + i;
+            opts.estimator = est;
+            opts.set_filter(filter.as_ref());
+            let mut film = refract::film::Film::new(opts.width, opts.height);
+            r.render_pass(&opts, &mut film, 0, spp);
+            assert_eq!(film.dropped, 0, "{est}: the firewall dropped samples");
+            block_means(&film.image(), opts.width, opts.height)
+        })
+        .collect()
+}
+
+/// The estimator-agreement criterion: at least 90% of blocks within 3σ and the whole-image
+/// means within 4σ; prints the figures. Returns the test for further checks.
+pub fn assert_blocks_agree(name: &str, a: &[Vec<f64>], b: &[Vec<f64>]) -> BlockZ {
+    let t = block_z_test(a, b);
+    eprintln!(
+        "{name}: {}/{} blocks within 3σ ({:.1}%), whole-image z = {:.2}, means {:.5} vs {:.5}",
+        t.pass,
+        t.blocks,
+        t.rate() * 100.0,
+        t.z_image,
+        t.mean_a,
+        t.mean_b
+    );
+    assert!(
+        t.rate() >= 0.9,
+        "{name}: only {:.1}% of blocks within 3σ",
+        t.rate() * 100.0
+    );
+    assert!(
+        t.z_image.abs() <= 4.0,
+        "{name}: image means differ by {:.2}σ",
+        t.z_image
+    );
+    t
+}

@@ -19,7 +19,6 @@ use refract::cpu::spectral::Spectral;
 use refract::film::Film;
 use refract::gpu::GpuRenderer;
 use refract::math::Color;
-use refract::paths::PathFilter;
 use refract::render::{Estimator, RenderOptions};
 use refract::scene::{Camera, Features, Material, Mesh, Scene};
 
@@ -409,42 +408,11 @@ fn cpu_runs_filtered(
 ) -> Vec<Vec<f64>> {
     let mut r = Renderer::new(scene.clone()).expect("valid scene");
     r.nested = nested;
-    let filter = filter.map(|f| PathFilter::parse(f).expect("valid regex"));
-    (0..RUNS)
-        .map(|i| {
-            let mut opts = RenderOptions::from_scene(&r.scene);
-            opts.seed = seed0 + i;
-            opts.estimator = est;
-            opts.set_filter(filter.as_ref());
-            let mut film = Film::new(opts.width, opts.height);
-            r.render_pass(&opts, &mut film, 0, spp);
-            assert_eq!(film.dropped, 0, "{est}: the firewall dropped samples");
-            block_means(&film.image(), opts.width, opts.height)
-        })
-        .collect()
+    cpu_block_runs(&r, est, spp, filter, seed0, RUNS)
 }
 
 fn assert_agree(name: &str, a: &[Vec<f64>], b: &[Vec<f64>]) {
-    let t = block_z_test(a, b);
-    eprintln!(
-        "{name}: {}/{} blocks within 3σ ({:.1}%), whole-image z = {:.2}, means {:.5} vs {:.5}",
-        t.pass,
-        t.blocks,
-        t.rate() * 100.0,
-        t.z_image,
-        t.mean_a,
-        t.mean_b
-    );
-    assert!(
-        t.rate() >= 0.9,
-        "{name}: only {:.1}% of blocks within 3σ",
-        t.rate() * 100.0
-    );
-    assert!(
-        t.z_image.abs() <= 4.0,
-        "{name}: image means differ by {:.2}σ",
-        t.z_image
-    );
+    assert_blocks_agree(name, a, b);
 }
 
 #[test]
