@@ -347,9 +347,14 @@ pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
     let mut runs: Vec<Run> = Vec::new();
     for &e in asked {
         let auto = e == Estimator::Auto;
-        let e = match (e.resolve(scene), gpu) {
+        let resolved = if gpu {
+            e.resolve_gpu_why(scene).0
+        } else {
+            e.resolve(scene)
+        };
+        let e = match (resolved, gpu) {
             (Estimator::LtPt, false) if auto => Estimator::Bdpt,
-            (e @ (Estimator::Bdpt | Estimator::Lt), true) => {
+            (e @ (Estimator::Bdpt | Estimator::Lt | Estimator::Sppm), true) => {
                 eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
                 continue;
             }

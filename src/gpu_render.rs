@@ -4,7 +4,7 @@
 use anyhow::Result;
 use refract::film;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
-use refract::render::{Device, RenderOptions};
+use refract::render::{Device, Estimator, RenderOptions};
 use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
@@ -17,7 +17,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         Device::Auto => false,
     };
     let filter = &job.filter;
-    let estimator = match gpu_estimator(job.estimator, scene) {
+    let estimator = match gpu_estimator(job.choice, scene) {
         Ok(e) => e,
         Err(e) if forced => return Err(e),
         Err(_) => return Ok(false),
@@ -42,6 +42,10 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
             "note: {} is a software adapter (CPU-emulated), expect it to be slow",
             ctx.describe()
         );
+    }
+    if job.choice == Estimator::Auto {
+        let (_, why) = job.choice.resolve_gpu_why(scene);
+        eprintln!("estimator auto: {estimator} ({why})");
     }
     let mut opts = RenderOptions::from_scene(scene);
     opts.max_film_bytes = job.max_film_bytes;

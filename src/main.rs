@@ -233,8 +233,10 @@ struct Job {
     exposure: f32,
     seed: u32,
     filter: refract::paths::PathFilter,
-    /// `--estimator`, resolved for the scene (never `auto`).
+    /// `--estimator`, resolved for the scene on the CPU (never `auto`).
     estimator: Estimator,
+    /// `--estimator` as given (the GPU resolves `auto` by its own rule).
+    choice: Estimator,
     /// `--max-film-gib` in bytes.
     max_film_bytes: u64,
 }
@@ -347,10 +349,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         .estimator
         .or(sidecar.as_ref().map(|s| s.render.estimator))
         .unwrap_or(Estimator::Auto);
-    let (estimator, why) = choice.resolve_why(&scene);
-    if choice == Estimator::Auto {
-        eprintln!("estimator auto: {estimator} ({why})");
-    }
+    let (estimator, _) = choice.resolve_why(&scene);
     let job = Job {
         spp,
         tone,
@@ -358,6 +357,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         seed,
         filter,
         estimator,
+        choice,
         max_film_bytes: film_budget(args),
     };
     Ok((scene, job))
@@ -505,6 +505,10 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
     opts.seed = seed;
     opts.set_filter(Some(&job.filter));
     opts.estimator = estimator;
+    if job.choice == Estimator::Auto {
+        let (_, why) = job.choice.resolve_why(&renderer.scene);
+        eprintln!("estimator auto: {estimator} ({why})");
+    }
     if estimator == Estimator::LtPt {
         eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
     }

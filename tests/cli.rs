@@ -87,7 +87,8 @@ fn errors_are_one_clear_line() {
     assert!(!ok && err.contains("invalid duration"), "{err}");
     let (ok, _, err) = refract(&["render", "--estimator", "photons", "--out", &out]);
     assert!(
-        !ok && err.contains("unknown estimator 'photons' (use path, bdpt, lt or lt+pt)"),
+        !ok && err
+            .contains("unknown estimator 'photons' (use auto, path, bdpt, lt, lt+pt or sppm)"),
         "{err}"
     );
 }

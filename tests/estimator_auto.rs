@@ -14,23 +14,31 @@ fn load(name: &str) -> Scene {
     Scene::load(&format!("builtin:{name}")).expect("built-in scene")
 }
 
-/// What `auto` picks for each built-in (the README states the same list): lt+pt for glass lit
-/// by a small or punctual light, path tracing otherwise.
+/// What `auto` picks for each built-in (the README states the same list): sppm for specular
+/// surfaces lit by a small or punctual light (lt+pt on the GPU), lt+pt for dispersive glass
+/// lit so, path tracing otherwise.
 #[test]
 fn auto_picks_the_documented_estimator_for_each_builtin() {
     let expect = [
-        ("cornell-glass", Estimator::Path),
-        ("glass-slab", Estimator::Path),
-        ("furnace", Estimator::Path),
-        ("rough-glass", Estimator::Path),
-        ("prism", Estimator::LtPt),
-        ("caustic", Estimator::LtPt),
-        ("materials", Estimator::Path),
+        ("cornell-glass", Estimator::Path, Estimator::Path),
+        ("glass-slab", Estimator::Path, Estimator::Path),
+        ("furnace", Estimator::Path, Estimator::Path),
+        ("rough-glass", Estimator::Path, Estimator::Path),
+        ("prism", Estimator::LtPt, Estimator::LtPt),
+        ("caustic", Estimator::Sppm, Estimator::LtPt),
+        ("caustic-mirror", Estimator::Sppm, Estimator::LtPt),
+        ("materials", Estimator::Path, Estimator::Path),
+        ("glass-of-water", Estimator::Path, Estimator::Path),
+        ("env-spheres", Estimator::Path, Estimator::Path),
+        ("sun-sky", Estimator::Path, Estimator::Path),
     ];
-    for (name, e) in expect {
-        let (got, why) = Estimator::Auto.resolve_why(&load(name));
-        assert_eq!(got, e, "{name}: auto chose {got} ({why})");
+    for (name, cpu, gpu) in expect {
+        let scene = load(name);
+        let (got, why) = Estimator::Auto.resolve_why(&scene);
+        assert_eq!(got, cpu, "{name}: auto chose {got} ({why})");
         assert!(!why.is_empty(), "{name}: no reason given");
+        let (got, why) = Estimator::Auto.resolve_gpu_why(&scene);
+        assert_eq!(got, gpu, "{name}: auto chose {got} on the GPU ({why})");
     }
     let caustic = load("caustic");
     for e in [
@@ -38,8 +46,14 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         Estimator::Bdpt,
         Estimator::Lt,
         Estimator::LtPt,
+        Estimator::Sppm,
     ] {
         assert_eq!(e.resolve(&caustic), e, "an explicit {e} is kept");
+        assert_eq!(
+            e.resolve_gpu_why(&caustic).0,
+            e,
+            "an explicit {e} is kept on the GPU"
+        );
     }
 }
 
@@ -54,7 +68,7 @@ fn bench_runs_resolve_auto_per_scene_and_device() {
             .map(Run::label)
             .collect()
     };
-    assert_eq!(labels("caustic", false), ["bdpt = auto", "path"]);
+    assert_eq!(labels("caustic", false), ["auto = sppm", "path", "bdpt"]);
     assert_eq!(labels("furnace", false), ["path = auto", "bdpt"]);
     assert_eq!(labels("caustic", true), ["auto = lt+pt", "path"]);
     assert_eq!(labels("furnace", true), ["path = auto"]);
@@ -97,7 +111,7 @@ fn cli_reports_the_auto_choice_and_its_reason() {
     for (scene, line) in [
         (
             "builtin:caustic",
-            "estimator auto: lt+pt (glass and a small light: caustics)",
+            "estimator auto: sppm (specular surfaces and a small light: photon-mapped caustics)",
         ),
         (
             "builtin:materials",
@@ -247,7 +261,7 @@ fn with_spp_and_a_budget_the_first_reached_wins() {
 }
 
 /// On the GPU `auto` runs what the viewer's GPU backend runs for the scene (lt+pt for a
-/// caustic), and a time budget alone fills the budget there too.
+/// caustic, which the CPU photon-maps), and a time budget alone fills the budget there too.
 #[test]
 fn gpu_auto_and_time_budget() {
     if common_scenes::gpu_context("gpu_auto_and_time_budget").is_none() {
@@ -272,7 +286,9 @@ fn gpu_auto_and_time_budget() {
     ]);
     assert!(ok, "{err}");
     assert!(
-        err.contains("estimator auto: lt+pt (glass and a small light: caustics)")
+        err.contains(
+            "estimator auto: lt+pt (caustics, and the GPU has no photon mapping: light + path tracing)"
+        )
             && err.contains("estimator lt+pt"),
         "{err}"
     );

@@ -5,6 +5,7 @@
 //! Lights are reached only through `scene::light::Light`; the per-vertex work lives in
 //! `Interaction` and `PathState`.
 
+use super::gather::Gather;
 use super::interaction::{Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface};
 use super::medium::medium_transmittance;
 use super::observer::{PathEnd, PathObserver};
@@ -104,9 +105,28 @@ impl<'a> Integrator<'a> {
         sampler: &mut Sampler,
         obs: &mut O,
     ) -> Vec3 {
-        let scene = self.scene;
         let sp = Spectral::new(self.spectral, || sampler.next_1d());
+        self.li_walk(origin, dir, sampler, sp, obs, &())
+    }
+
+    /// The camera walk with the colour lanes `sp` given, reporting to `obs` and handing the
+    /// caustic paths that end at its diffuse vertices to `gather` (`cpu::gather`): a path
+    /// that reaches light from a gather vertex through specular vertices only is the
+    /// gatherer's and is left out here.
+    pub fn li_walk<O: PathObserver, G: Gather>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        sampler: &mut Sampler,
+        sp: Spectral,
+        obs: &mut O,
+        gather: &G,
+    ) -> Vec3 {
+        let scene = self.scene;
         obs.start(origin, dir, &sp);
+        // Specular vertices since the last gather vertex (None: no gather vertex, or a
+        // non-specular vertex since): light reached with Some(k ≥ 1) is the gatherer's.
+        let mut chain: Option<u32> = None;
         let mut l = Color::ZERO;
         let mut st = PathState::new(Color::ONE, false, self.nested);
         let (mut o, mut d) = (origin, dir);
@@ -118,7 +138,8 @@ impl<'a> Integrator<'a> {
         let why = loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
                 // Escaped: the environment, MIS-weighted against NEE when it is light-sampled.
-                if self.accepts_light(q) {
+                let gathered = chain.is_some_and(|k| k >= 1) && gather.environment_emits();
+                if self.accepts_light(q) && !gathered {
                     let w = self.lights.env_weight(d, prev_pdf, prev_delta);
                     let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
                     obs.escaped(d, c);
@@ -141,6 +162,7 @@ impl<'a> Integrator<'a> {
             t_pass = 0.0;
             obs.surface(scene, &hit, &st);
             if self.accepts_light(q)
+                && !chain.is_some_and(|k| k >= 1)
                 && let Some((le, w)) = self.hit_emission(&hit, d, prev_pdf, prev_delta)
             {
                 let c = st.weight() * sp.c(le) * w;
@@ -155,6 +177,10 @@ impl<'a> Integrator<'a> {
                 break PathEnd::Terminated;
             };
             st.arrive(&it);
+            let caustic = gather.gather(&it, &st, q, &sp);
+            if let Some(c) = caustic {
+                l += st.weight() * c;
+            }
             let uc = sampler.next_1d();
             let u2 = sampler.next_2d();
             let ul = sampler.next_1d();
@@ -186,6 +212,11 @@ impl<'a> Integrator<'a> {
                 }
             }
             st.scatter(scene, &it, &s, wi, TransportMode::Radiance);
+            chain = match caustic {
+                Some(_) => Some(0),
+                None if it.bsdf.is_delta() => chain.map(|k| k + 1),
+                None => None,
+            };
             (prev_pdf, prev_delta) = (s.pdf, s.is_delta);
             o = it.spawn(wi);
             d = wi;

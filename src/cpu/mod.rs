@@ -4,6 +4,7 @@
 //! lights only through `scene::light::Light`.
 
 pub mod bdpt;
+pub mod gather;
 pub mod inspect;
 pub mod integrator;
 pub mod interaction;
@@ -12,6 +13,7 @@ pub mod observer;
 pub mod path_state;
 pub mod render;
 pub mod spectral;
+pub mod sppm;
 
 pub use integrator::Integrator;
 pub use interaction::SurfaceHit;

@@ -94,6 +94,9 @@ impl Renderer {
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> bool {
         let estimator = opts.estimator.resolve(&self.scene);
+        if estimator == Estimator::Sppm {
+            return self.render_pass_sppm(opts, film, first_spp, count, cancelled);
+        }
         if estimator != Estimator::Path {
             // Bidirectional passes are not cancellable mid-pass (splats span all rows).
             self.render_pass_bdpt(opts, estimator, film, first_spp, count);
@@ -139,6 +142,38 @@ impl Renderer {
             }
             None => false,
         }
+    }
+
+    /// Photon-mapping pass (`cpu::sppm`): sample index s is iteration s, so the image does
+    /// not depend on how samples are split into passes.
+    fn render_pass_sppm(
+        &self,
+        opts: &RenderOptions,
+        film: &mut Film,
+        first_spp: u32,
+        count: u32,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        use super::sppm::{Frame, SppmParams, render_iteration};
+        let integ = self.integrator(opts);
+        let (w, h) = (opts.width, opts.height);
+        let params = SppmParams::new(&self.scene.camera, self.scene.bounds(), w, h);
+        let mut dropped = 0u64;
+        for s in first_spp..first_spp + count {
+            let frame = Frame {
+                film: &mut *film,
+                width: w,
+                height: h,
+                seed: opts.seed,
+            };
+            match render_iteration(&integ, &params, s, frame, cancelled) {
+                Some(d) => dropped += d,
+                None => return false,
+            }
+        }
+        film.spp += count as u64;
+        film.dropped += dropped;
+        true
     }
 
     /// Bidirectional / light-tracing pass: camera contributions per pixel, light-tracing

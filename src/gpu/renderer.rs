@@ -102,7 +102,7 @@ const SPLAT_BYTES_PER_PIXEL: u64 = 24;
 /// Whether `opts` make the kernels trace light subpaths in `scene` (`lt+pt`, or `auto`
 /// resolving to it).
 fn light_tracing_for(opts: &RenderOptions, scene: &Scene) -> bool {
-    matches!(opts.estimator.resolve(scene), Estimator::LtPt)
+    matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::LtPt)
 }
 
 /// The splat film's size: the whole image with light tracing; without it the binding still
@@ -142,7 +142,7 @@ fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
 
 /// The estimator the GPU kernels run for `estimator` on `scene`: path tracing or lt+pt.
 pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
-    match estimator.resolve(scene) {
+    match estimator.resolve_gpu_why(scene).0 {
         e @ (Estimator::Path | Estimator::LtPt) => Ok(e),
         e => anyhow::bail!(
             "the GPU renderer implements path and lt+pt (estimator '{e}' needs --device cpu)"

@@ -18,8 +18,9 @@ use crate::scene::{Features, Scene};
 )]
 #[serde(rename_all = "lowercase")]
 pub enum Estimator {
-    /// Picked from the scene (`Estimator::resolve`): lt+pt for glass lit by a small or
-    /// delta light (caustics), else path tracing.
+    /// Picked from the scene (`Estimator::resolve`): sppm for specular surfaces lit by a
+    /// small or delta light (caustics; lt+pt on the GPU), lt+pt for dispersive or rough glass
+    /// lit so, else path tracing.
     Auto,
     /// Unidirectional path tracing with NEE + MIS.
     #[default]
@@ -34,6 +35,9 @@ pub enum Estimator {
     #[serde(rename = "lt+pt", alias = "ltpt")]
     #[value(name = "lt+pt", alias = "ltpt")]
     LtPt,
+    /// Path tracing with the caustics (L S+ D) from progressive photon mapping, radius
+    /// shrinking with α = 2/3 (`cpu::sppm`): caustics seen through glass or in mirrors.
+    Sppm,
 }
 
 impl std::fmt::Display for Estimator {
@@ -44,6 +48,7 @@ impl std::fmt::Display for Estimator {
             Estimator::Bdpt => "bdpt",
             Estimator::Lt => "lt",
             Estimator::LtPt => "lt+pt",
+            Estimator::Sppm => "sppm",
         })
     }
 }
@@ -57,8 +62,9 @@ impl std::str::FromStr for Estimator {
             "bdpt" => Ok(Estimator::Bdpt),
             "lt" | "light" => Ok(Estimator::Lt),
             "lt+pt" | "ltpt" | "pt+lt" => Ok(Estimator::LtPt),
+            "sppm" | "ppm" | "photon" => Ok(Estimator::Sppm),
             _ => Err(format!(
-                "unknown estimator '{s}' (use path, bdpt, lt or lt+pt)"
+                "unknown estimator '{s}' (use auto, path, bdpt, lt, lt+pt or sppm)"
             )),
         }
     }
@@ -71,13 +77,22 @@ impl Estimator {
     }
 
     /// [`Estimator::resolve`] and, for `Auto`, a few words on why (empty otherwise).
+    ///
+    /// The rule: a small or delta light makes caustics, which path tracing samples badly.
+    /// With specular surfaces (mirror, smooth or thin glass) their caustics L S+ D are
+    /// photon-mapped (`sppm`), which also renders them seen through glass or in a mirror;
+    /// with dispersion or only rough glass, the bidirectional estimator (lt+pt: bdpt on the
+    /// CPU) takes them — photons of one iteration share one set of wavelengths, which makes
+    /// a rainbow noisier than BDPT's, and photons do not end at glossy surfaces.
     pub fn resolve_why(self, scene: &Scene) -> (Estimator, &'static str) {
         if self != Estimator::Auto {
             return (self, "");
         }
         let f = scene.features();
-        let glass =
-            f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS | Features::THIN_GLASS);
+        let specular =
+            f.intersects(Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::MIRROR);
+        let glass_kinds = Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::ROUGH_GLASS;
+        let glass = specular || f.contains(Features::ROUGH_GLASS);
         // "Small" light: the emitters cover < 1% of the scene's bounding-box area, so
         // BSDF-sampled caustic paths rarely hit them.
         let (lo, hi) = scene.bounds();
@@ -91,12 +106,49 @@ impl Estimator {
         // (No emitter at all, e.g. an environment-lit furnace: nothing to trace from.)
         let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
         let small = punctual || (light_area > 0.0 && light_area < 0.01 * box_area);
-        match (glass, small) {
-            // lt+pt: the GPU runs light + path tracing, the CPU bdpt.
-            (true, true) if punctual => (Estimator::LtPt, "glass and a delta light: caustics"),
-            (true, true) => (Estimator::LtPt, "glass and a small light: caustics"),
-            (true, false) => (Estimator::Path, "no small or delta light: path tracing"),
-            (false, _) => (Estimator::Path, "no glass: path tracing"),
+        if !small {
+            let why = if f.intersects(glass_kinds) {
+                "no small or delta light: path tracing"
+            } else {
+                "no glass: path tracing"
+            };
+            return (Estimator::Path, why);
+        }
+        if f.contains(Features::DISPERSION) {
+            (
+                Estimator::LtPt,
+                "dispersive glass and a small light: bidirectional",
+            )
+        } else if specular && punctual {
+            (
+                Estimator::Sppm,
+                "specular surfaces and a delta light: photon-mapped caustics",
+            )
+        } else if specular {
+            (
+                Estimator::Sppm,
+                "specular surfaces and a small light: photon-mapped caustics",
+            )
+        } else if glass {
+            (
+                Estimator::LtPt,
+                "rough glass and a small light: bidirectional",
+            )
+        } else {
+            (Estimator::Path, "no glass: path tracing")
+        }
+    }
+
+    /// [`Estimator::resolve_why`] for the GPU, which has no photon mapping: there `auto`'s
+    /// sppm runs as lt+pt, its caustic estimator (an explicit sppm stays sppm, which the GPU
+    /// refuses).
+    pub fn resolve_gpu_why(self, scene: &Scene) -> (Estimator, &'static str) {
+        match self.resolve_why(scene) {
+            (Estimator::Sppm, _) if self == Estimator::Auto => (
+                Estimator::LtPt,
+                "caustics, and the GPU has no photon mapping: light + path tracing",
+            ),
+            other => other,
         }
     }
 
@@ -146,7 +198,9 @@ mod tests {
     fn auto_estimator_picks_by_scene_features() {
         let caustic = Scene::load("builtin:caustic").unwrap();
         let furnace = Scene::load("builtin:furnace").unwrap();
-        assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::LtPt);
+        assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::Sppm);
+        assert_eq!(Estimator::Auto.resolve_gpu_why(&caustic).0, Estimator::LtPt);
+        assert_eq!(Estimator::Sppm.resolve_gpu_why(&caustic).0, Estimator::Sppm);
         assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
         let text = serde_json::to_string(&Estimator::LtPt).unwrap();
         assert_eq!(text, "\"lt+pt\"");

@@ -825,7 +825,7 @@ impl Backend for GpuBackend {
         };
         let running = r.effective_estimator();
         match self.options.map(|o| o.estimator) {
-            Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
+            Some(e @ (Estimator::Bdpt | Estimator::Lt | Estimator::Sppm)) => {
                 format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")
             }
             _ => format!("GPU {gpu}, {running}"),

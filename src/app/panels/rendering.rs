@@ -103,6 +103,8 @@ fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
                     .on_hover_text("Paths start at the light and are connected to the camera: sees caustics at once, but cannot see mirrors or glass directly.");
                 ui.selectable_value(&mut r.estimator, Estimator::LtPt, "lt+pt")
                     .on_hover_text("Eye paths and light paths, each path weighted by how likely each side was to find it (MIS): caustics and glass both converge. The GPU's caustic estimator; the CPU runs bdpt for it.");
+                ui.selectable_value(&mut r.estimator, Estimator::Sppm, "photons (sppm)")
+                    .on_hover_text("Path tracing, with the caustics (light through glass or off a mirror onto a diffuse surface) gathered from photons shot from the lights: the caustic converges seen directly, through glass and in mirrors. Slightly blurred at first; the blur shrinks as samples add up. CPU only (the GPU runs lt+pt for it).");
             })
             .response
             .on_hover_text(match auto {

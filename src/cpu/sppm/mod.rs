@@ -1,0 +1,190 @@
+//! `sppm`: path tracing with the caustics from progressive photon mapping — the estimator
+//! for what no connection strategy samples, caustics seen through glass or in a mirror
+//! (L S+ D S+ E) and caustics of point lights.
+//!
+//! Each sample index s of the image is one iteration (Hachisuka & Jensen 2009, "Stochastic
+//! Progressive Photon Mapping": a new photon pass and a new camera sample per pixel):
+//!
+//! 1. `photons_per_iteration` light subpaths are traced; those that pass through specular
+//!    vertices only and reach a diffuse surface are stored there (`photon`): the paths
+//!    L S^k D, k ≥ 1. All photons of an iteration share one set of hero wavelengths with
+//!    the iteration's camera paths (scenes with dispersion), so their lanes multiply.
+//! 2. Every pixel traces one camera path with the path tracer (NEE + MIS); at each diffuse
+//!    vertex it adds the photons within radius r_s (`lookup`), and it leaves out the paths
+//!    the photons stand for (light reached from that vertex through specular vertices
+//!    only: `cpu::gather`). Every other path is the path tracer's, unbiased.
+//!
+//! The radius shrinks with the iteration as in Knaus & Zwicker 2011 ("Progressive Photon
+//! Mapping: A Probabilistic Approach", eq. 15 in closed form): r_s² = r₁² · (s + 1)^(α − 1),
+//! α = 2/3, so the average over iterations is consistent — bias and variance both vanish.
+//! r₁ is a few pixel footprints at the distance of the scene's centre; the photon count per
+//! iteration is a multiple of the pixel count (one photon path per camera path, as VCM,
+//! Georgiev et al. 2012, times `PHOTONS_PER_PIXEL`).
+//!
+//! Images are identical for any thread count: photon paths are traced in fixed chunks whose
+//! results are concatenated in order, and each pixel's estimate depends only on its own
+//! sampler stream and the iteration's photons.
+
+mod grid;
+mod lookup;
+mod photon;
+
+use super::Integrator;
+use super::render::camera_ray;
+use super::spectral::Spectral;
+use crate::film::Film;
+use crate::math::rng::Sampler;
+use crate::scene::Camera;
+use grid::HashGrid;
+use lookup::PhotonLookup;
+use photon::{Photon, PhotonLimits, trace_photon};
+use rayon::prelude::*;
+
+/// The radius exponent of Knaus & Zwicker 2011 (and Hachisuka & Jensen 2009's α).
+pub const ALPHA: f32 = 2.0 / 3.0;
+/// The first iteration's radius in pixel footprints at the scene's centre.
+pub const RADIUS_PIXELS: f32 = 1.5;
+/// Photon paths per iteration per pixel.
+pub const PHOTONS_PER_PIXEL: u32 = 1;
+/// Photon paths per parallel chunk (fixed, for images independent of the thread count).
+const CHUNK: u32 = 1024;
+/// The sampler's dimension where photon paths start (the camera's start at 0).
+const PHOTON_DIMS: u32 = 1 << 17;
+
+/// The photon-mapping parameters of one render.
+#[derive(Clone, Copy, Debug)]
+pub struct SppmParams {
+    /// r₁, world units.
+    pub radius0: f32,
+    pub alpha: f32,
+    pub photons_per_iteration: u32,
+}
+
+impl SppmParams {
+    /// The defaults for an image of `width × height` of `scene` seen by `cam`.
+    pub fn new(cam: &Camera, bounds: (glam::Vec3, glam::Vec3), width: u32, height: u32) -> Self {
+        let centre = 0.5 * (bounds.0 + bounds.1);
+        let mut dist = (centre - cam.position).length();
+        let diag = (bounds.1 - bounds.0).length();
+        if !(dist.is_finite() && dist > 0.0) {
+            dist = diag.max(1.0);
+        }
+        let footprint = dist * 2.0 * (0.5 * cam.yfov).tan() / height.max(1) as f32;
+        let mut radius0 = RADIUS_PIXELS * footprint;
+        if !(radius0.is_finite() && radius0 > 0.0) {
+            radius0 = 1e-3 * diag.max(1e-6);
+        }
+        SppmParams {
+            radius0,
+            alpha: ALPHA,
+            photons_per_iteration: (width * height).saturating_mul(PHOTONS_PER_PIXEL).max(1),
+        }
+    }
+
+    /// The radius of iteration `s` (0-based): r₁ · (s + 1)^((α − 1)/2).
+    pub fn radius(&self, s: u32) -> f32 {
+        self.radius0 * ((s as f64 + 1.0).powf(0.5 * (self.alpha as f64 - 1.0))) as f32
+    }
+}
+
+/// One iteration's photons and their grid.
+struct PhotonPass {
+    photons: Vec<Photon>,
+    grid: HashGrid,
+    norm: f32,
+}
+
+/// Trace iteration `s`'s photon paths (in parallel, deterministic order).
+fn photon_pass(
+    pt: &Integrator,
+    params: &SppmParams,
+    s: u32,
+    seed: u32,
+    sp: &Spectral,
+) -> PhotonPass {
+    let n = params.photons_per_iteration;
+    let limits = PhotonLimits {
+        max_segments: pt.max_depth,
+    };
+    let chunks: Vec<Vec<Photon>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut out = Vec::new();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let mut sampler = Sampler::new(i, s, seed).with_dim(PHOTON_DIMS);
+                out.extend(trace_photon(pt, &mut sampler, sp, limits));
+            }
+            out
+        })
+        .collect();
+    let photons: Vec<Photon> = chunks.concat();
+    let r = params.radius(s);
+    let grid = HashGrid::build(photons.iter().map(|p| p.p), r);
+    let norm = 1.0 / (n as f32 * std::f32::consts::PI * r * r);
+    PhotonPass {
+        photons,
+        grid,
+        norm,
+    }
+}
+
+/// What one iteration renders into.
+pub struct Frame<'f> {
+    pub film: &'f mut Film,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u32,
+}
+
+/// Render iteration (sample index) `s` into `frame.film`'s sums: one photon pass, then one
+/// camera path per pixel. Returns the dropped (non-finite or negative) samples, or None if
+/// `cancelled` returned true (the film then holds a partial iteration).
+pub fn render_iteration(
+    pt: &Integrator,
+    params: &SppmParams,
+    s: u32,
+    frame: Frame,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Option<u64> {
+    let Frame {
+        film,
+        width: w,
+        height: h,
+        seed,
+    } = frame;
+    // One set of hero wavelengths per iteration, shared by its photons and camera paths.
+    let sp = Spectral::new(pt.spectral, || Sampler::new(u32::MAX, s, seed).next_1d());
+    let pass = photon_pass(pt, params, s, seed, &sp);
+    let lookup = PhotonLookup {
+        photons: &pass.photons,
+        grid: &pass.grid,
+        norm: pass.norm,
+        max_depth: pt.max_depth,
+        filter: pt.filter,
+        env_emits: pt.lights.env_pick > 0.0,
+    };
+    let cam = &pt.scene.camera;
+    film.sums_mut()
+        .par_chunks_mut(w as usize)
+        .enumerate()
+        .map(|(y, row)| {
+            if cancelled() {
+                return None;
+            }
+            let mut dropped = 0u64;
+            for (x, px) in row.iter_mut().enumerate() {
+                let pixel = y as u32 * w + x as u32;
+                let mut sampler = Sampler::new(pixel, s, seed);
+                let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
+                let v = pt.li_walk(cam.position, dir, &mut sampler, sp, &mut (), &lookup);
+                let ok = if pt.spectral {
+                    Film::add_signed_to(px, v)
+                } else {
+                    Film::add_to(px, v)
+                };
+                dropped += u64::from(!ok);
+            }
+            Some(dropped)
+        })
+        .sum()
+}
