@@ -1,7 +1,8 @@
 //! Compare linear EXR renders against a reference without Python: mean per channel, the
 //! ratio of means, relMSE (the bench's metric) and the 8×8-block relative differences.
 //!
-//! `cargo run --release --example exr_stats -- REFERENCE.exr A.exr [B.exr …]`
+//! `cargo run --release --example exr_stats -- REFERENCE.exr A.exr [B.exr …]`; a reference
+//! written `R0.exr+R1.exr` is the mean of both (the bench's two cached halves).
 
 use anyhow::{Context, ensure};
 use glam::Vec3;
@@ -39,7 +40,19 @@ fn main() -> anyhow::Result<()> {
         args.len() >= 2,
         "usage: exr_stats REFERENCE.exr A.exr [B.exr …]"
     );
-    let (w, h, reference) = load_exr(Path::new(&args[0])).context("reference")?;
+    let mut halves = Vec::new();
+    for part in args[0].split('+') {
+        halves.push(load_exr(Path::new(part)).with_context(|| format!("reference {part}"))?);
+    }
+    let (w, h) = (halves[0].0, halves[0].1);
+    ensure!(
+        halves.iter().all(|r| (r.0, r.1) == (w, h)),
+        "the reference parts differ in size"
+    );
+    let n = halves.len() as f32;
+    let reference: Vec<Vec3> = (0..halves[0].2.len())
+        .map(|i| halves.iter().map(|r| r.2[i]).sum::<Vec3>() / n)
+        .collect();
     let mr = mean(&reference);
     println!(
         "{}: {w}x{h}, mean {:.5} {:.5} {:.5}",
