@@ -353,6 +353,7 @@ impl ViewerApp {
         self.inspect_follow();
         panels::inspect::side(self, ui);
         egui::CentralPanel::no_frame().show(ui, |ui| {
+            self.viewport_follow(ui.available_size() * ctx.pixels_per_point());
             let tex = self.backend.display_texture(&ctx, &self.display_params());
             let res = self.settings.resolution(&self.scene);
             let yfov = self.scene.camera.yfov;
@@ -385,6 +386,21 @@ impl ViewerApp {
         self.record_frame(ui_time);
         if self.backend.is_rendering() || self.dialog.is_some() || self.inspector.is_tracing() {
             ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    /// The image area measures `physical` pixels: with `fit_viewport`, a new size restarts
+    /// accumulation at that size (× render scale). Sizes under 16 pixels (a collapsed
+    /// layout) are ignored.
+    fn viewport_follow(&mut self, physical: egui::Vec2) {
+        let px = (physical.x.round() as u32, physical.y.round() as u32);
+        if px.0 < 16 || px.1 < 16 || self.settings.viewport == Some(px) {
+            return;
+        }
+        let before = self.settings.resolution(&self.scene);
+        self.settings.viewport = Some(px);
+        if self.settings.resolution(&self.scene) != before {
+            self.options_follow();
         }
     }
 

@@ -41,6 +41,10 @@ pub struct ViewerSettings {
     /// Only in a screenshot sidecar: what was captured.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub capture: Option<CaptureInfo>,
+    /// The viewer's image area in physical pixels, once it has been laid out (never saved:
+    /// a sidecar records the captured size instead).
+    #[serde(skip)]
+    pub viewport: Option<(u32, u32)>,
 }
 
 impl Default for ViewerSettings {
@@ -60,8 +64,11 @@ pub struct RenderEdit {
     pub paths: String,
     /// Stop accumulating at this many samples per pixel (0 = never stop).
     pub spp_target: u64,
-    /// Rendered resolution relative to the scene's width × height (interactivity on a CPU).
+    /// Rendered resolution relative to the viewport's physical pixels (or, with
+    /// `fit_viewport` off or no viewport yet, the scene's width × height).
     pub render_scale: f32,
+    /// Render the viewport's size (HiDPI aware) rather than the scene's resolution.
+    pub fit_viewport: bool,
     /// Light-transport estimator ("auto" picks by scene features).
     pub estimator: Estimator,
 }
@@ -75,6 +82,7 @@ impl Default for RenderEdit {
             paths: String::new(),
             spp_target: 0,
             render_scale: 0.5,
+            fit_viewport: true,
             estimator: Estimator::Auto,
         }
     }
@@ -128,6 +136,7 @@ impl ViewerSettings {
             render: RenderEdit::default(),
             display: DisplaySettings::default(),
             capture: None,
+            viewport: None,
         }
     }
 
@@ -188,19 +197,24 @@ impl ViewerSettings {
         (scene, warnings)
     }
 
-    /// Rendered resolution: the capture's (sidecar) or the scene's × render scale.
+    /// Rendered resolution: the capture's (sidecar), else the viewport's physical pixels (with
+    /// `fit_viewport`, once known) or the scene's, × render scale.
     pub fn resolution(&self, scene: &Scene) -> (u32, u32) {
         if let Some(c) = &self.capture {
             return (c.width, c.height);
         }
+        let (bw, bh) = match self.viewport {
+            Some(v) if self.render.fit_viewport => v,
+            _ => (scene.settings.width, scene.settings.height),
+        };
         let s = if self.render.render_scale.is_finite() {
             self.render.render_scale.clamp(0.05, 2.0)
         } else {
             1.0
         };
         let max = crate::scene::MAX_IMAGE_SIDE;
-        let w = ((scene.settings.width as f32 * s).round() as u32).clamp(1, max);
-        let h = ((scene.settings.height as f32 * s).round() as u32).clamp(1, max);
+        let w = ((bw as f32 * s).round() as u32).clamp(1, max);
+        let h = ((bh as f32 * s).round() as u32).clamp(1, max);
         (w, h)
     }
 

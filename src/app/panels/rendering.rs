@@ -232,7 +232,9 @@ fn accumulation(app: &mut ViewerApp, ui: &mut egui::Ui, r: &mut RenderEdit) {
                 .text("Render scale")
                 .clamping(SliderClamping::Always),
         )
-        .on_hover_text("Fraction of the scene's resolution rendered: fewer pixels give more samples per second each.");
+        .on_hover_text("Fraction of the viewport's pixels (or of the scene's resolution) rendered: fewer pixels give more samples per second each.");
+        ui.checkbox(&mut r.fit_viewport, "Fit viewport")
+            .on_hover_text("Render the viewport's size in physical pixels (HiDPI aware; a resize restarts accumulation). Off: the scene's own resolution, letterboxed.");
         if !r.render_scale.is_finite() {
             r.render_scale = 0.5;
         }
