@@ -2,7 +2,7 @@
 //! t = 1, light-subpath vertices splatted to the film (Veach 1997 §10.2).
 
 use super::vertex::{Kind, Vertex, to_area};
-use super::{Bdpt, BdptMode};
+use super::{Bdpt, BdptMode, mis};
 use crate::bsdf::TransportMode;
 use crate::cpu::interaction::offset_ray_origin_towards;
 use crate::cpu::medium::medium_transmittance;
@@ -61,30 +61,6 @@ impl Bdpt<'_> {
         }
     }
 
-    /// Does the full light→eye symbol string pass the filter?
-    pub(super) fn accepted(
-        &self,
-        light: &[Vertex],
-        cy: Option<Symbol>,
-        cz: Option<Symbol>,
-        cam: &[Vertex],
-    ) -> bool {
-        let Some(f) = self.filter else {
-            return true;
-        };
-        let mut q = f.step(f.start(), Symbol::L);
-        for v in light.iter().skip(1) {
-            q = f.step(q, v.class);
-        }
-        for c in [cy, cz].into_iter().flatten() {
-            q = f.step(q, c);
-        }
-        for v in cam.iter().skip(1).rev() {
-            q = f.step(q, v.class);
-        }
-        f.is_accepting(f.step(q, Symbol::E))
-    }
-
     /// Mutual visibility of two finite vertices, both ends offset by the same rule.
     fn visible(&self, a: &Vertex, b: &Vertex) -> bool {
         let d = b.p - a.p;
@@ -122,11 +98,11 @@ impl Bdpt<'_> {
         sp: &Spectral,
     ) -> Option<(u32, u32, Color)> {
         let s = light.len();
-        let yv = light[s - 1];
+        let yv = &light[s - 1];
         if !yv.connectible() || yv.is_infinite_light() {
             return None;
         }
-        let c0 = cam[0];
+        let c0 = &cam[0];
         let to_cam = c0.p - yv.p;
         let d2 = to_cam.length_squared();
         if d2 <= 0.0 {
@@ -135,7 +111,7 @@ impl Bdpt<'_> {
         let w = to_cam / d2.sqrt();
         let (px, py, cos_c) = self.cam.raster(-w)?;
         let mut contrib = Color::ZERO;
-        for (cy, fv) in self.light_end(&yv, s, w, sp) {
+        for (cy, fv) in self.light_end(yv, s, w, sp) {
             if fv.max_element() <= 0.0 || !self.accepted(&light[..s - 1], cy, None, &cam[..1]) {
                 continue;
             }
@@ -152,16 +128,17 @@ impl Bdpt<'_> {
         // We·G with a pinhole: |cos_y| / (d² A_plane cos³θ) (PBR 3rd ed. §16.1.1).
         let we_g = cos_y / (d2 * self.cam.a_plane * cos_c * cos_c * cos_c);
         let mut v = yv.beta * contrib * we_g;
-        if v.max_element() <= 0.0 || !self.visible(&yv, &c0) {
+        if v.max_element() <= 0.0 || !self.visible(yv, c0) {
             return None;
         }
-        if let Some(tr) = self.connection_transmittance(&yv, w, d2, sp) {
+        if let Some(tr) = self.connection_transmittance(yv, w, d2, sp) {
             v *= tr;
         }
         if self.mode == BdptMode::Full {
             // Camera density of generating y (area), for the MIS ratio.
-            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), &c0, &yv);
-            v *= self.mis_weight(light, cam, 1, Some(pdf_cam_y));
+            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), c0, yv);
+            let p = self.connection_pdfs(light, cam, 1, Some(pdf_cam_y));
+            v *= mis::weight(light, &cam[..1], &p);
         }
         Some((px, py, Self::finish(v, yv.collapsed)))
     }
@@ -169,7 +146,7 @@ impl Bdpt<'_> {
     /// Strategy (s = 0, t ≥ 2): the camera subpath hit an emitter.
     fn connect_emitter(&self, cam: &[Vertex], sp: &Spectral) -> Color {
         let t = cam.len();
-        let z = cam[t - 1];
+        let z = &cam[t - 1];
         if z.kind != Kind::Surface {
             return Color::ZERO;
         }
@@ -183,7 +160,7 @@ impl Bdpt<'_> {
         }
         let v = z.beta * le;
         let w = if self.mode == BdptMode::Full {
-            self.mis_weight(&[], cam, t, None)
+            mis::weight(&[], cam, &self.connection_pdfs(&[], cam, t, None))
         } else {
             1.0
         };
@@ -196,8 +173,8 @@ impl Bdpt<'_> {
         if s == 0 {
             return self.connect_emitter(cam, sp);
         }
-        let z = cam[t - 1];
-        let y = light[s - 1];
+        let z = &cam[t - 1];
+        let y = &light[s - 1];
         if z.kind != Kind::Surface || !z.connectible() || z.bsdf.is_none() || !y.connectible() {
             return Color::ZERO;
         }
@@ -212,9 +189,9 @@ impl Bdpt<'_> {
             }
             (d / d2.sqrt(), d2)
         };
-        let fz = self.f(&z, z.w_prev, w_zy, TransportMode::Radiance);
+        let fz = self.f(z, z.w_prev, w_zy, TransportMode::Radiance);
         let mut sum = Color::ZERO;
-        for (cy, fyv) in self.light_end(&y, s, -w_zy, sp) {
+        for (cy, fyv) in self.light_end(y, s, -w_zy, sp) {
             for (cz, fzv) in fz {
                 if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
                     continue;
@@ -242,23 +219,24 @@ impl Bdpt<'_> {
                 offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy), self.pt.bvh.offset_scale());
             !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
         } else {
-            self.visible(&z, &y)
+            self.visible(z, y)
         };
         if !vis {
             return Color::ZERO;
         }
-        if !infinite && let Some(tr) = self.connection_transmittance(&z, w_zy, d2, sp) {
+        if !infinite && let Some(tr) = self.connection_transmittance(z, w_zy, d2, sp) {
             v *= tr;
         }
         let collapse = y.collapsed || z.collapsed;
         if infinite {
             // A light at infinity has two strategies only: this connection (s = 1) and the
             // camera subpath escaping towards it (s = 0, `env_escape_weight`).
-            return Self::finish(v * self.infinite_weight(&y, &z, w_zy), collapse);
+            return Self::finish(v * self.infinite_weight(y, z, w_zy), collapse);
         }
         if self.mode != BdptMode::Full {
             return Self::finish(v, collapse);
         }
-        Self::finish(v * self.mis_weight(light, cam, t, None), collapse)
+        let p = self.connection_pdfs(light, cam, t, None);
+        Self::finish(v * mis::weight(light, cam, &p), collapse)
     }
 }

@@ -18,7 +18,10 @@
 
 mod camera;
 mod connect;
+mod filter;
 mod mis;
+#[cfg(test)]
+mod mis_oracle;
 mod vertex;
 mod walk;
 
@@ -108,6 +111,7 @@ impl<'a> Bdpt<'a> {
         ));
         if self.mode == BdptMode::LightTracing {
             // Pure light tracing connects only to the camera vertex (t = 1).
+            self.camera_suffix_masks(cam);
             return Color::ZERO;
         }
         // Camera subpath: at most max_depth + 1 vertices (max_depth segments).
@@ -122,6 +126,7 @@ impl<'a> Bdpt<'a> {
             sampler,
             sp,
         );
+        self.camera_suffix_masks(cam);
         let Some((b, collapsed, d)) = escaped else {
             return Color::ZERO;
         };
@@ -157,6 +162,11 @@ impl<'a> Bdpt<'a> {
         let mut l = self.camera_path(cam, (x, y, j), max_depth, sampler, sp);
         let mut ls = sampler.with_dim(1 << 16);
         self.light_path(light, max_depth.min(MAX_VERTS), &mut ls, sp);
+        self.light_prefix_states(light);
+        if self.mode == BdptMode::Full {
+            mis::prefix_sums(cam);
+            mis::prefix_sums(light);
+        }
         // A delta-position light is never seen directly through a pinhole.
         let delta_light = light.first().is_some_and(|v| v.is_delta_light());
         for t in 1..=cam.len() {
@@ -182,5 +192,7 @@ impl<'a> Bdpt<'a> {
     }
 }
 
+#[cfg(test)]
+mod prefix_tests;
 #[cfg(test)]
 mod tests;
