@@ -1,14 +1,14 @@
 //! Connection strategies: (s, t ≥ 2) between a light and a camera subpath vertex, and
 //! t = 1, light-subpath vertices splatted to the film (Veach 1997 §10.2).
 
+use super::end::{End, lobes_of};
 use super::vertex::{Kind, Vertex, to_area};
 use super::{Bdpt, BdptMode, mis};
 use crate::bsdf::TransportMode;
 use crate::cpu::interaction::offset_ray_origin_towards;
 use crate::cpu::medium::medium_transmittance;
-use crate::cpu::path_state::shading_correction;
 use crate::cpu::spectral::{Spectral, finish_collapsed};
-use crate::math::{Color, Frame};
+use crate::math::Color;
 use crate::paths::Symbol;
 use glam::Vec3;
 
@@ -21,42 +21,15 @@ impl Bdpt<'_> {
         finish_collapsed(c, collapse)
     }
 
-    /// BSDF value at surface vertex `v` for light arriving along `w_in`, leaving along `w_out`
-    /// (both pointing away), per Heckbert class; with the adjoint correction in importance mode.
-    fn f(
-        &self,
-        v: &Vertex,
-        w_to_prev: Vec3,
-        w_to_next: Vec3,
-        mode: TransportMode,
-    ) -> [(Symbol, Color); 2] {
-        let Some(b) = v.bsdf else {
-            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
-        };
-        let frame = Frame::from_normal(v.ns);
-        let (so, si) = (w_to_prev.dot(v.ng), w_to_next.dot(v.ng));
-        if so * si <= 0.0 && !b.can_transmit() {
-            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
-        }
-        let wo = frame.to_local(w_to_prev);
-        let wi = frame.to_local(w_to_next);
-        let corr = if mode == TransportMode::Importance {
-            shading_correction(w_to_prev, w_to_next, v.ns, v.ng)
-        } else {
-            1.0
-        };
-        let lv = b.eval_lobes(wo, wi, mode);
-        [(Symbol::D, lv.d * corr), (Symbol::G, lv.g * corr)]
-    }
-
     /// The light end of a connection towards `w` (unit, away from `y`): emission for s = 1,
     /// the adjoint BSDF per class otherwise.
-    fn light_end(&self, y: &Vertex, s: usize, w: Vec3, sp: &Spectral) -> Classes {
+    /// `ey` is y's evaluated end (s ≥ 2).
+    fn light_end(y: &Vertex, s: usize, w: Vec3, sp: &Spectral, ey: Option<&End>) -> Classes {
         if s == 1 {
             let le = y.light().map_or(Vec3::ZERO, |(l, _)| l.le(y.ng, w));
             [(None, sp.c(le)), (None, Color::ZERO)]
         } else {
-            let f = self.f(y, y.w_prev, w, TransportMode::Importance);
+            let f = lobes_of(ey, y, w, TransportMode::Importance);
             [(Some(f[0].0), f[0].1), (Some(f[1].0), f[1].1)]
         }
     }
@@ -110,8 +83,9 @@ impl Bdpt<'_> {
         }
         let w = to_cam / d2.sqrt();
         let (px, py, cos_c) = self.cam.raster(-w)?;
+        let ey = if s >= 2 { End::new(yv, w) } else { None };
         let mut contrib = Color::ZERO;
-        for (cy, fv) in self.light_end(yv, s, w, sp) {
+        for (cy, fv) in Self::light_end(yv, s, w, sp, ey.as_ref()) {
             if fv.max_element() <= 0.0 || !self.accepted(&light[..s - 1], cy, None, &cam[..1]) {
                 continue;
             }
@@ -137,7 +111,7 @@ impl Bdpt<'_> {
         if self.mode == BdptMode::Full {
             // Camera density of generating y (area), for the MIS ratio.
             let pdf_cam_y = to_area(self.cam.pdf_dir(-w), c0, yv);
-            let p = self.connection_pdfs(light, cam, 1, Some(pdf_cam_y));
+            let p = self.connection_pdfs_at(light, &cam[..1], Some(pdf_cam_y), None, ey.as_ref());
             v *= mis::weight(light, &cam[..1], &p);
         }
         Some((px, py, Self::finish(v, yv.collapsed)))
@@ -189,9 +163,11 @@ impl Bdpt<'_> {
             }
             (d / d2.sqrt(), d2)
         };
-        let fz = self.f(z, z.w_prev, w_zy, TransportMode::Radiance);
+        let ez = End::new(z, w_zy);
+        let ey = if s >= 2 { End::new(y, -w_zy) } else { None };
+        let fz = lobes_of(ez.as_ref(), z, w_zy, TransportMode::Radiance);
         let mut sum = Color::ZERO;
-        for (cy, fyv) in self.light_end(y, s, -w_zy, sp) {
+        for (cy, fyv) in Self::light_end(y, s, -w_zy, sp, ey.as_ref()) {
             for (cz, fzv) in fz {
                 if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
                     continue;
@@ -236,7 +212,7 @@ impl Bdpt<'_> {
         if self.mode != BdptMode::Full {
             return Self::finish(v, collapse);
         }
-        let p = self.connection_pdfs(light, cam, t, None);
+        let p = self.connection_pdfs_at(light, cam, None, ez.as_ref(), ey.as_ref());
         Self::finish(v * mis::weight(light, cam, &p), collapse)
     }
 }

@@ -11,6 +11,7 @@
 //! `mis_oracle` (tests) keeps the direct recurrence as the reference.
 
 use super::Bdpt;
+use super::end::End;
 use super::vertex::Kind;
 use super::vertex::{Vertex, remap0, to_area};
 use crate::bsdf::BxDF;
@@ -54,20 +55,6 @@ impl Bdpt<'_> {
         }
     }
 
-    /// Area density at `to` of sampling the BSDF at `v` given the other direction `w_other`.
-    pub(super) fn bsdf_pdf_area(&self, v: &Vertex, w_other: glam::Vec3, to: &Vertex) -> f32 {
-        let Some(b) = v.bsdf else {
-            return 0.0;
-        };
-        if b.is_delta() {
-            return 0.0;
-        }
-        let frame = Frame::from_normal(v.ns);
-        let w = (to.p - v.p).normalize_or_zero();
-        let pdf = b.pdf(frame.to_local(w_other), frame.to_local(w));
-        to_area(pdf, v, to)
-    }
-
     /// Solid-angle density with which light vertex `y` emits towards `w`.
     pub(super) fn light_pdf_dir(&self, y: &Vertex, w: glam::Vec3) -> f32 {
         y.light().map_or(0.0, |(l, pick)| l.pdf_le(pick, y.ng, w).1)
@@ -102,7 +89,27 @@ impl Bdpt<'_> {
         t: usize,
         pdf_cam_y: Option<f32>,
     ) -> ConnectionPdfs {
-        let s = light.len();
+        let cam = &cam[..t];
+        let (z, y) = (&cam[t - 1], light.last());
+        let w_zy = y.map_or(glam::Vec3::ZERO, |y| (y.p - z.p).normalize_or_zero());
+        let ez = (t >= 2 && y.is_some()).then(|| End::new(z, w_zy)).flatten();
+        let ey = y
+            .filter(|_| light.len() >= 2)
+            .and_then(|y| End::new(y, -w_zy));
+        self.connection_pdfs_at(light, cam, pdf_cam_y, ez.as_ref(), ey.as_ref())
+    }
+
+    /// `connection_pdfs` (t = cam.len()) with the end vertices already evaluated along the
+    /// connection: `ez` for t ≥ 2 and `ey` for s ≥ 2 (`None`: no non-delta BSDF there).
+    pub(super) fn connection_pdfs_at(
+        &self,
+        light: &[Vertex],
+        cam: &[Vertex],
+        pdf_cam_y: Option<f32>,
+        ez: Option<&End>,
+        ey: Option<&End>,
+    ) -> ConnectionPdfs {
+        let (s, t) = (light.len(), cam.len());
         let z = &cam[t - 1];
         let mut p = ConnectionPdfs::default();
         let Some(y) = light.last() else {
@@ -113,22 +120,23 @@ impl Bdpt<'_> {
             }
             return p;
         };
-        let w_yz = (z.p - y.p).normalize_or_zero();
+        let pdf = |e: Option<&End>, f: &dyn Fn(&End) -> f32| e.map_or(0.0, f);
+        let towards = |v: &Vertex, to: &Vertex| (to.p - v.p).normalize_or_zero();
         p.z = if s == 1 {
-            to_area(self.light_pdf_dir(y, w_yz), y, z)
+            to_area(self.light_pdf_dir(y, towards(y, z)), y, z)
         } else {
-            self.bsdf_pdf_area(y, y.w_prev, z)
+            to_area(pdf(ey, &|e| e.pdf_out()), y, z)
         };
         if t >= 2 {
-            p.z_prev = self.bsdf_pdf_area(z, -w_yz, &cam[t - 2]);
-        }
-        p.y = if t == 1 {
-            pdf_cam_y.unwrap_or(0.0)
+            let zp = &cam[t - 2];
+            p.z_prev = to_area(pdf(ez, &|e| e.pdf_back(towards(z, zp))), z, zp);
+            p.y = to_area(pdf(ez, &|e| e.pdf_out()), z, y);
         } else {
-            self.bsdf_pdf_area(z, z.w_prev, y)
-        };
+            p.y = pdf_cam_y.unwrap_or(0.0);
+        }
         if s >= 2 {
-            p.y_prev = self.bsdf_pdf_area(y, w_yz, &light[s - 2]);
+            let yp = &light[s - 2];
+            p.y_prev = to_area(pdf(ey, &|e| e.pdf_back(towards(y, yp))), y, yp);
         }
         p
     }

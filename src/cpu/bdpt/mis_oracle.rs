@@ -4,8 +4,24 @@
 
 use super::Bdpt;
 use super::vertex::{Vertex, remap0, to_area};
+use crate::bsdf::BxDF;
+use crate::math::Frame;
 
 impl Bdpt<'_> {
+    /// Area density at `to` of sampling the BSDF at `v` given the other direction `w_other`.
+    pub(super) fn bsdf_pdf_area(&self, v: &Vertex, w_other: glam::Vec3, to: &Vertex) -> f32 {
+        let Some(b) = v.bsdf else {
+            return 0.0;
+        };
+        if b.is_delta() {
+            return 0.0;
+        }
+        let frame = Frame::from_normal(v.ns);
+        let w = (to.p - v.p).normalize_or_zero();
+        let pdf = b.pdf(frame.to_local(w_other), frame.to_local(w));
+        to_area(pdf, v, to)
+    }
+
     /// The reverse densities of the connection vertices of strategy (s, t): returns the
     /// modified copies of (y_{s-1}, y_{s-2}) and (z_{t-1}, z_{t-2}).
     fn connection_densities<'v>(

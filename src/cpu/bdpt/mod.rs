@@ -18,6 +18,7 @@
 
 mod camera;
 mod connect;
+mod end;
 mod filter;
 mod mis;
 #[cfg(test)]
