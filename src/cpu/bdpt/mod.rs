@@ -5,7 +5,10 @@
 //!
 //! Files: `vertex` (subpath vertices, density conversions), `camera` (pinhole importance),
 //! `walk` (both subpaths' random walks on the shared per-vertex step), `connect` (the
-//! strategies), `mis` (power-heuristic weights by Veach's ratio recurrence, §10.2).
+//! strategies), `end` (a connection end evaluated once), `mis` (power-heuristic weights by
+//! Veach's ratio recurrence, §10.2, O(1) per connection from per-vertex partial sums;
+//! `mis_oracle` keeps the direct form for tests), `filter` (the Heckbert filter from
+//! per-vertex prefix states).
 //! Importance transport uses the adjoint BSDF: no 1/η² on refraction and the shading-normal
 //! correction |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (Veach 1997, §5.3, eq. 5.19). Absorbing
 //! media attenuate every walk segment and every connection (Beer–Lambert).
