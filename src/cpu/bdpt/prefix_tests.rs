@@ -11,7 +11,8 @@ use crate::render::RenderOptions;
 use crate::scene::{PunctualLight, Scene};
 
 /// Built-ins covering area, point, spot, directional and environment lights, glass, glossy
-/// and dispersive materials.
+/// and dispersive materials (the MIS test skips samples whose light subpath starts at
+/// infinity: `infinite_weight` weights those, not the recurrence).
 fn scenes() -> Vec<Scene> {
     let mut names: Vec<Scene> = ["cornell-glass", "caustic", "prism", "materials", "sun-sky"]
         .iter()
