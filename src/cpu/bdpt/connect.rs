@@ -1,14 +1,14 @@
 //! Connection strategies: (s, t ≥ 2) between a light and a camera subpath vertex, and
 //! t = 1, light-subpath vertices splatted to the film (Veach 1997 §10.2).
 
+use super::end::{End, lobes_of};
 use super::vertex::{Kind, Vertex, to_area};
-use super::{Bdpt, BdptMode};
+use super::{Bdpt, BdptMode, mis};
 use crate::bsdf::TransportMode;
 use crate::cpu::interaction::offset_ray_origin_towards;
 use crate::cpu::medium::medium_transmittance;
-use crate::cpu::path_state::shading_correction;
 use crate::cpu::spectral::{Spectral, finish_collapsed};
-use crate::math::{Color, Frame};
+use crate::math::Color;
 use crate::paths::Symbol;
 use glam::Vec3;
 
@@ -21,68 +21,17 @@ impl Bdpt<'_> {
         finish_collapsed(c, collapse)
     }
 
-    /// BSDF value at surface vertex `v` for light arriving along `w_in`, leaving along `w_out`
-    /// (both pointing away), per Heckbert class; with the adjoint correction in importance mode.
-    fn f(
-        &self,
-        v: &Vertex,
-        w_to_prev: Vec3,
-        w_to_next: Vec3,
-        mode: TransportMode,
-    ) -> [(Symbol, Color); 2] {
-        let Some(b) = v.bsdf else {
-            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
-        };
-        let frame = Frame::from_normal(v.ns);
-        let (so, si) = (w_to_prev.dot(v.ng), w_to_next.dot(v.ng));
-        if so * si <= 0.0 && !b.can_transmit() {
-            return [(Symbol::D, Color::ZERO), (Symbol::G, Color::ZERO)];
-        }
-        let wo = frame.to_local(w_to_prev);
-        let wi = frame.to_local(w_to_next);
-        let corr = if mode == TransportMode::Importance {
-            shading_correction(w_to_prev, w_to_next, v.ns, v.ng)
-        } else {
-            1.0
-        };
-        let lv = b.eval_lobes(wo, wi, mode);
-        [(Symbol::D, lv.d * corr), (Symbol::G, lv.g * corr)]
-    }
-
     /// The light end of a connection towards `w` (unit, away from `y`): emission for s = 1,
     /// the adjoint BSDF per class otherwise.
-    fn light_end(&self, y: &Vertex, s: usize, w: Vec3, sp: &Spectral) -> Classes {
+    /// `ey` is y's evaluated end (s ≥ 2).
+    fn light_end(y: &Vertex, s: usize, w: Vec3, sp: &Spectral, ey: Option<&End>) -> Classes {
         if s == 1 {
             let le = y.light().map_or(Vec3::ZERO, |(l, _)| l.le(y.ng, w));
             [(None, sp.c(le)), (None, Color::ZERO)]
         } else {
-            let f = self.f(y, y.w_prev, w, TransportMode::Importance);
+            let f = lobes_of(ey, y, w, TransportMode::Importance);
             [(Some(f[0].0), f[0].1), (Some(f[1].0), f[1].1)]
         }
-    }
-
-    /// Does the full light→eye symbol string pass the filter?
-    pub(super) fn accepted(
-        &self,
-        light: &[Vertex],
-        cy: Option<Symbol>,
-        cz: Option<Symbol>,
-        cam: &[Vertex],
-    ) -> bool {
-        let Some(f) = self.filter else {
-            return true;
-        };
-        let mut q = f.step(f.start(), Symbol::L);
-        for v in light.iter().skip(1) {
-            q = f.step(q, v.class);
-        }
-        for c in [cy, cz].into_iter().flatten() {
-            q = f.step(q, c);
-        }
-        for v in cam.iter().skip(1).rev() {
-            q = f.step(q, v.class);
-        }
-        f.is_accepting(f.step(q, Symbol::E))
     }
 
     /// Mutual visibility of two finite vertices, both ends offset by the same rule.
@@ -122,11 +71,11 @@ impl Bdpt<'_> {
         sp: &Spectral,
     ) -> Option<(u32, u32, Color)> {
         let s = light.len();
-        let yv = light[s - 1];
+        let yv = &light[s - 1];
         if !yv.connectible() || yv.is_infinite_light() {
             return None;
         }
-        let c0 = cam[0];
+        let c0 = &cam[0];
         let to_cam = c0.p - yv.p;
         let d2 = to_cam.length_squared();
         if d2 <= 0.0 {
@@ -134,8 +83,9 @@ impl Bdpt<'_> {
         }
         let w = to_cam / d2.sqrt();
         let (px, py, cos_c) = self.cam.raster(-w)?;
+        let ey = if s >= 2 { End::new(yv, w) } else { None };
         let mut contrib = Color::ZERO;
-        for (cy, fv) in self.light_end(&yv, s, w, sp) {
+        for (cy, fv) in Self::light_end(yv, s, w, sp, ey.as_ref()) {
             if fv.max_element() <= 0.0 || !self.accepted(&light[..s - 1], cy, None, &cam[..1]) {
                 continue;
             }
@@ -152,16 +102,17 @@ impl Bdpt<'_> {
         // We·G with a pinhole: |cos_y| / (d² A_plane cos³θ) (PBR 3rd ed. §16.1.1).
         let we_g = cos_y / (d2 * self.cam.a_plane * cos_c * cos_c * cos_c);
         let mut v = yv.beta * contrib * we_g;
-        if v.max_element() <= 0.0 || !self.visible(&yv, &c0) {
+        if v.max_element() <= 0.0 || !self.visible(yv, c0) {
             return None;
         }
-        if let Some(tr) = self.connection_transmittance(&yv, w, d2, sp) {
+        if let Some(tr) = self.connection_transmittance(yv, w, d2, sp) {
             v *= tr;
         }
         if self.mode == BdptMode::Full {
             // Camera density of generating y (area), for the MIS ratio.
-            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), &c0, &yv);
-            v *= self.mis_weight(light, cam, 1, Some(pdf_cam_y));
+            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), c0, yv);
+            let p = self.connection_pdfs_at(light, &cam[..1], Some(pdf_cam_y), None, ey.as_ref());
+            v *= mis::weight(light, &cam[..1], &p);
         }
         Some((px, py, Self::finish(v, yv.collapsed)))
     }
@@ -169,7 +120,7 @@ impl Bdpt<'_> {
     /// Strategy (s = 0, t ≥ 2): the camera subpath hit an emitter.
     fn connect_emitter(&self, cam: &[Vertex], sp: &Spectral) -> Color {
         let t = cam.len();
-        let z = cam[t - 1];
+        let z = &cam[t - 1];
         if z.kind != Kind::Surface {
             return Color::ZERO;
         }
@@ -183,7 +134,7 @@ impl Bdpt<'_> {
         }
         let v = z.beta * le;
         let w = if self.mode == BdptMode::Full {
-            self.mis_weight(&[], cam, t, None)
+            mis::weight(&[], cam, &self.connection_pdfs(&[], cam, t, None))
         } else {
             1.0
         };
@@ -196,8 +147,8 @@ impl Bdpt<'_> {
         if s == 0 {
             return self.connect_emitter(cam, sp);
         }
-        let z = cam[t - 1];
-        let y = light[s - 1];
+        let z = &cam[t - 1];
+        let y = &light[s - 1];
         if z.kind != Kind::Surface || !z.connectible() || z.bsdf.is_none() || !y.connectible() {
             return Color::ZERO;
         }
@@ -212,9 +163,11 @@ impl Bdpt<'_> {
             }
             (d / d2.sqrt(), d2)
         };
-        let fz = self.f(&z, z.w_prev, w_zy, TransportMode::Radiance);
+        let ez = End::new(z, w_zy);
+        let ey = if s >= 2 { End::new(y, -w_zy) } else { None };
+        let fz = lobes_of(ez.as_ref(), z, w_zy, TransportMode::Radiance);
         let mut sum = Color::ZERO;
-        for (cy, fyv) in self.light_end(&y, s, -w_zy, sp) {
+        for (cy, fyv) in Self::light_end(y, s, -w_zy, sp, ey.as_ref()) {
             for (cz, fzv) in fz {
                 if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
                     continue;
@@ -242,23 +195,24 @@ impl Bdpt<'_> {
                 offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy), self.pt.bvh.offset_scale());
             !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
         } else {
-            self.visible(&z, &y)
+            self.visible(z, y)
         };
         if !vis {
             return Color::ZERO;
         }
-        if !infinite && let Some(tr) = self.connection_transmittance(&z, w_zy, d2, sp) {
+        if !infinite && let Some(tr) = self.connection_transmittance(z, w_zy, d2, sp) {
             v *= tr;
         }
         let collapse = y.collapsed || z.collapsed;
         if infinite {
             // A light at infinity has two strategies only: this connection (s = 1) and the
             // camera subpath escaping towards it (s = 0, `env_escape_weight`).
-            return Self::finish(v * self.infinite_weight(&y, &z, w_zy), collapse);
+            return Self::finish(v * self.infinite_weight(y, z, w_zy), collapse);
         }
         if self.mode != BdptMode::Full {
             return Self::finish(v, collapse);
         }
-        Self::finish(v * self.mis_weight(light, cam, t, None), collapse)
+        let p = self.connection_pdfs_at(light, cam, None, ez.as_ref(), ey.as_ref());
+        Self::finish(v * mis::weight(light, cam, &p), collapse)
     }
 }

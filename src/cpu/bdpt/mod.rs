@@ -5,7 +5,10 @@
 //!
 //! Files: `vertex` (subpath vertices, density conversions), `camera` (pinhole importance),
 //! `walk` (both subpaths' random walks on the shared per-vertex step), `connect` (the
-//! strategies), `mis` (power-heuristic weights by Veach's ratio recurrence, §10.2).
+//! strategies), `end` (a connection end evaluated once), `mis` (power-heuristic weights by
+//! Veach's ratio recurrence, §10.2, O(1) per connection from per-vertex partial sums;
+//! `mis_oracle` keeps the direct form for tests), `filter` (the Heckbert filter from
+//! per-vertex prefix states).
 //! Importance transport uses the adjoint BSDF: no 1/η² on refraction and the shading-normal
 //! correction |ωo·ns||ωi·ng| / (|ωo·ng||ωi·ns|) (Veach 1997, §5.3, eq. 5.19). Absorbing
 //! media attenuate every walk segment and every connection (Beer–Lambert).
@@ -18,7 +21,11 @@
 
 mod camera;
 mod connect;
+mod end;
+mod filter;
 mod mis;
+#[cfg(test)]
+mod mis_oracle;
 mod vertex;
 mod walk;
 
@@ -108,6 +115,7 @@ impl<'a> Bdpt<'a> {
         ));
         if self.mode == BdptMode::LightTracing {
             // Pure light tracing connects only to the camera vertex (t = 1).
+            self.camera_suffix_masks(cam);
             return Color::ZERO;
         }
         // Camera subpath: at most max_depth + 1 vertices (max_depth segments).
@@ -122,6 +130,7 @@ impl<'a> Bdpt<'a> {
             sampler,
             sp,
         );
+        self.camera_suffix_masks(cam);
         let Some((b, collapsed, d)) = escaped else {
             return Color::ZERO;
         };
@@ -157,6 +166,11 @@ impl<'a> Bdpt<'a> {
         let mut l = self.camera_path(cam, (x, y, j), max_depth, sampler, sp);
         let mut ls = sampler.with_dim(1 << 16);
         self.light_path(light, max_depth.min(MAX_VERTS), &mut ls, sp);
+        self.light_prefix_states(light);
+        if self.mode == BdptMode::Full {
+            mis::prefix_sums(cam);
+            mis::prefix_sums(light);
+        }
         // A delta-position light is never seen directly through a pinhole.
         let delta_light = light.first().is_some_and(|v| v.is_delta_light());
         for t in 1..=cam.len() {
@@ -182,5 +196,7 @@ impl<'a> Bdpt<'a> {
     }
 }
 
+#[cfg(test)]
+mod prefix_tests;
 #[cfg(test)]
 mod tests;

@@ -56,6 +56,13 @@ pub(super) struct Vertex<'a> {
     /// The medium a segment leaving across the surface travels in (`medium_towards`;
     /// kept instead of the medium stack so that vertices stay small).
     pub medium_across: Medium,
+    /// Partial sum of the MIS ratio recurrence along the subpath up to this vertex, with the
+    /// densities the walk stored (`mis::prefix_sums`; Veach 1997 §10.2).
+    pub mis_sum: f32,
+    /// Heckbert filter (`filter::prefix_states`): on a light subpath the DFA state after L and
+    /// the classes up to this vertex; on a camera subpath the bit set of states from which the
+    /// classes from this vertex back to the camera, then E, are accepted.
+    pub filter: u32,
 }
 
 impl<'a> Vertex<'a> {
@@ -77,6 +84,8 @@ impl<'a> Vertex<'a> {
             collapsed: false,
             medium: None,
             medium_across: None,
+            mis_sum: 0.0,
+            filter: 0,
         }
     }
 

@@ -85,8 +85,7 @@ impl<'a> Bdpt<'a> {
             } else {
                 pdf_w = s.pdf;
                 let rev = it.bsdf.pdf(s.wi, it.wo);
-                let (a, b) = (path[cur], path[cur - 1]);
-                path[cur - 1].pdf_rev = to_area(rev, &a, &b);
+                path[cur - 1].pdf_rev = to_area(rev, &path[cur], &path[cur - 1]);
             }
             o = it.spawn(wi);
             d = wi;
