@@ -17,7 +17,8 @@ const GLASS: usize = 4;
 /// A viewer on the default scene at a small resolution (fast on 2 cores).
 fn small_app() -> ViewerApp {
     let mut app = ViewerApp::open(DEFAULT_SCENE).expect("default scene opens");
-    app.settings.render.render_scale = 0.125; // 64×64
+    app.settings.render.render_scale = 0.125; // 64×64: of the scene's 512², not the viewport
+    app.settings.render.fit_viewport = false;
     app.options_changed();
     app
 }
@@ -534,4 +535,56 @@ fn selecting_a_material_never_changes_it() {
     let edited = &h.state().scene.materials[GLASS];
     assert_eq!(edited.ior, 3.7, "IOR 3.7 is inside the widened 1–4 range");
     assert_eq!(edited.abbe, m.abbe, "the untouched Abbe number is kept");
+}
+
+/// With "Fit viewport" (the default) the viewer renders the image area's physical pixels ×
+/// render scale, HiDPI aware; a resize renders the new size and restarts accumulation.
+#[test]
+fn renders_at_the_viewport_size_in_physical_pixels() {
+    let mut app = ViewerApp::open(DEFAULT_SCENE).expect("default scene opens");
+    app.settings.render.render_scale = 0.1;
+    app.options_changed();
+    assert!(
+        app.settings.render.fit_viewport,
+        "fit viewport is the default"
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1000.0, 1600.0))
+        .with_pixels_per_point(2.0)
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    h.step();
+    h.step();
+    let (vw, vh) = h.state().settings.viewport.expect("viewport measured");
+    // The central area: the window less the side panel, in physical pixels (2 per point).
+    assert!(
+        vw > 600 && vw < 2000 && vh > 2400 && vh <= 3200,
+        "viewport {vw}x{vh}"
+    );
+    let res = h.state().settings.resolution(&h.state().scene);
+    let want = (
+        (vw as f32 * 0.1).round() as u32,
+        (vh as f32 * 0.1).round() as u32,
+    );
+    assert_eq!(res, want, "rendered size for a {vw}x{vh} viewport");
+    step_until(&mut h, "4 spp", |a| a.backend().spp() >= 4);
+    let generation = h.state().backend().generation();
+    h.set_size(egui::vec2(1400.0, 1600.0));
+    h.step();
+    h.step();
+    let (vw2, _) = h.state().settings.viewport.expect("viewport measured");
+    assert!(
+        vw2 >= vw + 700,
+        "the viewport grew by 400 points: {vw} → {vw2}"
+    );
+    let res2 = h.state().settings.resolution(&h.state().scene);
+    assert_eq!(res2.0, (vw2 as f32 * 0.1).round() as u32);
+    assert!(
+        h.state().backend().generation() > generation,
+        "a resize restarts accumulation"
+    );
+    step_until(&mut h, "an image of the new size", |a| {
+        a.backend()
+            .read_image()
+            .is_some_and(|img| img.spp >= 1 && (img.width, img.height) == res2)
+    });
 }
