@@ -316,7 +316,8 @@ fn kittest_viewer_on_the_gpu_backend() {
     assert!(mean > 30.0, "the viewport looks empty (mean {mean:.1})");
 }
 
-/// The estimator selector on the GPU backend: lt+pt (what "auto" picks on `caustic`) runs
+/// The estimator selector on the GPU backend: lt+pt (what "auto" picks on `caustic` on the
+/// GPU) runs
 /// light + path tracing and accumulates, also after the glass is made dispersive (a new
 /// specialisation) and back.
 #[test]
@@ -326,10 +327,10 @@ fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
         return;
     };
     let scene = Scene::load("builtin:caustic").unwrap();
-    assert_eq!(Estimator::Auto.resolve(&scene), Estimator::LtPt);
+    assert_eq!(Estimator::Auto.resolve_gpu_why(&scene).0, Estimator::LtPt);
     b.set_scene(&scene);
     let mut o = small_options(&scene, 48, 32);
-    o.estimator = Estimator::Auto.resolve(&scene);
+    o.estimator = Estimator::LtPt;
     b.set_options(&o);
     assert!(!b.is_fallback());
     assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
