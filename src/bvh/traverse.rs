@@ -6,6 +6,7 @@
 use super::slab::{BoxTest, SlabRay, TMAX_SCALE};
 use super::watertight::{LeafTri, WatertightRay};
 use super::wide::{Child, W, WideNode, decode};
+use std::mem::MaybeUninit;
 
 /// Stack entries held in place; deeper stacks (a wide tree deeper than ~9 levels, all of
 /// whose children are hit) spill into a `Vec` that allocates only then.
@@ -18,8 +19,10 @@ struct Entry {
     t: f32,
 }
 
+/// Entries `items[..len]` are initialised; left uninitialised otherwise, so that starting a
+/// ray does not clear the whole array.
 struct Stack {
-    items: [Entry; STACK],
+    items: [MaybeUninit<Entry>; STACK],
     len: usize,
     spill: Vec<Entry>,
 }
@@ -28,7 +31,7 @@ impl Stack {
     #[inline(always)]
     fn new() -> Stack {
         Stack {
-            items: [Entry::default(); STACK],
+            items: [const { MaybeUninit::uninit() }; STACK],
             len: 0,
             spill: Vec::new(),
         }
@@ -37,7 +40,7 @@ impl Stack {
     #[inline(always)]
     fn push(&mut self, e: Entry) {
         if self.len < STACK {
-            self.items[self.len] = e;
+            self.items[self.len].write(e);
             self.len += 1;
         } else {
             self.spill.push(e);
@@ -53,7 +56,8 @@ impl Stack {
             return None;
         }
         self.len -= 1;
-        Some(self.items[self.len])
+        // SAFETY: `push` wrote every entry below the old `len`, and `len` only shrinks here.
+        Some(unsafe { self.items[self.len].assume_init() })
     }
 }
 

@@ -11,16 +11,17 @@ pub struct LeafTri {
     pub v2: Vec3A,
 }
 
-/// Per-ray constants of the watertight test: §3 of the paper (axis permutation and shear).
+/// Per-ray constants of the watertight test: §3 of the paper (axis permutation kx, ky, kz and
+/// shear sx, sy, sz), kept as three row vectors so that the sheared coordinates of a vertex
+/// offset A are dot products: A·mx = A[kx] − sx·A[kz], A·my = A[ky] − sy·A[kz], A·mz =
+/// sz·A[kz]. The other terms are products with 0 (exact zeros), so each dot product rounds
+/// exactly like the paper's expression.
 #[derive(Clone, Copy)]
 pub struct WatertightRay {
     org: Vec3A,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    mx: Vec3A,
+    my: Vec3A,
+    mz: Vec3A,
 }
 
 impl WatertightRay {
@@ -40,14 +41,19 @@ impl WatertightRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
+        let row = |k: usize, s: f32| {
+            let mut m = [0.0f32; 3];
+            m[k] = 1.0;
+            m[kz] = -s;
+            Vec3A::from(m)
+        };
+        let mut mz = [0.0f32; 3];
+        mz[kz] = 1.0 / dir[kz];
         WatertightRay {
             org,
-            kx,
-            ky,
-            kz,
-            sx: dir[kx] / dir[kz],
-            sy: dir[ky] / dir[kz],
-            sz: 1.0 / dir[kz],
+            mx: row(kx, dir[kx] / dir[kz]),
+            my: row(ky, dir[ky] / dir[kz]),
+            mz: Vec3A::from(mz),
         }
     }
 
@@ -59,13 +65,9 @@ impl WatertightRay {
         let a = tri.v0 - self.org;
         let b = tri.v1 - self.org;
         let c = tri.v2 - self.org;
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let ax = a[kx] - self.sx * a[kz];
-        let ay = a[ky] - self.sy * a[kz];
-        let bx = b[kx] - self.sx * b[kz];
-        let by = b[ky] - self.sy * b[kz];
-        let cx = c[kx] - self.sx * c[kz];
-        let cy = c[ky] - self.sy * c[kz];
+        let (ax, ay) = (a.dot(self.mx), a.dot(self.my));
+        let (bx, by) = (b.dot(self.mx), b.dot(self.my));
+        let (cx, cy) = (c.dot(self.mx), c.dot(self.my));
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -81,9 +83,7 @@ impl WatertightRay {
         if det == 0.0 {
             return None;
         }
-        let az = self.sz * a[kz];
-        let bz = self.sz * b[kz];
-        let cz = self.sz * c[kz];
+        let (az, bz, cz) = (a.dot(self.mz), b.dot(self.mz), c.dot(self.mz));
         let t_scaled = u * az + v * bz + w * cz;
         let inv = 1.0 / det;
         let t = t_scaled * inv;
