@@ -10,7 +10,7 @@ pub struct Neon;
 impl BoxTest for Neon {
     #[inline(always)]
     fn test(node: &WideNode, ray: &SlabRay, tmax: f32, tnear: &mut [f32; W]) -> u32 {
-        const { assert!(W % 4 == 0) };
+        const { assert!(W.is_multiple_of(4)) };
         let mut mask = 0;
         for h in 0..W / 4 {
             // SAFETY: NEON is part of the aarch64 baseline (checked again in `Kernel::detect`).

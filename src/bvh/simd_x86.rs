@@ -46,7 +46,7 @@ pub struct Sse;
 impl BoxTest for Sse {
     #[inline(always)]
     fn test(node: &WideNode, ray: &SlabRay, tmax: f32, tnear: &mut [f32; W]) -> u32 {
-        const { assert!(W % 4 == 0) };
+        const { assert!(W.is_multiple_of(4)) };
         let mut mask = 0;
         for h in 0..W / 4 {
             // SAFETY: SSE is part of the x86-64 baseline. The loads read floats 4h..4h+4 of

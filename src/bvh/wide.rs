@@ -73,7 +73,7 @@ fn encode_leaf(first: u32, count: u32) -> u32 {
         first <= FIRST_MASK && (1..=7).contains(&count),
         "BVH leaf ({first}, {count}) does not fit the child encoding"
     );
-    LEAF_BIT | count << COUNT_SHIFT | first
+    LEAF_BIT | (count << COUNT_SHIFT) | first
 }
 
 /// Collapse a BVH2 (root at node 0) into wide nodes (root at 0) and return them with the
