@@ -1,0 +1,160 @@
+//! Ordered traversal of the wide BVH with a small fixed-size stack: the children a node's box
+//! test accepts are visited nearest entry first (closest hit) or in slot order (occlusion,
+//! which stops at the first hit); stacked entries keep their entry distance so those beyond
+//! the closest hit so far are dropped when popped.
+
+use super::slab::{BoxTest, SlabRay, TMAX_SCALE};
+use super::watertight::{LeafTri, WatertightRay};
+use super::wide::{Child, W, WideNode, decode};
+use std::mem::MaybeUninit;
+
+/// Stack entries held in place; deeper stacks (a wide tree deeper than ~9 levels, all of
+/// whose children are hit) spill into a `Vec` that allocates only then.
+const STACK: usize = 64;
+
+/// A stacked child word and its box's entry distance.
+#[derive(Clone, Copy, Default)]
+struct Entry {
+    word: u32,
+    t: f32,
+}
+
+/// Entries `items[..len]` are initialised; left uninitialised otherwise, so that starting a
+/// ray does not clear the whole array.
+struct Stack {
+    items: [MaybeUninit<Entry>; STACK],
+    len: usize,
+    spill: Vec<Entry>,
+}
+
+impl Stack {
+    #[inline(always)]
+    fn new() -> Stack {
+        Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, e: Entry) {
+        if self.len < STACK {
+            self.items[self.len].write(e);
+            self.len += 1;
+        } else {
+            self.spill.push(e);
+        }
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<Entry> {
+        if !self.spill.is_empty() {
+            return self.spill.pop();
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        // SAFETY: `push` wrote every entry below the old `len`, and `len` only shrinks here.
+        Some(unsafe { self.items[self.len].assume_init() })
+    }
+}
+
+/// The geometry one traversal runs over.
+#[derive(Clone, Copy)]
+pub struct Tree<'a> {
+    pub nodes: &'a [WideNode],
+    pub tris: &'a [LeafTri],
+}
+
+/// One query: the ray in both forms and the far end of its segment.
+#[derive(Clone, Copy)]
+pub struct Query {
+    pub slab: SlabRay,
+    pub wt: WatertightRay,
+    pub tmax: f32,
+}
+
+/// A hit on leaf slot `slot` (leaf order).
+#[derive(Clone, Copy, Debug)]
+pub struct SlotHit {
+    pub t: f32,
+    pub slot: u32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// Closest hit in (0, tmax) (`ANY` = false) or any hit (`ANY` = true, returns the first found).
+/// The tree has at least one triangle.
+#[inline(always)]
+pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+    let mut stack = Stack::new();
+    let mut tnear = [0.0f32; W];
+    let (mut tmax, mut best) = (q.tmax, None);
+    let mut cur = 0u32;
+    loop {
+        match decode(cur) {
+            Child::Inner(n) => {
+                let node = &tree.nodes[n as usize];
+                let mask = K::test(node, &q.slab, tmax * TMAX_SCALE, &mut tnear);
+                if let Some(next) = push_hits::<ANY>(node, mask, &tnear, &mut stack) {
+                    cur = next;
+                    continue;
+                }
+            }
+            Child::Leaf(first, count) => {
+                for slot in first..first + count {
+                    if let Some((t, b1, b2)) = q.wt.intersect(&tree.tris[slot as usize], tmax) {
+                        tmax = t;
+                        best = Some(SlotHit { t, slot, b1, b2 });
+                        if ANY {
+                            return best;
+                        }
+                    }
+                }
+            }
+        }
+        cur = loop {
+            match stack.pop() {
+                None => return best,
+                Some(e) if e.t <= tmax * TMAX_SCALE => break e.word,
+                Some(_) => {}
+            }
+        };
+    }
+}
+
+/// Push the children in `mask` and return the one to visit next: the nearest (its siblings
+/// stacked farthest first), or for `ANY` the last in slot order. None when the mask is empty.
+#[inline(always)]
+fn push_hits<const ANY: bool>(
+    node: &WideNode,
+    mut mask: u32,
+    tnear: &[f32; W],
+    stack: &mut Stack,
+) -> Option<u32> {
+    let mut hits = [Entry::default(); W];
+    let mut k = 0;
+    while mask != 0 {
+        let i = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let e = Entry {
+            word: node.child[i],
+            t: tnear[i],
+        };
+        // Insertion into `hits[..k]`, sorted by decreasing entry distance.
+        let mut j = k;
+        while !ANY && j > 0 && hits[j - 1].t < e.t {
+            hits[j] = hits[j - 1];
+            j -= 1;
+        }
+        hits[j] = e;
+        k += 1;
+    }
+    let (last, rest) = hits[..k].split_last()?;
+    for &e in rest {
+        stack.push(e);
+    }
+    Some(last.word)
+}
