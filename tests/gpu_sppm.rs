@@ -119,3 +119,24 @@ fn gpu_sppm_caustic_class_agrees() {
         assert!(mean > 0.0, "GPU sppm rendered no LS+DE caustic");
     }
 }
+
+/// The caustic seen in the mirror (LS+DS+E), which no connection strategy samples: GPU and
+/// CPU photons render it alike, and it is not empty.
+#[test]
+fn gpu_sppm_mirrored_caustic_agrees_with_cpu_sppm() {
+    let name = "caustic-mirror";
+    let Some(ctx) = gpu_context(name) else {
+        return;
+    };
+    let filter = Some("LS+DS+E");
+    let scene = small(name);
+    let gpu = gpu_sppm_runs(ctx, &scene, filter);
+    let cpu = Renderer::new(scene).expect("valid");
+    let sppm = cpu_block_runs(&cpu, Estimator::Sppm, SPP, filter, 200, RUNS);
+    let t = assert_blocks_agree(
+        "caustic-mirror (LS+DS+E): GPU sppm vs CPU sppm",
+        &gpu,
+        &sppm,
+    );
+    assert!(t.mean_a > 0.0, "GPU sppm rendered no mirrored caustic");
+}
