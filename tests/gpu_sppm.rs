@@ -140,3 +140,21 @@ fn gpu_sppm_mirrored_caustic_agrees_with_cpu_sppm() {
     );
     assert!(t.mean_a > 0.0, "GPU sppm rendered no mirrored caustic");
 }
+
+/// Dispersive glass (hero wavelengths shared by an iteration's photons and camera paths, the
+/// hero lane alone after the first dispersive vertex): GPU and CPU sppm agree.
+#[test]
+fn gpu_sppm_with_dispersion_agrees_with_cpu_sppm() {
+    let name = "caustic, dispersive";
+    let Some(ctx) = gpu_context(name) else {
+        return;
+    };
+    let mut scene = small("caustic");
+    for m in scene.materials.iter_mut().filter(|m| m.is_transmissive()) {
+        m.abbe = Some(30.0);
+    }
+    let gpu = gpu_sppm_runs(ctx, &scene, None);
+    let cpu = Renderer::new(scene).expect("valid");
+    let sppm = cpu_block_runs(&cpu, Estimator::Sppm, SPP, None, 200, RUNS);
+    assert_blocks_agree("caustic, dispersive: GPU sppm vs CPU sppm", &gpu, &sppm);
+}

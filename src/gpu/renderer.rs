@@ -489,7 +489,8 @@ impl GpuRenderer {
     /// Queue `k` samples per pixel for the rows `y0 .. y0 + rows` only (does not wait): one
     /// band of a pass the caller completes with [`GpuRenderer::end_pass`] once every row has
     /// its `k` samples (the viewer's bounded frames). Not with light tracing, whose splats need
-    /// whole-image passes ([`GpuRenderer::needs_whole_image`]).
+    /// whole-image passes, nor with sppm, whose iterations are whole-image submissions (the
+    /// band is ignored there; [`GpuRenderer::needs_whole_image`]).
     pub fn dispatch_band(&mut self, k: u32, y0: u32, rows: u32) {
         if k > 0 && rows > 0 && y0 < self.opts.height {
             self.submit(k, y0, rows.min(self.opts.height - y0));

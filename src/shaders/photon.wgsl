@@ -263,9 +263,11 @@ fn photon_contribution(ph: Photon, g: GatherPoint, bsdf: Bsdf, chains: u32) -> v
     // dΦ/dA counts cosθ against the geometric normal, the BSDF integral the shading normal's
     // (Veach 1997, eq. 5.19's correction at the gather vertex).
     var w = abs(dot3(wi, g.ns)) / cos_g;
-    // A collapsed photon's hero lane stands for the whole estimate (×4 once per full path).
-    if (ph.kflags & COLLAPSED_BIT) != 0u && !g.collapsed {
-        w *= 4.0;
+    // After a collapse the hero lane stands for the whole estimate, ×4 once per full path. On
+    // the GPU `spectral_collapse` puts the ×4 into each side's throughput (the CPU's `weight`
+    // applies it once instead), so a path collapsed on both sides has it twice.
+    if (ph.kflags & COLLAPSED_BIT) != 0u && g.collapsed {
+        w *= 0.25;
     }
     return f * ph.beta * w;
 }
