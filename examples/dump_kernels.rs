@@ -48,7 +48,9 @@ fn args() -> Result<Args> {
 
 fn main() -> Result<()> {
     let a = args()?;
-    let spec = if a.all_features {
+    let spec = if a.all_features && a.sppm {
+        Specialization::all_sppm()
+    } else if a.all_features {
         Specialization::all()
     } else {
         let scene = Scene::load(&a.scene)?;

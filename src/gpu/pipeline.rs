@@ -181,7 +181,9 @@ impl Specialization {
         }
     }
 
-    /// Every part compiled in (the worst case for registers).
+    /// Every part compiled in (the worst case for registers), with light tracing as the
+    /// estimator: the estimators are exclusive (the renderer sets at most one of
+    /// `light_tracing` and `sppm`), so [`Specialization::all_sppm`] is the other worst case.
     pub fn all() -> Specialization {
         Specialization {
             lambert: true,
@@ -200,9 +202,18 @@ impl Specialization {
             filter: true,
             spectral: true,
             light_tracing: true,
-            sppm: true,
+            sppm: false,
             nested: true,
             env_image: true,
+        }
+    }
+
+    /// Every part compiled in, with photon mapping as the estimator (`sppm`).
+    pub fn all_sppm() -> Specialization {
+        Specialization {
+            light_tracing: false,
+            sppm: true,
+            ..Specialization::all()
         }
     }
 
