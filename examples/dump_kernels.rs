@@ -1,8 +1,9 @@
 //! Write every compute kernel of a scene's GPU specialisation, one file per entry point:
-//! `DIR/render.wgsl`, `DIR/render.spv` (and `light_trace.*` with `--estimator lt+pt`).
+//! `DIR/render.wgsl`, `DIR/render.spv` (and `light_trace.*` with `--estimator lt+pt`,
+//! `photon_trace.*` with `--estimator sppm`).
 //!
 //! `cargo run --release --example dump_kernels -- --scene builtin:cornell-glass --out DIR
-//! [--estimator path|lt+pt] [--all-features]`
+//! [--estimator path|lt+pt|sppm] [--all-features]`
 
 use anyhow::{Context, Result, bail};
 use refract::gpu::kernels;
@@ -14,6 +15,7 @@ struct Args {
     scene: String,
     out: PathBuf,
     light_tracing: bool,
+    sppm: bool,
     all_features: bool,
 }
 
@@ -22,6 +24,7 @@ fn args() -> Result<Args> {
         scene: "builtin:cornell-glass".into(),
         out: PathBuf::from("kernels"),
         light_tracing: false,
+        sppm: false,
         all_features: false,
     };
     let mut it = std::env::args().skip(1);
@@ -31,9 +34,10 @@ fn args() -> Result<Args> {
             "--scene" => a.scene = value()?,
             "--out" => a.out = PathBuf::from(value()?),
             "--estimator" => match value()?.as_str() {
-                "path" => a.light_tracing = false,
-                "lt+pt" => a.light_tracing = true,
-                e => bail!("--estimator {e}: use path or lt+pt"),
+                "path" => (a.light_tracing, a.sppm) = (false, false),
+                "lt+pt" => (a.light_tracing, a.sppm) = (true, false),
+                "sppm" => (a.light_tracing, a.sppm) = (false, true),
+                e => bail!("--estimator {e}: use path, lt+pt or sppm"),
             },
             "--all-features" => a.all_features = true,
             f => bail!("unknown flag {f} (--scene, --out, --estimator, --all-features)"),
@@ -44,12 +48,15 @@ fn args() -> Result<Args> {
 
 fn main() -> Result<()> {
     let a = args()?;
-    let spec = if a.all_features {
+    let spec = if a.all_features && a.sppm {
+        Specialization::all_sppm()
+    } else if a.all_features {
         Specialization::all()
     } else {
         let scene = Scene::load(&a.scene)?;
         Specialization {
             light_tracing: a.light_tracing,
+            sppm: a.sppm,
             ..Specialization::from_features(scene.features())
         }
     };

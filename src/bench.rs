@@ -354,7 +354,7 @@ pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
         };
         let e = match (resolved, gpu) {
             (Estimator::LtPt, false) if auto => Estimator::Bdpt,
-            (e @ (Estimator::Bdpt | Estimator::Lt | Estimator::Sppm), true) => {
+            (e @ (Estimator::Bdpt | Estimator::Lt), true) => {
                 eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
                 continue;
             }

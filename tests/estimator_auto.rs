@@ -15,8 +15,8 @@ fn load(name: &str) -> Scene {
 }
 
 /// What `auto` picks for each built-in (the README states the same list): sppm for specular
-/// surfaces lit by a small or punctual light (lt+pt on the GPU), lt+pt for dispersive glass
-/// lit so, path tracing otherwise.
+/// surfaces lit by a small or punctual light (on the GPU too), lt+pt for dispersive glass lit
+/// so, path tracing otherwise.
 #[test]
 fn auto_picks_the_documented_estimator_for_each_builtin() {
     let expect = [
@@ -25,8 +25,8 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         ("furnace", Estimator::Path, Estimator::Path),
         ("rough-glass", Estimator::Path, Estimator::Path),
         ("prism", Estimator::LtPt, Estimator::LtPt),
-        ("caustic", Estimator::Sppm, Estimator::LtPt),
-        ("caustic-mirror", Estimator::Sppm, Estimator::LtPt),
+        ("caustic", Estimator::Sppm, Estimator::Sppm),
+        ("caustic-mirror", Estimator::Sppm, Estimator::Sppm),
         ("materials", Estimator::Path, Estimator::Path),
         ("glass-of-water", Estimator::Path, Estimator::Path),
         ("env-spheres", Estimator::Path, Estimator::Path),
@@ -70,7 +70,7 @@ fn bench_runs_resolve_auto_per_scene_and_device() {
     };
     assert_eq!(labels("caustic", false), ["auto = sppm", "path", "bdpt"]);
     assert_eq!(labels("furnace", false), ["path = auto", "bdpt"]);
-    assert_eq!(labels("caustic", true), ["auto = lt+pt", "path"]);
+    assert_eq!(labels("caustic", true), ["auto = sppm", "path"]);
     assert_eq!(labels("furnace", true), ["path = auto"]);
     let lone = runs(&[Estimator::Auto], &load("prism"), false);
     assert_eq!(lone.len(), 1);
@@ -260,8 +260,8 @@ fn with_spp_and_a_budget_the_first_reached_wins() {
     );
 }
 
-/// On the GPU `auto` runs what the viewer's GPU backend runs for the scene (lt+pt for a
-/// caustic, which the CPU photon-maps), and a time budget alone fills the budget there too.
+/// On the GPU `auto` runs what the viewer's GPU backend runs for the scene (sppm for a
+/// caustic, as on the CPU), and a time budget alone fills the budget there too.
 #[test]
 fn gpu_auto_and_time_budget() {
     if common_scenes::gpu_context("gpu_auto_and_time_budget").is_none() {
@@ -287,9 +287,8 @@ fn gpu_auto_and_time_budget() {
     assert!(ok, "{err}");
     assert!(
         err.contains(
-            "estimator auto: lt+pt (caustics, and the GPU has no photon mapping: light + path tracing)"
-        )
-            && err.contains("estimator lt+pt"),
+            "estimator auto: sppm (specular surfaces and a small light: photon-mapped caustics)"
+        ) && err.contains("estimator sppm"),
         "{err}"
     );
     let (spp, secs, pass) = budget_log(&err);

@@ -40,6 +40,7 @@ fn layout_matches_wgsl() {
     check_layout::<layout::Material>(&src).unwrap();
     check_layout::<Light>(&src).unwrap();
     check_layout::<Params>(&src).unwrap();
+    check_layout::<layout::Photon>(&src).unwrap();
     check_layout_with_tail::<Stats>(&src, "debug").unwrap();
     let probe = probe_source();
     check_layout::<ProbeCase>(&probe).unwrap();

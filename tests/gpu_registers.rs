@@ -24,6 +24,7 @@ fn budgets() -> Vec<(&'static str, Specialization, u64)> {
     vec![
         ("cornell-glass", Specialization::from_features(cornell), 128),
         ("all features", Specialization::all(), 240),
+        ("all features, sppm", Specialization::all_sppm(), 240),
     ]
 }
 

@@ -316,25 +316,24 @@ fn kittest_viewer_on_the_gpu_backend() {
     assert!(mean > 30.0, "the viewport looks empty (mean {mean:.1})");
 }
 
-/// The estimator selector on the GPU backend: lt+pt (what "auto" picks on `caustic` on the
-/// GPU) runs
-/// light + path tracing and accumulates, also after the glass is made dispersive (a new
-/// specialisation) and back.
+/// The estimator selector on the GPU backend: "auto" on `caustic` runs photon mapping (sppm)
+/// live and accumulates; made dispersive (a new specialisation) the glass switches auto to
+/// light + path tracing, and back.
 #[test]
-fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
+fn gpu_backend_runs_auto_with_and_without_dispersion() {
     use refract::render::Estimator;
-    let Some(mut b) = backend("gpu_backend_runs_lt_pt_with_and_without_dispersion") else {
+    let Some(mut b) = backend("gpu_backend_runs_auto_with_and_without_dispersion") else {
         return;
     };
     let scene = Scene::load("builtin:caustic").unwrap();
-    assert_eq!(Estimator::Auto.resolve_gpu_why(&scene).0, Estimator::LtPt);
+    assert_eq!(Estimator::Auto.resolve(&scene), Estimator::Sppm);
     b.set_scene(&scene);
     let mut o = small_options(&scene, 48, 32);
-    o.estimator = Estimator::LtPt;
+    o.estimator = Estimator::Auto;
     b.set_options(&o);
     assert!(!b.is_fallback());
-    assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
-    step_until(&mut b, "2 spp of lt+pt", |b| b.spp() >= 2);
+    assert!(b.device_name().ends_with(", sppm"), "{}", b.device_name());
+    step_until(&mut b, "2 spp of sppm", |b| b.spp() >= 2);
     let img = b.read_image().expect("image");
     assert!(img.pixels.iter().all(|p| p.is_finite()));
     assert!(img.pixels.iter().any(|p| p.max_element() > 0.0));
@@ -351,7 +350,7 @@ fn gpu_backend_runs_lt_pt_with_and_without_dispersion() {
     step_until(&mut b, "2 spp with dispersion", |b| b.spp() >= 2);
     m.abbe = None;
     b.update_material(glass, &m);
-    assert!(b.device_name().ends_with(", lt+pt"), "{}", b.device_name());
+    assert!(b.device_name().ends_with(", sppm"), "{}", b.device_name());
     step_until(&mut b, "2 spp after dispersion", |b| b.spp() >= 2);
 }
 

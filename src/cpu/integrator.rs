@@ -162,7 +162,7 @@ impl<'a> Integrator<'a> {
             t_pass = 0.0;
             obs.surface(scene, &hit, &st);
             if self.accepts_light(q)
-                && !chain.is_some_and(|k| k >= 1)
+                && chain.is_none_or(|k| k == 0)
                 && let Some((le, w)) = self.hit_emission(&hit, d, prev_pdf, prev_delta)
             {
                 let c = st.weight() * sp.c(le) * w;

@@ -90,11 +90,15 @@ pub fn wgsl(spec: &Specialization, kernel: Kernel) -> Result<String> {
     Ok(s)
 }
 
-/// The kernels `spec` runs (light tracing only with `light_tracing`).
+/// The kernels `spec` runs (light tracing only with `light_tracing`, photons only with `sppm`).
 pub fn kernels_of(spec: &Specialization) -> Vec<Kernel> {
     Kernel::ALL
         .into_iter()
-        .filter(|k| *k != Kernel::LightTrace || spec.light_tracing)
+        .filter(|k| match k {
+            Kernel::Render => true,
+            Kernel::LightTrace => spec.light_tracing,
+            Kernel::PhotonTrace => spec.sppm,
+        })
         .collect()
 }
 

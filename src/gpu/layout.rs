@@ -149,11 +149,37 @@ gpu_struct! {
         pub offset_scale: f32,
         /// First image row of this submission (a dispatch may cover a band of rows).
         pub tile_y0: u32,
-        pub pad0: u32,
-        pub pad1: u32,
-        pub pad2: u32,
+        /// `sppm`: this iteration's photon radius r (world units).
+        pub photon_radius: f32,
+        /// `sppm`: 1 / (photon paths · π r²).
+        pub photon_norm: f32,
+        /// `sppm`: photon-grid buckets − 1 (a power of two minus one).
+        pub grid_mask: u32,
     }
 }
+
+gpu_struct! {
+    /// One stored caustic photon (src/shaders/photon.wgsl; cpu `sppm::photon::Photon`).
+    pub struct Photon {
+        pub px: f32,
+        pub py: f32,
+        pub pz: f32,
+        /// k (specular vertices) | collapsed << 31.
+        pub kflags: u32,
+        pub beta: [f32; 4],
+        pub wx: f32,
+        pub wy: f32,
+        pub wz: f32,
+        /// Geometric normal, octahedral, `pack2x16snorm`.
+        pub ng: u32,
+    }
+}
+
+/// Words of the photon-grid buffer (photon.wgsl): photons stored this iteration, photons
+/// refused by a full store (cumulative), then the bucket heads, then the `next` links.
+pub const PHOTON_COUNT: u32 = 0;
+pub const PHOTON_OVERFLOW: u32 = 1;
+pub const PHOTON_HEADS: u32 = 2;
 
 gpu_struct! {
     /// Header of the stats buffer (64-bit counters as lo/hi u32 atomics); the debug records

@@ -10,6 +10,7 @@
 //! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
 //! - [`light_probe`]: the light twin probe (light.wgsl against `scene::light::Light`).
 //! - [`kernels`]: each entry point of a specialisation as WGSL and SPIR-V (dumps, register budgets).
+//! - [`photons`]: the `sppm` photon store (radius schedule, photons, hash grid).
 //! - [`prelude`]: the WGSL constants generated from their Rust definitions.
 //! - [`renderer`]: [`GpuRenderer`], progressive accumulation, parameter edits, readback.
 //! - [`submissions`]: batch and row-band sizes bounded in time per submission.
@@ -19,6 +20,7 @@ pub mod context;
 pub mod kernels;
 pub mod layout;
 pub mod light_probe;
+pub mod photons;
 pub mod pipeline;
 pub mod prelude;
 pub mod renderer;

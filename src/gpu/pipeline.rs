@@ -34,6 +34,7 @@ const PATH_FILTER: &str = include_str!("../shaders/path_filter.wgsl");
 const INTERACTION: &str = include_str!("../shaders/interaction.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
 const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
+const PHOTON: &str = include_str!("../shaders/photon.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
 const LIGHT_PROBE: &str = include_str!("../shaders/light_probe.wgsl");
 
@@ -77,6 +78,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("interaction.wgsl", INTERACTION),
     ("integrator.wgsl", INTEGRATOR),
     ("light_tracing.wgsl", LIGHT_TRACING),
+    ("photon.wgsl", PHOTON),
     ("probe.wgsl", PROBE),
     ("light_probe.wgsl", LIGHT_PROBE),
 ];
@@ -92,7 +94,7 @@ fn assemble(parts: &[&str]) -> String {
 }
 
 /// The integrator kernel's full WGSL source: prelude, maths, scene, lights, the per-vertex
-/// step, then the two walks.
+/// step, then the walks (camera, light, photon).
 pub fn integrator_source() -> String {
     let kernel = [
         SCENE,
@@ -103,6 +105,7 @@ pub fn integrator_source() -> String {
         INTERACTION,
         INTEGRATOR,
         LIGHT_TRACING,
+        PHOTON,
     ];
     assemble(&[MATHS, &kernel].concat())
 }
@@ -146,6 +149,8 @@ pub struct Specialization {
     pub spectral: bool,
     /// Light tracing combined with path tracing by MIS (`lt+pt`; the estimator, not the scene).
     pub light_tracing: bool,
+    /// Path tracing with photon-mapped caustics (`sppm`; the estimator, not the scene).
+    pub sppm: bool,
     /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
     pub nested: bool,
 }
@@ -171,11 +176,14 @@ impl Specialization {
             filter: false,
             spectral: f.contains(Features::DISPERSION),
             light_tracing: false,
+            sppm: false,
             nested: f.contains(Features::NESTED),
         }
     }
 
-    /// Every part compiled in (the worst case for registers).
+    /// Every part compiled in (the worst case for registers), with light tracing as the
+    /// estimator: the estimators are exclusive (the renderer sets at most one of
+    /// `light_tracing` and `sppm`), so [`Specialization::all_sppm`] is the other worst case.
     pub fn all() -> Specialization {
         Specialization {
             lambert: true,
@@ -194,8 +202,18 @@ impl Specialization {
             filter: true,
             spectral: true,
             light_tracing: true,
+            sppm: false,
             nested: true,
             env_image: true,
+        }
+    }
+
+    /// Every part compiled in, with photon mapping as the estimator (`sppm`).
+    pub fn all_sppm() -> Specialization {
+        Specialization {
+            light_tracing: false,
+            sppm: true,
+            ..Specialization::all()
         }
     }
 
@@ -221,6 +239,7 @@ impl Specialization {
             ("HAS_FILTER", b(self.filter)),
             ("HAS_SPECTRAL", b(self.spectral)),
             ("HAS_LT", b(self.light_tracing)),
+            ("HAS_SPPM", b(self.sppm)),
             ("HAS_NESTED", b(self.nested)),
         ]
     }
@@ -233,23 +252,26 @@ pub enum Kernel {
     Render,
     /// Light subpaths connected to the camera (`light_trace`, only with `light_tracing`).
     LightTrace,
+    /// Caustic photons stored in the hash grid (`photon_trace`, only with `sppm`).
+    PhotonTrace,
 }
 
 impl Kernel {
     /// Every kernel of the integrator module.
-    pub const ALL: [Kernel; 2] = [Kernel::Render, Kernel::LightTrace];
+    pub const ALL: [Kernel; 3] = [Kernel::Render, Kernel::LightTrace, Kernel::PhotonTrace];
 
     /// The WGSL entry point's name.
     pub fn entry(self) -> &'static str {
         match self {
             Kernel::Render => "render",
             Kernel::LightTrace => "light_trace",
+            Kernel::PhotonTrace => "photon_trace",
         }
     }
 }
 
-/// Storage buffers the integrator binds (bindings 1–8 and 10).
-pub const STORAGE_BUFFERS: u32 = 9;
+/// Storage buffers the integrator binds (bindings 1–8 and 10–12).
+pub const STORAGE_BUFFERS: u32 = 11;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
@@ -323,6 +345,9 @@ impl Pipelines {
         entries.push(uniform_entry(9));
         // Light-tracing splats (fixed-point atomics).
         entries.push(storage_entry(10, false));
+        // The photon grid (atomics) and the photons (`sppm`, photon.wgsl).
+        entries.push(storage_entry(11, false));
+        entries.push(storage_entry(12, false));
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

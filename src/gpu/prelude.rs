@@ -67,6 +67,9 @@ wgsl_constants![
     FALSE_HIT_LIMIT,
     DEBUG_MAX_VERTICES,
     DEBUG_STRIDE,
+    PHOTON_COUNT,
+    PHOTON_OVERFLOW,
+    PHOTON_HEADS,
 ];
 
 /// The prelude's WGSL text: one `const NAME: u32 = value;` line per [`WGSL_CONSTANTS`] entry.

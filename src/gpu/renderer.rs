@@ -5,6 +5,7 @@
 
 use super::GpuContext;
 use super::layout::{self, GpuLayout, Params};
+use super::photons::{self, PhotonStore};
 use super::pipeline::{Kernel, Pipelines, Specialization};
 use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
@@ -69,6 +70,8 @@ struct Buffers {
     filter: wgpu::Buffer,
     /// Light-tracing splats: per pixel and channel a 64-bit fixed-point sum (two u32).
     splats: wgpu::Buffer,
+    /// `sppm`: the photons and their hash grid (placeholders otherwise).
+    photon_store: PhotonStore,
     /// Where the environment image's block starts in `texels` (`upload::pack_environment`).
     env_offset: u32,
 }
@@ -94,6 +97,8 @@ pub struct GpuRenderer {
     tex_slots: Vec<(u32, u32)>,
     /// The scene's features (the specialisation without filter and estimator).
     features: Features,
+    /// `sppm`: the first iteration's photon radius r₁ (`photons::radius0`).
+    photon_r0: f32,
 }
 
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
@@ -103,6 +108,22 @@ const SPLAT_BYTES_PER_PIXEL: u64 = 24;
 /// resolving to it).
 fn light_tracing_for(opts: &RenderOptions, scene: &Scene) -> bool {
     matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::LtPt)
+}
+
+/// Whether `opts` make the kernels photon-map caustics in `scene` (`sppm`, or `auto`
+/// resolving to it).
+fn sppm_for(opts: &RenderOptions, scene: &Scene) -> bool {
+    matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::Sppm)
+}
+
+/// Photon paths per iteration: one per pixel with `sppm` (`cpu::sppm::PHOTONS_PER_PIXEL`),
+/// else a placeholder store of one.
+fn photon_paths(sppm: bool, opts: &RenderOptions) -> u32 {
+    if sppm {
+        opts.width.saturating_mul(opts.height)
+    } else {
+        1
+    }
 }
 
 /// The splat film's size: the whole image with light tracing; without it the binding still
@@ -140,12 +161,12 @@ fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
         })
 }
 
-/// The estimator the GPU kernels run for `estimator` on `scene`: path tracing or lt+pt.
+/// The estimator the GPU kernels run for `estimator` on `scene`: path tracing, lt+pt or sppm.
 pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
     match estimator.resolve_gpu_why(scene).0 {
-        e @ (Estimator::Path | Estimator::LtPt) => Ok(e),
+        e @ (Estimator::Path | Estimator::LtPt | Estimator::Sppm) => Ok(e),
         e => anyhow::bail!(
-            "the GPU renderer implements path and lt+pt (estimator '{e}' needs --device cpu)"
+            "the GPU renderer implements path, lt+pt and sppm (estimator '{e}' needs --device cpu)"
         ),
     }
 }
@@ -179,7 +200,7 @@ impl GpuRenderer {
         let bind_group = ctx.scoped("cannot bind the GPU buffers", || {
             Self::bind(&ctx, &pipelines, &buffers)
         })?;
-        let r = GpuRenderer {
+        let mut r = GpuRenderer {
             ctx,
             scene,
             opts,
@@ -196,7 +217,9 @@ impl GpuRenderer {
             debug_pixel: u32::MAX,
             tex_slots,
             features,
+            photon_r0: 0.0,
         };
+        r.photon_r0 = r.sppm_radius0();
         r.write_filter_table();
         Ok(r)
     }
@@ -307,6 +330,7 @@ impl GpuRenderer {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
             splats: splat_film(ctx, splat_bytes),
+            photon_store: PhotonStore::new(ctx, photon_paths(sppm_for(opts, scene), opts))?,
             env_offset,
         };
         Ok((buffers, light_count, tex_slots))
@@ -333,10 +357,16 @@ impl GpuRenderer {
                 resource: buf.as_entire_binding(),
             })
             .collect();
-        entries.push(wgpu::BindGroupEntry {
-            binding: 10,
-            resource: b.splats.as_entire_binding(),
-        });
+        for (binding, buf) in [
+            (10, &b.splats),
+            (11, &b.photon_store.grid),
+            (12, &b.photon_store.photons),
+        ] {
+            entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: buf.as_entire_binding(),
+            });
+        }
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("integrator"),
             layout: &p.bind_group_layout,
@@ -385,29 +415,35 @@ impl GpuRenderer {
         enc.clear_buffer(&self.buffers.accum, 0, None);
         enc.clear_buffer(&self.buffers.stats, 0, None);
         enc.clear_buffer(&self.buffers.splats, 0, None);
+        enc.clear_buffer(&self.buffers.photon_store.grid, 0, None);
         self.ctx.queue.submit([enc.finish()]);
         self.spp = 0;
         self.elapsed = Duration::ZERO;
+        self.photon_r0 = self.sppm_radius0();
     }
 
-    fn params(&self, batch: u32) -> Params {
+    /// The uniforms of a dispatch adding `batch` samples per pixel to the `first` accumulated.
+    fn params(&self, first: u64, batch: u32) -> Params {
         let cam = &self.scene.camera;
         let (w, h) = (self.opts.width, self.opts.height);
-        let n = self.spp as f64;
+        let n = first as f64;
         let k = batch as f64;
-        let r = cam.rotation;
+        let rot = cam.rotation;
+        // sppm: one iteration per dispatch, iteration s = sample index s.
+        let paths = f64::from(photon_paths(true, &self.opts));
+        let r = photons::radius(self.photon_r0, first as u32);
         Params {
             cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
-            cam_right: r.x_axis.extend(w as f32 / h as f32).to_array(),
-            cam_up: r.y_axis.extend(0.0).to_array(),
-            cam_back: r.z_axis.extend(0.0).to_array(),
+            cam_right: rot.x_axis.extend(w as f32 / h as f32).to_array(),
+            cam_up: rot.y_axis.extend(0.0).to_array(),
+            cam_back: rot.z_axis.extend(0.0).to_array(),
             environment: self.scene.environment.extend(0.0).to_array(),
             width: w,
             height: h,
             seed: self.opts.seed,
             max_depth: self.opts.max_depth.max(1),
             rr_depth: self.opts.rr_depth,
-            sample_offset: self.spp as u32,
+            sample_offset: first as u32,
             batch,
             light_count: self.light_count,
             w_old: (n / (n + k)) as f32,
@@ -415,10 +451,16 @@ impl GpuRenderer {
             debug_pixel: self.debug_pixel,
             offset_scale: self.bvh.offset_scale,
             tile_y0: 0,
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
+            photon_radius: r,
+            photon_norm: (1.0 / (paths * std::f64::consts::PI * f64::from(r) * f64::from(r)))
+                as f32,
+            grid_mask: self.buffers.photon_store.buckets - 1,
         }
+    }
+
+    /// r₁ of `sppm` for the current camera, scene and image size.
+    fn sppm_radius0(&self) -> f32 {
+        photons::radius0(&self.scene.camera, self.scene.bounds(), self.opts.height)
     }
 
     /// Samples per pixel per dispatch: [`RenderOptions::pass_spp`] until a submission has
@@ -447,7 +489,8 @@ impl GpuRenderer {
     /// Queue `k` samples per pixel for the rows `y0 .. y0 + rows` only (does not wait): one
     /// band of a pass the caller completes with [`GpuRenderer::end_pass`] once every row has
     /// its `k` samples (the viewer's bounded frames). Not with light tracing, whose splats need
-    /// whole-image passes ([`GpuRenderer::needs_whole_image`]).
+    /// whole-image passes, nor with sppm, whose iterations are whole-image submissions (the
+    /// band is ignored there; [`GpuRenderer::needs_whole_image`]).
     pub fn dispatch_band(&mut self, k: u32, y0: u32, rows: u32) {
         if k > 0 && rows > 0 && y0 < self.opts.height {
             self.submit(k, y0, rows.min(self.opts.height - y0));
@@ -459,15 +502,28 @@ impl GpuRenderer {
         self.spp += k as u64;
     }
 
-    /// True when every submission must cover the whole image (light tracing).
+    /// True when every submission must cover the whole image (light tracing, sppm).
     pub fn needs_whole_image(&self) -> bool {
-        self.spec.light_tracing
+        self.spec.light_tracing || self.spec.sppm
     }
 
     /// Queue `k` samples per pixel for image rows `y0 .. y0 + rows` (all rows with light
-    /// tracing, whose splats land anywhere); `self.spp` is not advanced.
+    /// tracing, whose splats land anywhere, and with sppm, one submission per iteration);
+    /// `self.spp` is not advanced.
     fn submit(&mut self, k: u32, y0: u32, rows: u32) {
-        let mut params = self.params(k);
+        if self.spec.sppm {
+            // Iteration s = sample index s: its own photons, then its camera paths.
+            for i in 0..u64::from(k) {
+                self.submit_pass(self.spp + i, 1, 0, self.opts.height);
+            }
+        } else {
+            self.submit_pass(self.spp, k, y0, rows);
+        }
+    }
+
+    /// One submission: `k` samples per pixel from sample index `first` for rows `y0 ..`.
+    fn submit_pass(&mut self, first: u64, k: u32, y0: u32, rows: u32) {
+        let mut params = self.params(first, k);
         params.tile_y0 = y0;
         self.ctx
             .queue
@@ -477,31 +533,34 @@ impl GpuRenderer {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
         let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
+        // Light subpaths first: `render` folds their splats into the film; photons first:
+        // `render` gathers them (wgpu orders the passes' storage accesses).
         if self.spec.light_tracing {
-            // Light subpaths first: `render` folds their splats into the film (wgpu orders the
-            // two passes' storage accesses).
-            let pipeline = self
-                .pipelines
-                .get_kernel(&self.ctx, self.spec, Kernel::LightTrace);
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("light trace"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, 1);
+            self.encode_kernel(&mut enc, Kernel::LightTrace, groups);
         }
-        {
-            let pipeline = self.pipelines.get(&self.ctx, self.spec);
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("path trace"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        if self.spec.sppm {
+            self.buffers.photon_store.encode_clear(&mut enc);
+            self.encode_kernel(&mut enc, Kernel::PhotonTrace, groups);
         }
+        self.encode_kernel(&mut enc, Kernel::Render, groups);
         self.ctx.queue.submit([enc.finish()]);
+    }
+
+    /// Record one compute pass of `kernel` over `groups` workgroups.
+    fn encode_kernel(
+        &mut self,
+        enc: &mut wgpu::CommandEncoder,
+        kernel: Kernel,
+        groups: (u32, u32),
+    ) {
+        let pipeline = self.pipelines.get_kernel(&self.ctx, self.spec, kernel);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(kernel.entry()),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 
     /// Add `spp` samples per pixel (in batches) and return the accumulated image.
@@ -523,7 +582,7 @@ impl GpuRenderer {
             let (w, h) = (self.opts.width, self.opts.height);
             let (k, rows) = self
                 .submissions
-                .plan(w, h, spp - done, self.spec.light_tracing);
+                .plan(w, h, spp - done, self.needs_whole_image());
             for y0 in (0..h).step_by(rows as usize) {
                 let band = rows.min(h - y0);
                 let t = Instant::now();
@@ -563,6 +622,12 @@ impl GpuRenderer {
             spp: self.spp,
             dropped: stats.dropped_lo as u64 | (stats.dropped_hi as u64) << 32,
         })
+    }
+
+    /// `sppm`: (photons the last iteration stored, photons refused by a full store since the
+    /// last reset; 0 unless the store is undersized).
+    pub fn photon_counts(&self) -> Result<(u32, u32)> {
+        self.buffers.photon_store.counts(&self.ctx)
     }
 
     /// Counters since the last reset.
@@ -679,6 +744,7 @@ impl GpuRenderer {
         self.features = self.scene.features();
         self.respecialize();
         self.fit_splat_film()?;
+        self.fit_photon_store()?;
         self.reset();
         Ok(())
     }
@@ -692,6 +758,7 @@ impl GpuRenderer {
         let mut spec = Specialization::from_features(features);
         spec.filter = opts.filter.is_some();
         spec.light_tracing = light_tracing_for(opts, scene);
+        spec.sppm = sppm_for(opts, scene);
         spec
     }
 
@@ -719,11 +786,24 @@ impl GpuRenderer {
         Ok(())
     }
 
+    /// Give the photon store the size the current specialisation needs (one slot per pixel
+    /// with sppm, a placeholder otherwise) and rebind when it changes.
+    fn fit_photon_store(&mut self) -> Result<()> {
+        let paths = photon_paths(self.spec.sppm, &self.opts).max(1);
+        if paths == self.buffers.photon_store.paths {
+            return Ok(());
+        }
+        self.buffers.photon_store = self.ctx.scoped("cannot create the photon store", || {
+            PhotonStore::new(&self.ctx, paths)
+        })??;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        Ok(())
+    }
+
     /// Compile the pipelines `spec` dispatches (cached).
     fn compile(ctx: &GpuContext, pipelines: &mut Pipelines, spec: Specialization) {
-        pipelines.get(ctx, spec);
-        if spec.light_tracing {
-            pipelines.get_kernel(ctx, spec, Kernel::LightTrace);
+        for kernel in super::kernels::kernels_of(&spec) {
+            pipelines.get_kernel(ctx, spec, kernel);
         }
     }
 
@@ -735,13 +815,14 @@ impl GpuRenderer {
         }
     }
 
-    /// Choose the estimator: path or lt+pt (`auto` resolves to one of them for the scene);
+    /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);
     /// compiles its pipelines on first use; accumulation restarts.
     pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
         gpu_estimator(estimator, &self.scene)?;
         self.opts.estimator = estimator;
         self.respecialize();
         self.fit_splat_film()?;
+        self.fit_photon_store()?;
         self.reset();
         Ok(())
     }
@@ -755,6 +836,8 @@ impl GpuRenderer {
     pub fn effective_estimator(&self) -> Estimator {
         if self.spec.light_tracing {
             Estimator::LtPt
+        } else if self.spec.sppm {
+            Estimator::Sppm
         } else {
             Estimator::Path
         }

@@ -19,7 +19,7 @@ use crate::scene::{Features, Scene};
 #[serde(rename_all = "lowercase")]
 pub enum Estimator {
     /// Picked from the scene (`Estimator::resolve`): sppm for specular surfaces lit by a
-    /// small or delta light (caustics; lt+pt on the GPU), lt+pt for dispersive or rough glass
+    /// small or delta light (caustics), lt+pt for dispersive or rough glass
     /// lit so, else path tracing.
     Auto,
     /// Unidirectional path tracing with NEE + MIS.
@@ -139,17 +139,10 @@ impl Estimator {
         }
     }
 
-    /// [`Estimator::resolve_why`] for the GPU, which has no photon mapping: there `auto`'s
-    /// sppm runs as lt+pt, its caustic estimator (an explicit sppm stays sppm, which the GPU
-    /// refuses).
+    /// [`Estimator::resolve_why`] for the GPU: the same choice (the GPU photon-maps caustics
+    /// too, src/shaders/photon.wgsl).
     pub fn resolve_gpu_why(self, scene: &Scene) -> (Estimator, &'static str) {
-        match self.resolve_why(scene) {
-            (Estimator::Sppm, _) if self == Estimator::Auto => (
-                Estimator::LtPt,
-                "caustics, and the GPU has no photon mapping: light + path tracing",
-            ),
-            other => other,
-        }
+        self.resolve_why(scene)
     }
 
     /// A clap value parser: the [`std::str::FromStr`] spellings and error message (aliases
@@ -199,7 +192,7 @@ mod tests {
         let caustic = Scene::load("builtin:caustic").unwrap();
         let furnace = Scene::load("builtin:furnace").unwrap();
         assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::Sppm);
-        assert_eq!(Estimator::Auto.resolve_gpu_why(&caustic).0, Estimator::LtPt);
+        assert_eq!(Estimator::Auto.resolve_gpu_why(&caustic).0, Estimator::Sppm);
         assert_eq!(Estimator::Sppm.resolve_gpu_why(&caustic).0, Estimator::Sppm);
         assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
         let text = serde_json::to_string(&Estimator::LtPt).unwrap();

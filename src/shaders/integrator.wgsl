@@ -39,9 +39,10 @@ struct Params {
     offset_scale: f32,
     // first image row of this submission (a dispatch may cover a band of rows)
     tile_y0: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // sppm (photon.wgsl): this iteration's radius r, 1 / (photon paths · π r²), buckets − 1
+    photon_radius: f32,
+    photon_norm: f32,
+    grid_mask: u32,
 }
 
 struct Stats {
@@ -274,13 +275,21 @@ struct PathState {
     lt: LtMis,
     // Path-filter state.
     q: u32,
+    // sppm: 0 = no gather vertex (or a non-specular vertex since the last), else 1 + the
+    // specular vertices since the last gather vertex (`chain` in `Integrator::li_walk`).
+    chain: u32,
 }
 
 // A camera path leaving the camera along (origin, dir): hero wavelengths first (one
 // dimension, spectral kernels), the path filter in state E (reversed DFA reads eye→light).
 fn path_state_new(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampler>) -> PathState {
     var ps: PathState;
-    ps.sp = spectral_new(sampler);
+    if HAS_SPPM {
+        ps.sp = photon_spectral();
+    } else {
+        ps.sp = spectral_new(sampler);
+    }
+    ps.chain = 0u;
     ps.collapsed = false;
     ps.l = vec4<f32>(0.0);
     ps.beta = vec4<f32>(1.0);
@@ -345,6 +354,9 @@ fn integrator_add_escaped(ps: ptr<function, PathState>) {
 fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Material) {
     if !HAS_LIGHTS || (mat.flags & MAT_EMISSIVE) == 0u || !integrator_accepts_light(ps.q) {
         return;
+    }
+    if sppm_leaves_out(ps.chain) {
+        return; // the photons' path L S+ D … (photon.wgsl)
     }
     let d = ps.d;
     let area = light_set_area(hit.slot);
@@ -492,6 +504,13 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         let ul = sampler_next_1d(sampler);
         let ul2 = sampler_next_2d(sampler);
 
+        // Photon-mapped caustics at a diffuse vertex (HAS_SPPM, photon.wgsl).
+        let gathered = sppm_is_gather_vertex(bsdf, ps.depth);
+        if gathered {
+            let g = GatherPoint(hit.p, on.ng, on.ns, frame, wo, ps.depth, ps.q, ps.collapsed);
+            ps.l += ps.beta * photon_gather(g, bsdf);
+        }
+
         // Next-event estimation.
         if (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
             let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
@@ -507,6 +526,9 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         }
         if step == STEP_BREAK {
             break;
+        }
+        if HAS_SPPM {
+            ps.chain = sppm_chain_next(ps.chain, gathered, bsdf_is_delta(bsdf));
         }
         let q_rr = russian_roulette(ps.beta, ps.eta_scale, ps.depth, sampler);
         if q_rr <= 0.0 {

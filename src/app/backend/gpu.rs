@@ -335,12 +335,14 @@ impl GpuBackend {
         Ok(true)
     }
 
-    /// The GPU estimator for the viewer's choice: path tracing stays path tracing; the
-    /// bidirectional choices (lt+pt, what "auto" picks for caustic scenes, and bdpt / lt,
-    /// which exist only on the CPU) run light + path tracing with MIS.
+    /// The GPU estimator for the viewer's choice: path tracing, photon mapping (sppm) and
+    /// auto (resolved by the renderer for the scene, as on the CPU) run as chosen; the
+    /// bidirectional choices (lt+pt, and bdpt / lt, which exist only on the CPU) run light +
+    /// path tracing with MIS.
     fn wanted_estimator(&self) -> Estimator {
         match self.options.map(|o| o.estimator) {
             None | Some(Estimator::Path) => Estimator::Path,
+            Some(e @ (Estimator::Sppm | Estimator::Auto)) => e,
             Some(_) => Estimator::LtPt,
         }
     }
@@ -825,7 +827,7 @@ impl Backend for GpuBackend {
         };
         let running = r.effective_estimator();
         match self.options.map(|o| o.estimator) {
-            Some(e @ (Estimator::Bdpt | Estimator::Lt | Estimator::Sppm)) => {
+            Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
                 format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")
             }
             _ => format!("GPU {gpu}, {running}"),
