@@ -121,11 +121,7 @@ impl Renderer {
                         let mut sampler = Sampler::new(pixel, s, seed);
                         let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
                         let v = integ.li(cam.position, dir, &mut sampler);
-                        let ok = if integ.spectral {
-                            Film::add_signed_to(px, v)
-                        } else {
-                            Film::add_to(px, v)
-                        };
+                        let ok = Film::add_sample_to(px, v, integ.spectral);
                         if !ok {
                             dropped += 1;
                         }
@@ -245,11 +241,7 @@ impl Renderer {
                             },
                             &mut scratch,
                         );
-                        let ok = if integ.spectral {
-                            Film::add_signed_to(px, v)
-                        } else {
-                            Film::add_to(px, v)
-                        };
+                        let ok = Film::add_sample_to(px, v, integ.spectral);
                         if !ok || bad_splat {
                             dropped += 1;
                         }

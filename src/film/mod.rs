@@ -73,6 +73,16 @@ impl Film {
         accumulate(px, v, v.is_finite())
     }
 
+    /// [`Film::add_signed_to`] for a spectral render (`signed`), else [`Film::add_to`].
+    #[inline]
+    pub fn add_sample_to(px: &mut [f64; 3], v: Vec3, signed: bool) -> bool {
+        if signed {
+            Film::add_signed_to(px, v)
+        } else {
+            Film::add_to(px, v)
+        }
+    }
+
     /// Add a light-tracing splat to pixel (x, y) (false when it lies outside the film or the
     /// firewall of [`Film::add_to`] drops it).
     pub fn add_splat(&mut self, x: u32, y: u32, v: Vec3) -> bool {

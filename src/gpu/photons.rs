@@ -1,44 +1,14 @@
 //! The GPU photon store of `sppm` (src/shaders/photon.wgsl): the radius schedule, the two
 //! buffers (photons, and the hash grid's counters, bucket heads and links) and the per-iteration
 //! clear. Twin of `cpu::sppm` (`SppmParams`, `HashGrid`): same radius schedule, same number of
-//! photon paths per iteration (one per pixel), same hash and 2r cells; the CPU and GPU
-//! renderers never import each other, so the schedule is restated here (tests/gpu_sppm.rs
-//! checks the two agree).
+//! photon paths per iteration (one per pixel), same hash and 2r cells; the radius schedule
+//! is `render::photon_radius`, shared by both renderers.
 
 use super::GpuContext;
 use super::layout::{PHOTON_HEADS, Photon};
-use crate::scene::Camera;
 use anyhow::{Result, ensure};
-use glam::Vec3;
 
-/// The radius exponent α of Knaus & Zwicker 2011 (`cpu::sppm::ALPHA`).
-pub const ALPHA: f32 = 2.0 / 3.0;
-/// r₁ in pixel footprints at the scene's centre (`cpu::sppm::RADIUS_PIXELS`).
-pub const RADIUS_PIXELS: f32 = 1.5;
-
-/// r₁ for an image `height` pixels tall of a scene with `bounds` seen by `cam` (twin of
-/// `SppmParams::new`): 1.5 pixel footprints at the distance of the scene's centre.
-pub fn radius0(cam: &Camera, bounds: (Vec3, Vec3), height: u32) -> f32 {
-    let centre = 0.5 * (bounds.0 + bounds.1);
-    let mut dist = (centre - cam.position).length();
-    let diag = (bounds.1 - bounds.0).length();
-    if !(dist.is_finite() && dist > 0.0) {
-        dist = diag.max(1.0);
-    }
-    let footprint = dist * 2.0 * (0.5 * cam.yfov).tan() / height.max(1) as f32;
-    let r = RADIUS_PIXELS * footprint;
-    if r.is_finite() && r > 0.0 {
-        r
-    } else {
-        1e-3 * diag.max(1e-6)
-    }
-}
-
-/// The radius of iteration `s` (0-based): r₁ · (s + 1)^((α − 1)/2) (Knaus & Zwicker 2011,
-/// eq. 15 in closed form; `SppmParams::radius`).
-pub fn radius(r0: f32, s: u32) -> f32 {
-    r0 * ((s as f64 + 1.0).powf(0.5 * (ALPHA as f64 - 1.0))) as f32
-}
+pub use crate::render::photon_radius::{ALPHA, RADIUS_PIXELS, radius, radius0};
 
 /// Buckets of the hash grid for `paths` photon paths (`HashGrid::build` with every path
 /// stored: a power of two ≥ 2 × paths, at least 16).

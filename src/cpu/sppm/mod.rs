@@ -34,16 +34,14 @@ use super::render::camera_ray;
 use super::spectral::Spectral;
 use crate::film::Film;
 use crate::math::rng::Sampler;
+use crate::render::photon_radius;
 use crate::scene::Camera;
 use grid::HashGrid;
 use lookup::PhotonLookup;
 use photon::{Photon, PhotonLimits, trace_photon};
 use rayon::prelude::*;
 
-/// The radius exponent of Knaus & Zwicker 2011 (and Hachisuka & Jensen 2009's α).
-pub const ALPHA: f32 = 2.0 / 3.0;
-/// The first iteration's radius in pixel footprints at the scene's centre.
-pub const RADIUS_PIXELS: f32 = 1.5;
+pub use crate::render::photon_radius::{ALPHA, RADIUS_PIXELS};
 /// Photon paths per iteration per pixel.
 pub const PHOTONS_PER_PIXEL: u32 = 1;
 /// Photon paths per parallel chunk (fixed, for images independent of the thread count).
@@ -56,34 +54,21 @@ const PHOTON_DIMS: u32 = 1 << 17;
 pub struct SppmParams {
     /// r₁, world units.
     pub radius0: f32,
-    pub alpha: f32,
     pub photons_per_iteration: u32,
 }
 
 impl SppmParams {
     /// The defaults for an image of `width × height` of `scene` seen by `cam`.
     pub fn new(cam: &Camera, bounds: (glam::Vec3, glam::Vec3), width: u32, height: u32) -> Self {
-        let centre = 0.5 * (bounds.0 + bounds.1);
-        let mut dist = (centre - cam.position).length();
-        let diag = (bounds.1 - bounds.0).length();
-        if !(dist.is_finite() && dist > 0.0) {
-            dist = diag.max(1.0);
-        }
-        let footprint = dist * 2.0 * (0.5 * cam.yfov).tan() / height.max(1) as f32;
-        let mut radius0 = RADIUS_PIXELS * footprint;
-        if !(radius0.is_finite() && radius0 > 0.0) {
-            radius0 = 1e-3 * diag.max(1e-6);
-        }
         SppmParams {
-            radius0,
-            alpha: ALPHA,
+            radius0: photon_radius::radius0(cam, bounds, height),
             photons_per_iteration: (width * height).saturating_mul(PHOTONS_PER_PIXEL).max(1),
         }
     }
 
     /// The radius of iteration `s` (0-based): r₁ · (s + 1)^((α − 1)/2).
     pub fn radius(&self, s: u32) -> f32 {
-        self.radius0 * ((s as f64 + 1.0).powf(0.5 * (self.alpha as f64 - 1.0))) as f32
+        photon_radius::radius(self.radius0, s)
     }
 }
 
@@ -177,11 +162,7 @@ pub fn render_iteration(
                 let mut sampler = Sampler::new(pixel, s, seed);
                 let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
                 let v = pt.li_walk(cam.position, dir, &mut sampler, sp, &mut (), &lookup);
-                let ok = if pt.spectral {
-                    Film::add_signed_to(px, v)
-                } else {
-                    Film::add_to(px, v)
-                };
+                let ok = Film::add_sample_to(px, v, pt.spectral);
                 dropped += u64::from(!ok);
             }
             Some(dropped)
