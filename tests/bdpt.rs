@@ -196,11 +196,7 @@ fn bdpt_filter_classes_partition_the_image() {
     };
     let all = run("");
     let parts = [run("LE"), run("L(D|G|S)*DE"), run("L(D|G|S)*(G|S)E")];
-    let mut worst = 0.0f32;
-    for (i, a) in all.iter().enumerate() {
-        let sum: Vec3 = parts.iter().map(|p| p[i]).sum();
-        worst = worst.max((sum - *a).abs().max_element() / a.max_element().max(1e-3));
-    }
+    let worst = worst_part_sum_error(&parts, &all);
     assert!(
         worst < 1e-4,
         "classes do not add up: worst relative error {worst}"

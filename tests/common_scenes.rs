@@ -280,3 +280,15 @@ pub fn assert_blocks_agree(name: &str, a: &[Vec<f64>], b: &[Vec<f64>]) -> BlockZ
     );
     t
 }
+
+/// The worst per-pixel relative mismatch between the sum of `parts` and `whole`
+/// (|Σ parts − whole| / max(whole, 1e-3), largest channel): disjoint Heckbert classes rendered
+/// with one seed must add up to the unfiltered image up to float rounding.
+pub fn worst_part_sum_error(parts: &[Vec<Vec3>], whole: &[Vec3]) -> f32 {
+    let mut worst = 0.0f32;
+    for (i, a) in whole.iter().enumerate() {
+        let sum: Vec3 = parts.iter().map(|p| p[i]).sum();
+        worst = worst.max((sum - *a).abs().max_element() / a.max_element().max(1e-3));
+    }
+    worst
+}

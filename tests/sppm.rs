@@ -5,7 +5,7 @@
 
 mod common_scenes;
 
-use common_scenes::{assert_blocks_agree, cpu_block_runs};
+use common_scenes::{assert_blocks_agree, cpu_block_runs, worst_part_sum_error};
 use glam::Vec3;
 use refract::cpu::Renderer;
 use refract::cpu::sppm::{ALPHA, SppmParams};
@@ -97,11 +97,7 @@ fn sppm_filter_classes_partition_the_image() {
         run("LS+G(D|G|S)*E"),
         run("LS+E"),
     ];
-    let mut worst = 0.0f32;
-    for (i, a) in all.iter().enumerate() {
-        let sum: Vec3 = parts.iter().map(|p| p[i]).sum();
-        worst = worst.max((sum - *a).abs().max_element() / a.max_element().max(1e-3));
-    }
+    let worst = worst_part_sum_error(&parts, &all);
     assert!(
         worst < 1e-4,
         "classes do not add up: worst relative error {worst}"
