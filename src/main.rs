@@ -142,6 +142,10 @@ struct ViewArgs {
     /// pixel `refract trace --pixel X Y` traces).
     #[arg(long, num_args = 2, value_names = ["X", "Y"])]
     inspect: Option<Vec<u32>>,
+    /// Open a lecture demonstration with large type: snell, fresnel, tir, caustic, prism or
+    /// classes (the scene argument is then ignored).
+    #[arg(long)]
+    lecture: Option<String>,
     #[command(flatten)]
     env: EnvArgs,
 }
@@ -667,10 +671,16 @@ fn view(args: ViewArgs) -> Result<()> {
             rotation: env.env_rotation,
         },
     );
+    let lecture = args
+        .lecture
+        .as_deref()
+        .map(refract::app::lecture::find)
+        .transpose()?;
     refract::app::run(refract::app::ViewOptions {
         inspect,
         env,
-        scene: args.scene,
+        scene: lecture.map(|d| d.scene.to_owned()).or(args.scene),
+        lecture: lecture.map(|d| d.key),
         frames: args.frames,
         exit_after: args.exit_after,
         device: args.device,

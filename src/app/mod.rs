@@ -10,6 +10,7 @@ pub mod backend;
 pub mod edit;
 pub mod inspect;
 pub mod inspect_overlay;
+pub mod lecture;
 pub mod panels;
 pub mod screenshot;
 pub mod viewport;
@@ -47,6 +48,8 @@ pub struct ViewOptions {
     pub limits: LoadLimits,
     /// `--env`, `--env-strength`, `--env-rotation`.
     pub env: Option<EnvOverride>,
+    /// `--lecture KEY`: open this demonstration with large type.
+    pub lecture: Option<&'static str>,
 }
 
 /// An environment image given on the command line.
@@ -106,6 +109,8 @@ pub struct ViewerApp {
     pub paused: bool,
     /// The Inspect mode: paths through a clicked pixel.
     pub inspector: inspect::Inspector,
+    /// Lecture mode: the demo on screen and large type.
+    pub lecture: lecture::Lecture,
     backend: Box<dyn Backend>,
     /// The adapter that draws the UI (status bar).
     display_device: String,
@@ -156,6 +161,7 @@ impl ViewerApp {
             screenshot_dir: PathBuf::from("screenshots"),
             paused: false,
             inspector: inspect::Inspector::default(),
+            lecture: lecture::Lecture::default(),
             backend,
             display_device: String::new(),
             dialog: None,
@@ -337,6 +343,9 @@ impl ViewerApp {
         let ctx = ui.ctx().clone();
         self.poll_dialog();
         self.handle_input(&ctx);
+        if let Some(zoom) = self.lecture.zoom_change() {
+            ctx.set_zoom_factor(zoom);
+        }
         self.backend.step(Duration::from_millis(8));
         if let Some(m) = self.backend.take_message() {
             self.messages.info = Some(m);
@@ -375,6 +384,9 @@ impl ViewerApp {
                 }
             }
             self.inspector.image_rect = Some(r.image_rect);
+            if let Some(caption) = self.lecture_caption() {
+                lecture::draw_caption(&ui.painter_at(r.image_rect), r.image_rect, caption);
+            }
             if let Some(t) = &self.inspector.traced {
                 let painter = ui.painter_at(r.image_rect);
                 inspect_overlay::draw(&painter, r.image_rect, t, self.inspector.highlight);
@@ -637,6 +649,13 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 let size = (app.scene.settings.width, app.scene.settings.height);
                 app.inspector.enabled = true;
                 app.inspector.request_pixel(px, size);
+            }
+            if let Some(i) = opts
+                .lecture
+                .and_then(|k| lecture::DEMOS.iter().position(|d| d.key == k))
+            {
+                app.lecture.large_type = true;
+                app.start_demo(i);
             }
             app.exit_frames = opts.frames;
             app.load_limits = opts.limits;
