@@ -52,6 +52,10 @@ for i, m in enumerate(s["materials"]):
     elif k == "glossy":
         b = {"type": "roughconductor", "material": "none", "alpha": m["roughness"] ** 2,
              "distribution": m["distribution"], "specular_reflectance": rgb(m["base_color"])}
+    elif k == "glass" and m["ior"] == m.get("ext_ior", 1.0):
+        # Index-matched: Mitsuba refuses a dielectric with equal IORs; it passes light
+        # straight through, exactly what the null BSDF does.
+        b = {"type": "null"}
     elif k == "glass":
         if m["roughness"] > 0.0316:
             b = {"type": "roughdielectric", "int_ior": m["ior"], "ext_ior": m.get("ext_ior", 1.0),

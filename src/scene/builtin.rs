@@ -11,6 +11,7 @@ use glam::{Quat, Vec2, Vec3};
 use std::f32::consts::PI;
 
 pub mod glass_of_water;
+pub mod khronos;
 
 /// Names accepted by [`load`] (the first is the default scene).
 pub const NAMES: &[&str] = &[
@@ -25,6 +26,8 @@ pub const NAMES: &[&str] = &[
     "glass-of-water",
     "env-spheres",
     "sun-sky",
+    "ior-grid",
+    "transmission-roughness",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -40,6 +43,8 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "glass-of-water" => Ok(glass_of_water::glass_of_water()),
         "env-spheres" => Ok(env_spheres()),
         "sun-sky" => Ok(sun_sky()),
+        "ior-grid" => Ok(khronos::ior_grid()),
+        "transmission-roughness" => Ok(khronos::transmission_roughness()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")
