@@ -10,6 +10,7 @@ pub mod backend;
 pub mod edit;
 pub mod inspect;
 pub mod inspect_overlay;
+pub mod layer_view;
 pub mod panels;
 pub mod screenshot;
 pub mod viewport;
@@ -106,6 +107,8 @@ pub struct ViewerApp {
     pub paused: bool,
     /// The Inspect mode: paths through a clicked pixel.
     pub inspector: inspect::Inspector,
+    /// What the viewport shows: the image or a layer view (`layer_view`, CPU only).
+    pub view: layer_view::ViewMode,
     backend: Box<dyn Backend>,
     /// The adapter that draws the UI (status bar).
     display_device: String,
@@ -156,6 +159,7 @@ impl ViewerApp {
             screenshot_dir: PathBuf::from("screenshots"),
             paused: false,
             inspector: inspect::Inspector::default(),
+            view: layer_view::ViewMode::Beauty,
             backend,
             display_device: String::new(),
             dialog: None,
@@ -189,6 +193,19 @@ impl ViewerApp {
 
     pub fn backend(&self) -> &dyn Backend {
         self.backend.as_ref()
+    }
+
+    /// Show `mode`; a backend that cannot (the GPU) keeps the image and says so.
+    pub fn set_view(&mut self, mode: layer_view::ViewMode) {
+        if self.backend.set_view(mode) {
+            self.view = mode;
+        } else {
+            self.view = layer_view::ViewMode::Beauty;
+            self.messages.info = Some(
+                "the path-class and heatmap views are CPU only: switch the device to CPU"
+                    .to_owned(),
+            );
+        }
     }
 
     fn report_warnings(&mut self, warnings: &[String]) {
