@@ -5,7 +5,7 @@
 use anyhow::{Result, bail};
 use refract::cpu::aov::{Aov, EventCounter};
 use refract::cpu::decompose::{ClassRouter, Decomposition};
-use refract::cpu::layers::LayerFilm;
+use refract::cpu::layers::{LayerFilm, LayerObserver};
 use refract::film::{self, ToneMap};
 use refract::render::{Device, Estimator};
 use std::path::{Path, PathBuf};
@@ -64,6 +64,24 @@ impl Layers {
         }
         if !paths.trim().is_empty() {
             bail!("{flags} renders every path: drop --paths (or a sidecar's render.paths)");
+        }
+        Ok(())
+    }
+
+    /// The beauty film and the layers fit in `--max-film-gib` (`budget` bytes).
+    pub fn check_memory(&self, (width, height): (u32, u32), budget: u64) -> Result<()> {
+        let layers = self.proto().layers();
+        let bytes =
+            film::Film::bytes_for(width, height) + LayerFilm::bytes_for(width, height, layers);
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        if bytes > budget {
+            bail!(
+                "{}: a {width}x{height} image with {layers} layers needs {:.1} GiB of films, \
+                 more than the {:.1} GiB budget (raise it with --max-film-gib)",
+                self.flags(),
+                gib(bytes),
+                gib(budget)
+            );
         }
         Ok(())
     }

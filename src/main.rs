@@ -263,6 +263,8 @@ fn render(args: &RenderArgs) -> Result<()> {
     let (scene, mut job) = prepare(args)?;
     if let Some(l) = &layers {
         l.check(args.device, job.choice, job.filter.source())?;
+        let size = (scene.settings.width, scene.settings.height);
+        l.check_memory(size, job.max_film_bytes)?;
         // The layers come from the path tracer's camera walk (`auto` path-traces then).
         if job.estimator != Estimator::Path {
             eprintln!(

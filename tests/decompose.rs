@@ -269,6 +269,10 @@ fn cli_writes_the_layers_and_names_its_errors() {
         ),
         (&["--aov", "bounces"][..], "--aov: unknown AOV 'bounces'"),
         (&["--decompose", "LE", "--paths", "LDE"][..], "drop --paths"),
+        (
+            &["--decompose", "LE,LDE", "--max-film-gib", "0.00005"][..],
+            "--decompose: a 32x24 image with 3 layers needs",
+        ),
     ] {
         let (ok, err) = with(extra);
         assert!(!ok, "{extra:?} succeeded");

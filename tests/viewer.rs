@@ -609,8 +609,12 @@ fn view_selector_switches_to_the_layer_views_and_back() {
     }
     // The depth heat: most camera rays meet the box, the deepest pixel is white.
     let lit = last.iter().filter(|p| p.max_element() > 0.0).count();
-    assert!(lit * 2 > last.len(), "{lit} of {} pixels meet a surface", last.len());
-    assert!(last.iter().any(|p| *p == glam::Vec3::ONE));
+    assert!(
+        lit * 2 > last.len(),
+        "{lit} of {} pixels meet a surface",
+        last.len()
+    );
+    assert!(last.contains(&glam::Vec3::ONE));
     h.get_by_label("path classes").click();
     h.step();
     h.step();
