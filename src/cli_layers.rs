@@ -53,12 +53,17 @@ impl Layers {
     /// that was asked for explicitly is an error.
     pub fn check(&self, device: Device, choice: Estimator, paths: &str) -> Result<()> {
         let flags = self.flags();
+        let (is, needs) = if flags.contains(" and ") {
+            ("are", "need")
+        } else {
+            ("is", "needs")
+        };
         if device == Device::Gpu {
-            bail!("{flags} are CPU only: use --device cpu (or auto, which renders on the CPU)");
+            bail!("{flags} {is} CPU only: use --device cpu (or auto, which renders on the CPU)");
         }
         if !matches!(choice, Estimator::Auto | Estimator::Path) {
             bail!(
-                "{flags} needs --estimator path (or auto, which path-traces then), not \
+                "{flags} {needs} --estimator path (or auto, which path-traces then), not \
                  {choice}: the layers come from the path tracer's camera walk"
             );
         }

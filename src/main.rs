@@ -143,6 +143,10 @@ struct ViewArgs {
     /// pixel `refract trace --pixel X Y` traces).
     #[arg(long, num_args = 2, value_names = ["X", "Y"])]
     inspect: Option<Vec<u32>>,
+    /// What the viewport shows first: beauty, classes (dominant path class), tir, refraction
+    /// or depth (heatmaps); the last four CPU only.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = refract::app::layer_view::ViewMode::Beauty)]
+    view: refract::app::layer_view::ViewMode,
     #[command(flatten)]
     env: EnvArgs,
 }
@@ -722,6 +726,7 @@ fn view(args: ViewArgs) -> Result<()> {
         exit_after: args.exit_after,
         device: args.device,
         limits: args.load.limits(),
+        view: args.view,
     })
 }
 

@@ -265,7 +265,7 @@ fn cli_writes_the_layers_and_names_its_errors() {
         ),
         (
             &["--aov", "tir", "--device", "gpu"][..],
-            "--aov are CPU only",
+            "--aov is CPU only",
         ),
         (&["--aov", "bounces"][..], "--aov: unknown AOV 'bounces'"),
         (&["--decompose", "LE", "--paths", "LDE"][..], "drop --paths"),

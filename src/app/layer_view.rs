@@ -10,7 +10,7 @@ use glam::Vec3;
 use std::sync::LazyLock;
 
 /// What the viewport shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum ViewMode {
     /// The rendered image.
     #[default]

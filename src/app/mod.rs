@@ -48,6 +48,8 @@ pub struct ViewOptions {
     pub limits: LoadLimits,
     /// `--env`, `--env-strength`, `--env-rotation`.
     pub env: Option<EnvOverride>,
+    /// `--view`: what the viewport shows first (`layer_view`).
+    pub view: layer_view::ViewMode,
 }
 
 /// An environment image given on the command line.
@@ -654,6 +656,9 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 let size = (app.scene.settings.width, app.scene.settings.height);
                 app.inspector.enabled = true;
                 app.inspector.request_pixel(px, size);
+            }
+            if opts.view != layer_view::ViewMode::Beauty {
+                app.set_view(opts.view);
             }
             app.exit_frames = opts.frames;
             app.load_limits = opts.limits;
