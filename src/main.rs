@@ -147,6 +147,10 @@ struct ViewArgs {
     /// or depth (heatmaps); the last four CPU only.
     #[arg(long, value_enum, ignore_case = true, default_value_t = refract::app::layer_view::ViewMode::Beauty)]
     view: refract::app::layer_view::ViewMode,
+    /// Open a lecture demonstration with large type: snell, fresnel, tir, caustic, prism or
+    /// classes (the scene argument is then ignored).
+    #[arg(long)]
+    lecture: Option<String>,
     #[command(flatten)]
     env: EnvArgs,
 }
@@ -718,10 +722,16 @@ fn view(args: ViewArgs) -> Result<()> {
             rotation: env.env_rotation,
         },
     );
+    let lecture = args
+        .lecture
+        .as_deref()
+        .map(refract::app::lecture::find)
+        .transpose()?;
     refract::app::run(refract::app::ViewOptions {
         inspect,
         env,
-        scene: args.scene,
+        scene: lecture.map(|d| d.scene.to_owned()).or(args.scene),
+        lecture: lecture.map(|d| d.key),
         frames: args.frames,
         exit_after: args.exit_after,
         device: args.device,

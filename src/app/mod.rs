@@ -11,6 +11,7 @@ pub mod edit;
 pub mod inspect;
 pub mod inspect_overlay;
 pub mod layer_view;
+pub mod lecture;
 pub mod panels;
 pub mod screenshot;
 pub mod viewport;
@@ -50,6 +51,8 @@ pub struct ViewOptions {
     pub env: Option<EnvOverride>,
     /// `--view`: what the viewport shows first (`layer_view`).
     pub view: layer_view::ViewMode,
+    /// `--lecture KEY`: open this demonstration with large type.
+    pub lecture: Option<&'static str>,
 }
 
 /// An environment image given on the command line.
@@ -111,6 +114,8 @@ pub struct ViewerApp {
     pub inspector: inspect::Inspector,
     /// What the viewport shows: the image or a layer view (`layer_view`, CPU only).
     pub view: layer_view::ViewMode,
+    /// Lecture mode: the demo on screen and large type.
+    pub lecture: lecture::Lecture,
     backend: Box<dyn Backend>,
     /// The adapter that draws the UI (status bar).
     display_device: String,
@@ -162,6 +167,7 @@ impl ViewerApp {
             paused: false,
             inspector: inspect::Inspector::default(),
             view: layer_view::ViewMode::Beauty,
+            lecture: lecture::Lecture::default(),
             backend,
             display_device: String::new(),
             dialog: None,
@@ -356,6 +362,9 @@ impl ViewerApp {
         let ctx = ui.ctx().clone();
         self.poll_dialog();
         self.handle_input(&ctx);
+        if let Some(zoom) = self.lecture.zoom_change() {
+            ctx.set_zoom_factor(zoom);
+        }
         self.backend.step(Duration::from_millis(8));
         if let Some(m) = self.backend.take_message() {
             self.messages.info = Some(m);
@@ -394,6 +403,9 @@ impl ViewerApp {
                 }
             }
             self.inspector.image_rect = Some(r.image_rect);
+            if let Some(caption) = self.lecture_caption() {
+                lecture::draw_caption(&ui.painter_at(r.image_rect), r.image_rect, caption);
+            }
             if let Some(t) = &self.inspector.traced {
                 let painter = ui.painter_at(r.image_rect);
                 inspect_overlay::draw(&painter, r.image_rect, t, self.inspector.highlight);
@@ -659,6 +671,13 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
             }
             if opts.view != layer_view::ViewMode::Beauty {
                 app.set_view(opts.view);
+            }
+            if let Some(i) = opts
+                .lecture
+                .and_then(|k| lecture::DEMOS.iter().position(|d| d.key == k))
+            {
+                app.lecture.large_type = true;
+                app.start_demo(i);
             }
             app.exit_frames = opts.frames;
             app.load_limits = opts.limits;

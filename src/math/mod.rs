@@ -4,6 +4,7 @@
 pub mod color;
 pub mod distribution;
 pub mod frame;
+pub mod prism;
 pub mod rng;
 pub mod sampling;
 pub mod spectrum;

@@ -492,13 +492,20 @@ pub fn prism_layout(side: f32, n: f32) -> PrismLayout {
     }
 }
 
+/// The prism scene's apex angle (degrees).
+pub const PRISM_APEX_DEG: f32 = 60.0;
+/// The index the prism scene's beam is aimed at minimum deviation for (n_d of BK7).
+pub const PRISM_DESIGN_N_D: f32 = 1.5168;
+/// Distance (m) from the prism's exit face to the wall the spectrum lands on.
+pub const PRISM_WALL_DISTANCE: f32 = 0.9;
+
 /// Dispersion: a 60° triangular prism (side 0.35 m, 0.35 m tall) of dispersive glass
 /// (n_d = 1.5168, Abbe V_d = 20) on a floor (albedo 0.5). A black housing (0.4 m deep) holds a
 /// 0.04 × 0.2 m emitter of radiance 4000 behind a 12 mm × 0.2 m slit, 0.7 m from the prism,
 /// aimed at minimum deviation; the spectrum lands on a white wall (albedo 0.8, 0.6 × 0.6 m)
 /// 0.9 m past the prism, perpendicular to the deviated beam. A dim environment (0.02) fills.
 pub fn prism() -> Scene {
-    let n_d = 1.5168;
+    let n_d = PRISM_DESIGN_N_D;
     let materials = vec![
         Material::diffuse("floor", Vec3::splat(0.5)),
         Material::diffuse("wall", Vec3::splat(0.8)),
@@ -526,7 +533,7 @@ pub fn prism() -> Scene {
 
     let lay = prism_layout(side, n_d);
     // Wall, perpendicular to the deviated beam, facing back towards the prism.
-    let wall_c = lay.exit + 0.9 * lay.beam_out;
+    let wall_c = lay.exit + PRISM_WALL_DISTANCE * lay.beam_out;
     rect(
         &mut m,
         xz_to_3d(wall_c, 0.3),

@@ -1,9 +1,11 @@
 //! The side panel: one group per concern, every control with a one-sentence physics tooltip.
 
 pub mod camera;
+pub mod dispersion;
 pub mod environment;
 pub mod fresnel;
 pub mod inspect;
+pub mod lecture;
 pub mod light;
 pub mod material;
 pub mod rendering;
@@ -15,9 +17,12 @@ use eframe::egui::{self, Color32, RichText};
 /// Draw every group of the side panel.
 pub fn side_panel(app: &mut ViewerApp, ui: &mut egui::Ui) {
     messages(app, ui);
+    group(ui, "Lecture", false, |ui| lecture::show(app, ui));
     group(ui, "Scene", true, |ui| scene::show(app, ui));
     group(ui, "Material", true, |ui| material::show(app, ui));
     group(ui, "Fresnel", true, |ui| fresnel::show(app, ui));
+    let dispersive = app.scene.materials.iter().any(|m| m.abbe.is_some());
+    group(ui, "Dispersion", dispersive, |ui| dispersion::show(app, ui));
     group(ui, "Light", true, |ui| light::show(app, ui));
     group(ui, "Environment", true, |ui| environment::show(app, ui));
     group(ui, "Camera", false, |ui| camera::show(app, ui));

@@ -1,0 +1,204 @@
+//! Lecture mode: one-click demonstrations, each a built-in scene set up to show one effect
+//! (a path filter, the inspector on a telling pixel, a selected material) with a one-line
+//! caption drawn over the image, and large type (egui zoom) for the back row.
+//!
+//! A demo is data ([`Demo`]); [`ViewerApp::start_demo`] turns it into ordinary edits, so a
+//! demo is exactly what a user could set up by hand and every control keeps working in it.
+
+use super::{Edit, ViewerApp};
+
+/// One demonstration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Demo {
+    /// Name on the command line (`refract view --lecture KEY`).
+    pub key: &'static str,
+    /// Button label.
+    pub title: &'static str,
+    /// `builtin:NAME`.
+    pub scene: &'static str,
+    /// The one line drawn over the image.
+    pub caption: &'static str,
+    /// Heckbert filter to render with ("" = every path).
+    pub filter: &'static str,
+    /// Inspect the paths through this pixel of the scene's own resolution.
+    pub inspect: Option<(u32, u32)>,
+    /// Select the material of this name (its Fresnel plot and dispersion panel show).
+    pub select: Option<&'static str>,
+}
+
+/// The demonstrations, in lecture order.
+pub const DEMOS: [Demo; 6] = [
+    Demo {
+        key: "snell",
+        title: "Snell's law",
+        scene: "builtin:glass-slab",
+        caption: "Snell's law n₁ sin θ₁ = n₂ sin θ₂: entering the slab (n = 1.5) light bends \
+                  towards the normal, leaving it bends away. Click a pixel to see its paths.",
+        filter: "",
+        inspect: Some((280, 260)),
+        select: Some("glass"),
+    },
+    Demo {
+        key: "fresnel",
+        title: "Fresnel reflection",
+        scene: "builtin:env-spheres",
+        caption: "Fresnel: glass reflects 4 % of the light head-on and nearly all of it at \
+                  grazing angles — the bright rim of the glass sphere.",
+        filter: "",
+        inspect: None,
+        select: Some("glass"),
+    },
+    Demo {
+        key: "tir",
+        title: "Total internal reflection",
+        scene: "builtin:glass-slab",
+        caption: "Total internal reflection: beyond the critical angle asin(1/1.5) = 41.8° no \
+                  light leaves the glass, and the slab becomes a light pipe.",
+        filter: "",
+        inspect: Some((420, 260)),
+        select: Some("glass"),
+    },
+    Demo {
+        key: "caustic",
+        title: "Ball-lens caustic",
+        scene: "builtin:caustic",
+        caption: "A glass ball is a lens: it focuses the light into a bright spot on the \
+                  floor — a caustic: light, two refractions, one diffuse bounce, the eye (LSSDE).",
+        filter: "",
+        inspect: None,
+        select: None,
+    },
+    Demo {
+        key: "prism",
+        title: "Prism dispersion",
+        scene: "builtin:prism",
+        caption: "Dispersion: the index of refraction falls with wavelength, so blue bends \
+                  more than red and white light fans out into a spectrum.",
+        filter: "",
+        inspect: None,
+        select: Some("dispersive-glass"),
+    },
+    Demo {
+        key: "classes",
+        title: "Path classes",
+        scene: "builtin:cornell-glass",
+        caption: "Only the paths LS+DE: light through one or more specular surfaces, then one \
+                  diffuse bounce, then the eye — the caustic under the sphere.",
+        filter: "LS+DE",
+        inspect: None,
+        select: None,
+    },
+];
+
+/// The demo called `key`, or an error listing the names.
+pub fn find(key: &str) -> anyhow::Result<&'static Demo> {
+    DEMOS.iter().find(|d| d.key == key).ok_or_else(|| {
+        let names: Vec<&str> = DEMOS.iter().map(|d| d.key).collect();
+        anyhow::anyhow!(
+            "--lecture: no demo '{key}'; the demos are {}",
+            names.join(", ")
+        )
+    })
+}
+
+/// Zoom factor of large type.
+pub const LARGE_ZOOM: f32 = 1.6;
+
+/// Lecture-mode state of the viewer.
+#[derive(Clone, Debug, Default)]
+pub struct Lecture {
+    /// The demo shown (its caption is drawn while its scene is open).
+    pub active: Option<usize>,
+    /// Large type (egui zoom [`LARGE_ZOOM`]).
+    pub large_type: bool,
+    /// The zoom factor last given to egui (None = never set: leave the user's zoom alone).
+    applied_zoom: Option<f32>,
+}
+
+impl Lecture {
+    /// The zoom to give egui now, when it differs from what was given last.
+    pub fn zoom_change(&mut self) -> Option<f32> {
+        let want = if self.large_type { LARGE_ZOOM } else { 1.0 };
+        if self.applied_zoom == Some(want) || (self.applied_zoom.is_none() && !self.large_type) {
+            return None;
+        }
+        self.applied_zoom = Some(want);
+        Some(want)
+    }
+}
+
+impl ViewerApp {
+    /// Open demo `index` of [`DEMOS`]: its scene, filter, inspector pixel and selection, as
+    /// edits applied now. A scene that fails to open leaves the current one and its message.
+    pub fn start_demo(&mut self, index: usize) {
+        let Some(demo) = DEMOS.get(index) else { return };
+        self.apply(Edit::OpenScene(demo.scene.to_owned()));
+        if self.settings.scene != demo.scene {
+            return;
+        }
+        self.filter_text = demo.filter.to_owned();
+        self.apply(Edit::PathFilter(demo.filter.to_owned()));
+        self.inspector.clear();
+        self.inspector.enabled = demo.inspect.is_some();
+        if let Some(px) = demo.inspect {
+            let size = (self.base.settings.width, self.base.settings.height);
+            self.inspector.request_pixel(px, size);
+        }
+        self.selected = demo
+            .select
+            .and_then(|name| self.scene.materials.iter().position(|m| m.name == name));
+        self.lecture.active = Some(index);
+    }
+
+    /// The caption of the demo on screen, if its scene is still the open one.
+    pub fn lecture_caption(&self) -> Option<&'static str> {
+        let demo = DEMOS.get(self.lecture.active?)?;
+        (self.settings.scene == demo.scene).then_some(demo.caption)
+    }
+}
+
+/// The caption across the top of the image: wrapped white text on a dark band.
+pub fn draw_caption(painter: &eframe::egui::Painter, rect: eframe::egui::Rect, caption: &str) {
+    use eframe::egui::{Align2, Color32, FontId, Rect, pos2, vec2};
+    let margin = 10.0;
+    let font = FontId::proportional(17.0);
+    let galley = painter.layout(
+        caption.to_owned(),
+        font,
+        Color32::WHITE,
+        (rect.width() - 2.0 * margin).max(50.0),
+    );
+    let band = Rect::from_min_size(rect.min, vec2(rect.width(), galley.size().y + 2.0 * margin));
+    painter.rect_filled(band, 0.0, Color32::from_black_alpha(170));
+    let at = Align2::LEFT_TOP.align_size_within_rect(galley.size(), band.shrink(margin));
+    painter.galley(pos2(at.min.x, at.min.y), galley, Color32::WHITE);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demos_are_found_by_key_and_unknown_keys_list_them() {
+        for d in &DEMOS {
+            assert_eq!(find(d.key).unwrap().key, d.key);
+            assert!(crate::scene::Scene::load(d.scene).is_ok(), "{}", d.scene);
+        }
+        let e = find("laser").unwrap_err().to_string();
+        assert!(
+            e.contains("--lecture") && e.contains("snell, fresnel, tir"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn zoom_is_given_once_per_change_and_never_unasked() {
+        let mut l = Lecture::default();
+        assert_eq!(l.zoom_change(), None);
+        l.large_type = true;
+        assert_eq!(l.zoom_change(), Some(LARGE_ZOOM));
+        assert_eq!(l.zoom_change(), None);
+        l.large_type = false;
+        assert_eq!(l.zoom_change(), Some(1.0));
+    }
+}

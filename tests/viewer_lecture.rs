@@ -1,0 +1,128 @@
+//! Lecture mode and the Dispersion panel, driven through egui_kittest without a window.
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use refract::app::ViewerApp;
+use refract::app::lecture::{DEMOS, LARGE_ZOOM};
+use refract::cpu::inspect::VertexEvent;
+use std::time::{Duration, Instant};
+
+/// A viewer on `spec` rendering small images (fast on 2 cores).
+fn app_on(spec: &str) -> ViewerApp {
+    let mut app = ViewerApp::open(spec).expect("scene opens");
+    app.settings.render.render_scale = 0.25;
+    app.settings.render.fit_viewport = false;
+    app.options_changed();
+    app
+}
+
+fn harness(app: ViewerApp) -> Harness<'static, ViewerApp> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 2400.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    h.step();
+    h
+}
+
+fn open_lecture_group(h: &mut Harness<'static, ViewerApp>) {
+    h.get_by_label("Lecture").click();
+    h.step();
+    h.step();
+}
+
+#[test]
+fn every_demo_button_opens_its_scene_set_up() {
+    let mut h = harness(app_on("builtin:furnace"));
+    open_lecture_group(&mut h);
+    for demo in &DEMOS {
+        h.get_by_label(demo.title).click();
+        h.step();
+        h.step();
+        let app = h.state();
+        assert_eq!(app.settings.scene, demo.scene, "{}", demo.key);
+        assert_eq!(app.settings.render.paths, demo.filter, "{}", demo.key);
+        assert_eq!(app.lecture_caption(), Some(demo.caption), "{}", demo.key);
+        assert_eq!(
+            app.inspector.enabled,
+            demo.inspect.is_some(),
+            "{}",
+            demo.key
+        );
+        let selected = app.selected.map(|i| app.scene.materials[i].name.as_str());
+        assert_eq!(selected, demo.select, "{}: selection", demo.key);
+        // The demo renders: a sample of the demo's own scene arrives.
+        assert!(
+            app.messages.error.is_none(),
+            "{}: {:?}",
+            demo.key,
+            app.messages.error
+        );
+    }
+    // Opening another scene by hand ends the demo's caption.
+    h.state_mut()
+        .push(refract::app::Edit::OpenScene("builtin:furnace".into()));
+    h.step();
+    h.step();
+    assert_eq!(h.state().lecture_caption(), None);
+}
+
+#[test]
+fn large_type_zooms_the_interface_and_back() {
+    let mut h = harness(app_on("builtin:furnace"));
+    assert_eq!(h.ctx.zoom_factor(), 1.0);
+    open_lecture_group(&mut h);
+    h.get_by_label("Large type").click();
+    h.step();
+    h.step();
+    h.step();
+    assert!(h.state().lecture.large_type);
+    assert_eq!(h.ctx.zoom_factor(), LARGE_ZOOM);
+    h.get_by_label("Large type").click();
+    h.step();
+    h.step();
+    h.step();
+    assert_eq!(h.ctx.zoom_factor(), 1.0);
+}
+
+#[test]
+fn the_tir_demo_inspects_paths_that_are_totally_reflected() {
+    let mut h = harness(app_on("builtin:furnace"));
+    let tir = DEMOS.iter().position(|d| d.key == "tir").unwrap();
+    h.state_mut().start_demo(tir);
+    let start = Instant::now();
+    while h.state().inspector.traced.is_none() {
+        assert!(start.elapsed() < Duration::from_secs(60), "no trace");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    let traced = h.state().inspector.traced.clone().unwrap();
+    let events: Vec<VertexEvent> = traced
+        .trace
+        .paths
+        .iter()
+        .flat_map(|p| p.vertices.iter().map(|v| v.event))
+        .collect();
+    assert!(events.contains(&VertexEvent::Tir), "{events:?}");
+    assert!(events.contains(&VertexEvent::Refract), "{events:?}");
+}
+
+#[test]
+fn dispersion_panel_shows_the_prism_glass_and_its_deviation() {
+    let mut h = harness(app_on("builtin:prism"));
+    h.step();
+    // n_d 1.5168, V_d 20 (the prism's glass): the panel recomputes V_d from n_F, n_d, n_C.
+    h.get_by_label_contains("'dispersive-glass': n_F = ");
+    h.get_by_label_contains("V_d = (n_d − 1)/(n_F − n_C) = 20.0");
+    h.get_by_label_contains("Prism: 60° apex, beam at θ_i = 49.3°");
+    h.get_by_label_contains("F and C land ≈");
+}
+
+#[test]
+fn dispersion_panel_says_when_there_is_no_dispersive_glass() {
+    let mut h = harness(app_on("builtin:cornell-glass"));
+    h.get_by_label("Dispersion").click();
+    h.step();
+    h.step();
+    h.get_by_label_contains("No dispersive glass in this scene");
+}
