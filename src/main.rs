@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 mod cli_duration;
+mod cli_layers;
 mod cli_load;
 mod cli_trace;
 mod gpu_render;
@@ -142,6 +143,10 @@ struct ViewArgs {
     /// pixel `refract trace --pixel X Y` traces).
     #[arg(long, num_args = 2, value_names = ["X", "Y"])]
     inspect: Option<Vec<u32>>,
+    /// What the viewport shows first: beauty, classes (dominant path class), tir, refraction
+    /// or depth (heatmaps); the last four CPU only.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = refract::app::layer_view::ViewMode::Beauty)]
+    view: refract::app::layer_view::ViewMode,
     /// Open a lecture demonstration with large type: snell, fresnel, tir, caustic, prism or
     /// classes (the scene argument is then ignored).
     #[arg(long)]
@@ -200,6 +205,17 @@ struct RenderArgs {
     /// 'LDE' (direct diffuse lighting); empty = all paths (the default).
     #[arg(long)]
     paths: Option<String>,
+    /// Path classes in one render, comma-separated, first match wins: 'LE,LDE,LS+DE' writes
+    /// OUT.LE.exr, OUT.LDE.exr, OUT.LSpDE.exr and OUT.rest.exr (every other path) next to
+    /// OUT, which is their sum. A class may be named NAME=EXPR; unnamed, its file name spells
+    /// + * ? | ( ) as p x q o _ -. CPU path tracing only.
+    #[arg(long, value_name = "CLASSES")]
+    decompose: Option<String>,
+    /// Event heatmaps, comma-separated: tir (fraction of paths with a total internal
+    /// reflection), refraction (fraction with a refraction), depth (mean surface vertices per
+    /// path), or all; written as OUT.tir.exr etc. CPU path tracing only.
+    #[arg(long, value_name = "LIST")]
+    aov: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
     /// strategies), lt (pure light tracing), lt+pt (GPU: light tracing and path tracing
     /// combined by MIS; the CPU runs bdpt for it), auto (picked by the scene's features, the
@@ -248,11 +264,29 @@ struct Job {
 fn render(args: &RenderArgs) -> Result<()> {
     // Before any work: a render whose image cannot be written is an error now, not after.
     film::check_output_path(&args.out).context("--out")?;
-    let (scene, job) = prepare(args)?;
-    if gpu_render::render(args, &scene, &job)? {
+    let layers = cli_layers::Layers::parse(args.decompose.as_deref(), args.aov.as_deref())?;
+    if let Some(l) = &layers {
+        l.check_outputs(&args.out)?;
+    }
+    let (scene, mut job) = prepare(args)?;
+    if let Some(l) = &layers {
+        l.check(args.device, job.choice, job.filter.source())?;
+        let size = (scene.settings.width, scene.settings.height);
+        l.check_memory(size, job.max_film_bytes)?;
+        // The layers come from the path tracer's camera walk (`auto` path-traces then).
+        if job.estimator != Estimator::Path {
+            eprintln!(
+                "estimator auto: path (the layers need the path tracer; auto alone would \
+                 pick {})",
+                job.estimator
+            );
+        }
+        job.estimator = Estimator::Path;
+        job.choice = Estimator::Path;
+    } else if gpu_render::render(args, &scene, &job)? {
         return Ok(());
     }
-    render_cpu(args, scene, &job)
+    render_cpu(args, scene, &job, layers.as_ref())
 }
 
 /// The scene to render (sidecar edits and flags applied) and the job's other values.
@@ -493,7 +527,12 @@ fn parse_gib(s: &str) -> Result<f64, String> {
     }
 }
 
-fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
+fn render_cpu(
+    args: &RenderArgs,
+    scene: Scene,
+    job: &Job,
+    layers: Option<&cli_layers::Layers>,
+) -> Result<()> {
     let &Job {
         spp,
         tone,
@@ -528,10 +567,19 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         opts.max_depth
     );
     let bar = spp_progress_bar(spp, args.quiet);
-    let (film, stats) = pool.install(|| {
-        renderer.render(&opts, spp.unwrap_or(u32::MAX), args.time_budget, |d| {
-            bar.set_position(d)
-        })
+    let n = spp.unwrap_or(u32::MAX);
+    let (film, layer_film, stats) = pool.install(|| match layers {
+        Some(l) => {
+            let proto = l.proto();
+            let progress = |d| bar.set_position(d);
+            let (f, lf, s) =
+                renderer.render_layered(&opts, (n, args.time_budget), &proto, progress);
+            (f, Some(lf), s)
+        }
+        None => {
+            let (f, s) = renderer.render(&opts, n, args.time_budget, |d| bar.set_position(d));
+            (f, None, s)
+        }
     });
     bar.finish_and_clear();
     film::save_image(
@@ -550,6 +598,9 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job) -> Result<()> {
         stats.samples_per_sec() / 1e6,
         stats.dropped
     );
+    if let (Some(l), Some(lf)) = (layers, &layer_film) {
+        l.save(&args.out, lf, film.spp)?;
+    }
     budget_report(args.time_budget, stats.spp, opts.pass_spp());
     Ok(())
 }
@@ -685,6 +736,7 @@ fn view(args: ViewArgs) -> Result<()> {
         exit_after: args.exit_after,
         device: args.device,
         limits: args.load.limits(),
+        view: args.view,
     })
 }
 

@@ -589,3 +589,43 @@ fn renders_at_the_viewport_size_in_physical_pixels() {
             .is_some_and(|img| img.spp >= 1 && (img.width, img.height) == res2)
     });
 }
+
+#[test]
+fn view_selector_switches_to_the_layer_views_and_back() {
+    let mut h = harness(small_app());
+    step_until(&mut h, "beauty samples", |a| a.backend().spp() >= 2);
+    let beauty = h.state().backend().read_image().expect("image").pixels;
+    let mut last = beauty.clone();
+    for label in ["TIR heat", "path classes", "depth heat"] {
+        h.get_by_label(label).click();
+        h.step();
+        step_until(&mut h, label, |a| {
+            a.backend().read_image().is_some_and(|p| p.spp >= 2)
+        });
+        let img = h.state().backend().read_image().expect("view").pixels;
+        assert_ne!(img, beauty, "{label} looks like the beauty image");
+        assert_ne!(img, last, "{label} looks like the previous view");
+        last = img;
+    }
+    // The depth heat: most camera rays meet the box, the deepest pixel is white.
+    let lit = last.iter().filter(|p| p.max_element() > 0.0).count();
+    assert!(
+        lit * 2 > last.len(),
+        "{lit} of {} pixels meet a surface",
+        last.len()
+    );
+    assert!(last.contains(&glam::Vec3::ONE));
+    h.get_by_label("path classes").click();
+    h.step();
+    h.step();
+    h.get_by_label("class LDE");
+    h.get_by_label("class rest");
+    h.get_by_label("beauty").click();
+    h.step();
+    step_until(&mut h, "beauty again", |a| {
+        a.backend().read_image().is_some_and(|p| p.spp >= 2)
+    });
+    let again = h.state().backend().read_image().expect("image").pixels;
+    assert_eq!(again.len(), beauty.len());
+    assert!(h.query_by_label("class LDE").is_none(), "legend left on");
+}

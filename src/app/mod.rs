@@ -10,6 +10,7 @@ pub mod backend;
 pub mod edit;
 pub mod inspect;
 pub mod inspect_overlay;
+pub mod layer_view;
 pub mod lecture;
 pub mod panels;
 pub mod screenshot;
@@ -48,6 +49,8 @@ pub struct ViewOptions {
     pub limits: LoadLimits,
     /// `--env`, `--env-strength`, `--env-rotation`.
     pub env: Option<EnvOverride>,
+    /// `--view`: what the viewport shows first (`layer_view`).
+    pub view: layer_view::ViewMode,
     /// `--lecture KEY`: open this demonstration with large type.
     pub lecture: Option<&'static str>,
 }
@@ -109,6 +112,8 @@ pub struct ViewerApp {
     pub paused: bool,
     /// The Inspect mode: paths through a clicked pixel.
     pub inspector: inspect::Inspector,
+    /// What the viewport shows: the image or a layer view (`layer_view`, CPU only).
+    pub view: layer_view::ViewMode,
     /// Lecture mode: the demo on screen and large type.
     pub lecture: lecture::Lecture,
     backend: Box<dyn Backend>,
@@ -161,6 +166,7 @@ impl ViewerApp {
             screenshot_dir: PathBuf::from("screenshots"),
             paused: false,
             inspector: inspect::Inspector::default(),
+            view: layer_view::ViewMode::Beauty,
             lecture: lecture::Lecture::default(),
             backend,
             display_device: String::new(),
@@ -195,6 +201,19 @@ impl ViewerApp {
 
     pub fn backend(&self) -> &dyn Backend {
         self.backend.as_ref()
+    }
+
+    /// Show `mode`; a backend that cannot (the GPU) keeps the image and says so.
+    pub fn set_view(&mut self, mode: layer_view::ViewMode) {
+        if self.backend.set_view(mode) {
+            self.view = mode;
+        } else {
+            self.view = layer_view::ViewMode::Beauty;
+            self.messages.info = Some(
+                "the path-class and heatmap views are CPU only: switch the device to CPU"
+                    .to_owned(),
+            );
+        }
     }
 
     fn report_warnings(&mut self, warnings: &[String]) {
@@ -649,6 +668,9 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 let size = (app.scene.settings.width, app.scene.settings.height);
                 app.inspector.enabled = true;
                 app.inspector.request_pixel(px, size);
+            }
+            if opts.view != layer_view::ViewMode::Beauty {
+                app.set_view(opts.view);
             }
             if let Some(i) = opts
                 .lecture

@@ -3,11 +3,14 @@
 //! shares the per-vertex step (`interaction`, `path_state`, `medium`, `spectral`) and reaches
 //! lights only through `scene::light::Light`.
 
+pub mod aov;
 pub mod bdpt;
+pub mod decompose;
 pub mod gather;
 pub mod inspect;
 pub mod integrator;
 pub mod interaction;
+pub mod layers;
 pub mod medium;
 pub mod observer;
 pub mod path_state;

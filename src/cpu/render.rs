@@ -2,6 +2,7 @@
 //! (pixel, sample, dimension, seed) so images are identical across thread counts.
 
 use super::Integrator;
+use super::layers::{LayerFilm, LayerObserver};
 use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
@@ -102,34 +103,85 @@ impl Renderer {
             self.render_pass_bdpt(opts, estimator, film, first_spp, count);
             return true;
         }
+        self.path_pass(opts, film, None, &(), (first_spp, count), cancelled)
+    }
+
+    /// A path-tracing pass that also walks with the observer `proto` (cloned per row) and
+    /// adds its per-sample values to `layers` (`proto.layers()` per pixel): the path-class
+    /// decomposition and the event heatmaps. The walk and the beauty film are those of
+    /// [`Renderer::render_pass_cancellable`] with `--estimator path` (the callers refuse the
+    /// other estimators). Returns false if cancelled (discard `film` and `layers` then).
+    pub fn render_pass_layered<O: LayerObserver>(
+        &self,
+        opts: &RenderOptions,
+        film: &mut Film,
+        layers: &mut LayerFilm,
+        proto: &O,
+        (first_spp, count): (u32, u32),
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        assert_eq!(
+            layers.layers,
+            proto.layers(),
+            "layer film and observer disagree"
+        );
+        self.path_pass(
+            opts,
+            film,
+            Some(layers),
+            proto,
+            (first_spp, count),
+            cancelled,
+        )
+    }
+
+    /// The path-tracing pass over rows, with an observer `proto` whose layers go to `layers`
+    /// (`None` with `()`: the plain render, whose hooks compile away).
+    fn path_pass<O: LayerObserver>(
+        &self,
+        opts: &RenderOptions,
+        film: &mut Film,
+        layers: Option<&mut LayerFilm>,
+        proto: &O,
+        (first_spp, count): (u32, u32),
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
         let cam = &self.scene.camera;
         let seed = opts.seed;
-        let result: Option<u64> = film
-            .sums_mut()
-            .par_chunks_mut(w as usize)
-            .enumerate()
-            .map(|(y, row)| {
-                if cancelled() {
-                    return None;
-                }
-                let mut dropped = 0u64;
-                for (x, px) in row.iter_mut().enumerate() {
-                    let pixel = y as u32 * w + x as u32;
-                    for s in first_spp..first_spp + count {
-                        let mut sampler = Sampler::new(pixel, s, seed);
-                        let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
-                        let v = integ.li(cam.position, dir, &mut sampler);
-                        let ok = Film::add_sample_to(px, v, integ.spectral);
-                        if !ok {
-                            dropped += 1;
-                        }
+        let per_pixel = proto.layers();
+        let row_pass = |y: usize, row: &mut [[f64; 3]], lrow: &mut [[f64; 3]]| -> Option<u64> {
+            if cancelled() {
+                return None;
+            }
+            let mut obs = proto.clone();
+            let mut dropped = 0u64;
+            for (x, px) in row.iter_mut().enumerate() {
+                let pixel = y as u32 * w + x as u32;
+                for s in first_spp..first_spp + count {
+                    let mut sampler = Sampler::new(pixel, s, seed);
+                    let dir = camera_ray(cam, (x as u32, y as u32), (w, h), &mut sampler);
+                    let v = integ.li_observed(cam.position, dir, &mut sampler, &mut obs);
+                    let ok = Film::add_sample_to(px, v, integ.spectral);
+                    if per_pixel > 0 {
+                        obs.commit(ok, &mut lrow[x * per_pixel..(x + 1) * per_pixel]);
+                    }
+                    if !ok {
+                        dropped += 1;
                     }
                 }
-                Some(dropped)
-            })
-            .sum();
+            }
+            Some(dropped)
+        };
+        let rows = film.sums_mut().par_chunks_mut(w as usize).enumerate();
+        let result: Option<u64> = match layers {
+            Some(l) if per_pixel > 0 => rows
+                .zip(l.sums_mut().par_chunks_mut(w as usize * per_pixel))
+                .map(|((y, row), lrow)| row_pass(y, row, lrow))
+                .sum(),
+            _ => rows.map(|(y, row)| row_pass(y, row, &mut [])).sum(),
+        };
         match result {
             Some(dropped) => {
                 film.spp += count as u64;
@@ -266,16 +318,51 @@ impl Renderer {
         opts: &RenderOptions,
         spp: u32,
         budget: Option<Duration>,
-        mut progress: impl FnMut(u64),
+        progress: impl FnMut(u64),
     ) -> (Film, RenderStats) {
         let mut film = Film::new(opts.width, opts.height);
+        let mut stats = self.render_passes(opts, (spp, budget), progress, |first, n| {
+            self.render_pass(opts, &mut film, first, n);
+        });
+        (stats.spp, stats.dropped) = (film.spp, film.dropped);
+        (film, stats)
+    }
+
+    /// [`Renderer::render`] walking with the layer observer `proto` (path tracing only): the
+    /// beauty film and the observer's layers.
+    pub fn render_layered<O: LayerObserver>(
+        &self,
+        opts: &RenderOptions,
+        (spp, budget): (u32, Option<Duration>),
+        proto: &O,
+        progress: impl FnMut(u64),
+    ) -> (Film, LayerFilm, RenderStats) {
+        let mut film = Film::new(opts.width, opts.height);
+        let mut layers = LayerFilm::new(opts.width, opts.height, proto.layers());
+        let mut stats = self.render_passes(opts, (spp, budget), progress, |first, n| {
+            let pass = (first, n);
+            self.render_pass_layered(opts, &mut film, &mut layers, proto, pass, &|| false);
+        });
+        (stats.spp, stats.dropped) = (film.spp, film.dropped);
+        (film, layers, stats)
+    }
+
+    /// Run `pass(first_spp, count)` in passes of `opts.pass_spp()` until `spp` samples or
+    /// the time budget (at least one pass).
+    fn render_passes(
+        &self,
+        opts: &RenderOptions,
+        (spp, budget): (u32, Option<Duration>),
+        mut progress: impl FnMut(u64),
+        mut pass: impl FnMut(u32, u32),
+    ) -> RenderStats {
         let start = Instant::now();
         // Passes of a few spp keep the progress bar and time budget responsive.
-        let pass = opts.pass_spp();
+        let pass_spp = opts.pass_spp();
         let mut done = 0u32;
         while done < spp {
-            let n = pass.min(spp - done);
-            self.render_pass(opts, &mut film, done, n);
+            let n = pass_spp.min(spp - done);
+            pass(done, n);
             done += n;
             progress(done as u64);
             if let Some(b) = budget
@@ -284,13 +371,13 @@ impl Renderer {
                 break;
             }
         }
-        let stats = RenderStats {
-            spp: film.spp,
-            dropped: film.dropped,
+        // The caller fills in the film's spp and drop count.
+        RenderStats {
+            spp: done as u64,
+            dropped: 0,
             elapsed: start.elapsed(),
             pixels: opts.pixels(),
             segments: None,
-        };
-        (film, stats)
+        }
     }
 }

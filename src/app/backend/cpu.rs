@@ -3,7 +3,9 @@
 //! samples rendered for an older generation never reach the published image.
 
 use super::{Accumulated, Backend, DisplayParams, DisplayTexture};
+use crate::app::layer_view::{self, ViewMode};
 use crate::cpu::Renderer;
+use crate::cpu::layers::LayerFilm;
 use crate::film::{Film, exposure_scale};
 use crate::math::color::linear_to_srgb;
 use crate::render::RenderOptions;
@@ -34,6 +36,9 @@ struct State {
     materials: Vec<Material>,
     /// The render thread is waiting (paused, target reached, nothing to render).
     idle: bool,
+    /// What the published image shows: with a layer view the passes also accumulate the
+    /// layers (`app::layer_view`), otherwise they pay nothing for them.
+    view: ViewMode,
 }
 
 struct Shared {
@@ -74,6 +79,7 @@ impl CpuBackend {
                 published: None,
                 materials: Vec::new(),
                 idle: true,
+                view: ViewMode::Beauty,
             }),
             wake: Condvar::new(),
             generation: AtomicU64::new(0),
@@ -245,6 +251,13 @@ impl Backend for CpuBackend {
     fn read_image(&self) -> Option<Accumulated> {
         self.published().map(|p| (*p).clone())
     }
+
+    fn set_view(&mut self, mode: ViewMode) -> bool {
+        if self.shared.lock().view != mode {
+            self.edit(|st| st.view = mode);
+        }
+        true
+    }
 }
 
 /// Linear → 8-bit sRGB after tone mapping, through a table (the UI thread does this for up to
@@ -290,12 +303,14 @@ fn pass_size(last_pass: Option<(u32, Duration)>) -> u32 {
 fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
     let mut renderer: Option<Renderer> = None;
     let mut film: Option<Film> = None;
+    // The layer views' layers, alongside `film` (None in the beauty view).
+    let mut layers: Option<LayerFilm> = None;
     let mut film_gen = u64::MAX;
     let mut elapsed = Duration::ZERO;
     let mut last_pass: Option<(u32, Duration)> = None;
     loop {
         // Take the pending edits and the generation they make up, atomically.
-        let (commands, generation, options, interactive, paused, target) = {
+        let (commands, generation, options, interactive, paused, target, view) = {
             let mut st = shared.lock();
             if st.quit {
                 return;
@@ -307,6 +322,7 @@ fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
                 st.interactive,
                 st.paused,
                 st.spp_target,
+                st.view,
             )
         };
         let mut applied_materials = None;
@@ -330,8 +346,15 @@ fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
             || film
                 .as_ref()
                 .is_none_or(|f| (f.width, f.height) != (opts.width, opts.height));
+        if view != ViewMode::Beauty {
+            // The layers come from the path tracer's walk over every path.
+            opts.estimator = crate::render::Estimator::Path;
+            opts.set_filter(None);
+        }
         if fresh {
             film = Some(Film::new(opts.width, opts.height));
+            layers = (view != ViewMode::Beauty)
+                .then(|| LayerFilm::new(opts.width, opts.height, layer_view::layer_count()));
             film_gen = generation;
             elapsed = Duration::ZERO;
         }
@@ -351,10 +374,21 @@ fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
         let start = Instant::now();
         let cancelled = || shared.generation.load(Ordering::Relaxed) != generation;
         let first = f.spp.min(u32::MAX as u64) as u32;
-        if !r.render_pass_cancellable(&opts, f, first, n, &cancelled) {
+        let complete = match layers.as_mut() {
+            Some(l) => {
+                let proto = layer_view::proto();
+                r.render_pass_layered(&opts, f, l, &proto, (first, n), &cancelled)
+            }
+            None => r.render_pass_cancellable(&opts, f, first, n, &cancelled),
+        };
+        if !complete {
             film_gen = u64::MAX; // partial pass: discard
             continue;
         }
+        let pixels = layers
+            .as_ref()
+            .and_then(|l| layer_view::view_image(view, l, f.spp))
+            .unwrap_or_else(|| f.image());
         let t = start.elapsed();
         elapsed += t;
         last_pass = Some((n, t));
@@ -362,7 +396,7 @@ fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
             generation,
             width: f.width,
             height: f.height,
-            pixels: f.image(),
+            pixels,
             spp: f.spp,
             dropped: f.dropped,
             elapsed,

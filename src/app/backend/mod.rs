@@ -107,4 +107,9 @@ pub trait Backend {
     fn take_message(&mut self) -> Option<String> {
         None
     }
+    /// Show `mode` (`app::layer_view`) instead of the rendered image; false when this
+    /// backend cannot (the GPU: the layer views are CPU only).
+    fn set_view(&mut self, _mode: crate::app::layer_view::ViewMode) -> bool {
+        false
+    }
 }

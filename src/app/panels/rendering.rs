@@ -43,6 +43,8 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     depth_and_estimator(ui, &mut render, &app.scene);
     path_filter(app, ui);
     ui.separator();
+    layer_views(app, ui);
+    ui.separator();
     super::inspect::controls(app, ui);
     ui.separator();
     display(app, ui);
@@ -117,6 +119,41 @@ fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
                         .to_string()
                 }
             });
+    }
+}
+
+/// The view selector (image, dominant path class, event heatmaps) and the class legend.
+fn layer_views(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    use crate::app::layer_view::{CLASS_COLOURS, DECOMPOSITION, ViewMode};
+    ui.label("View");
+    let mut view = app.view;
+    ui.horizontal_wrapped(|ui| {
+        for mode in ViewMode::ALL {
+            ui.selectable_value(&mut view, mode, mode.label())
+                .on_hover_text(mode.hover());
+        }
+    });
+    if view != app.view {
+        app.set_view(view);
+    }
+    if app.view == ViewMode::Classes {
+        let names = DECOMPOSITION
+            .classes
+            .iter()
+            .map(|c| c.filter.source().trim());
+        for (name, c) in names.chain(["rest"]).zip(CLASS_COLOURS) {
+            let [r, g, b] = c.map(|v| (crate::math::color::linear_to_srgb(v) * 255.0) as u8);
+            ui.horizontal(|ui| {
+                let (swatch, _) =
+                    ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+                ui.painter()
+                    .rect_filled(swatch, 2.0, Color32::from_rgb(r, g, b));
+                ui.label(format!("class {name}"));
+            });
+        }
+    }
+    if app.view != ViewMode::Beauty {
+        ui.small("Layer views path-trace every path (estimator and path filter set aside).");
     }
 }
 

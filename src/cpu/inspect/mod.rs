@@ -10,6 +10,7 @@ mod recorder;
 mod table;
 
 pub use record::{ConnectionRecord, PathRecord, PixelTrace, VertexEvent, VertexRecord};
+pub use recorder::sample_event;
 pub use table::format_table;
 
 use super::Renderer;

@@ -81,40 +81,47 @@ fn abs_cos(w: Vec3) -> f32 {
     (w.z / w.length()).abs().min(1.0)
 }
 
-/// Event, |cos θ_t| and F of the sample `s` at `it` for the IORs `(eta_i, eta_t)`.
-fn classify(
-    it: &Interaction,
-    s: &BsdfSample,
-    (eta_i, eta_t): (f32, f32),
-) -> (VertexEvent, f32, Option<f32>) {
-    let cos_i = abs_cos(it.wo);
-    let cos_out = abs_cos(s.wi);
+/// The event of the BSDF sample `s` at `it` and, at a smooth or thin dielectric, the
+/// reflectance F the step chose it with. The inspector's classification, shared with the
+/// event heatmaps (`cpu::aov`).
+pub fn sample_event(it: &Interaction, s: &BsdfSample) -> (VertexEvent, Option<f32>) {
     let dielectric = matches!(it.bsdf, Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_));
     match s.lobe {
-        Lobe::D => (VertexEvent::Diffuse, cos_out, None),
-        Lobe::G => (VertexEvent::Glossy, cos_out, None),
-        Lobe::S if !dielectric => (VertexEvent::Reflect, cos_out, None),
+        Lobe::D => (VertexEvent::Diffuse, None),
+        Lobe::G => (VertexEvent::Glossy, None),
+        Lobe::S if !dielectric => (VertexEvent::Reflect, None),
         Lobe::S => {
             // Delta dielectric lobes are picked with probability F (reflect) or 1 − F.
             let f = match s.event {
                 Event::Reflect => s.pdf,
                 Event::Transmit => 1.0 - s.pdf,
             };
-            match s.event {
-                Event::Transmit => (VertexEvent::Refract, cos_out, Some(f)),
-                // The refracted sibling's cosine (Snell, PBR 4th ed. §9.3.2); 0 under TIR.
-                Event::Reflect => {
-                    let c2 = cos2_transmitted(cos_i, eta_t / eta_i);
-                    let event = if f >= 1.0 {
-                        VertexEvent::Tir
-                    } else {
-                        VertexEvent::Reflect
-                    };
-                    (event, c2.max(0.0).sqrt(), Some(f))
-                }
-            }
+            let event = match s.event {
+                Event::Transmit => VertexEvent::Refract,
+                Event::Reflect if f >= 1.0 => VertexEvent::Tir,
+                Event::Reflect => VertexEvent::Reflect,
+            };
+            (event, Some(f))
         }
     }
+}
+
+/// Event, |cos θ_t| and F of the sample `s` at `it` for the IORs `(eta_i, eta_t)`.
+fn classify(
+    it: &Interaction,
+    s: &BsdfSample,
+    (eta_i, eta_t): (f32, f32),
+) -> (VertexEvent, f32, Option<f32>) {
+    let (event, fresnel) = sample_event(it, s);
+    let cos_t = match (fresnel, s.event) {
+        // The refracted sibling's cosine (Snell, PBR 4th ed. §9.3.2); 0 under TIR.
+        (Some(_), Event::Reflect) => {
+            let c2 = cos2_transmitted(abs_cos(it.wo), eta_t / eta_i);
+            c2.max(0.0).sqrt()
+        }
+        _ => abs_cos(s.wi),
+    };
+    (event, cos_t, fresnel)
 }
 
 impl PathObserver for Recorder {
