@@ -96,7 +96,10 @@ fn lean_walk_is_bit_identical_to_the_general_walk() {
         let (samples, lean) = both_walks(&r, &opts, 4);
         assert!(lean, "{name}: expected the lean instance");
         let nonzero = samples.iter().filter(|s| s[..3] != [0; 3]).count();
-        assert!(nonzero > samples.len() / 4, "{name}: the image is mostly black");
+        assert!(
+            nonzero > samples.len() / 4,
+            "{name}: the image is mostly black"
+        );
         for (i, s) in samples.iter().enumerate() {
             assert_eq!(s[..3], s[3..], "{name}: sample {i} differs");
         }
