@@ -110,8 +110,8 @@ fn lean_walk_is_bit_identical_to_the_general_walk() {
 #[test]
 fn scenes_needing_a_feature_run_the_general_walk() {
     let prism = renderer("prism");
-    let opts = RenderOptions::from_scene(&prism.scene);
-    let (_, lean) = both_walks(&prism, &opts, 1);
+    let prism_opts = RenderOptions::from_scene(&prism.scene);
+    let (_, lean) = both_walks(&prism, &prism_opts, 1);
     assert!(!lean, "prism is spectral");
 
     let cg = renderer("cornell-glass");
@@ -120,6 +120,24 @@ fn scenes_needing_a_feature_run_the_general_walk() {
     let (samples, lean) = both_walks(&cg, &opts, 2);
     assert!(!lean, "a path filter needs the general walk");
     assert!(samples.iter().all(|s| s[..3] == s[3..]));
+
+    // Asking for the lean instance where it does not fit runs the general one.
+    let integ = prism.integrator(&prism_opts);
+    let cam = &prism.scene.camera;
+    for pixel in 0..W * H {
+        let mut a = Sampler::new(pixel, 0, 5);
+        let dir = camera_ray(cam, (pixel % W, pixel / W), (W, H), &mut a);
+        let mut b = a;
+        let sp_a = Spectral::new(true, || a.next_1d());
+        let sp_b = Spectral::new(true, || b.next_1d());
+        let ray = (cam.position, dir);
+        let va = integ.li_spec::<Lean, (), ()>(ray, &mut a, sp_a, &mut (), &());
+        let vb = integ.li_spec::<General, (), ()>(ray, &mut b, sp_b, &mut (), &());
+        assert_eq!(
+            va.to_array().map(f32::to_bits),
+            vb.to_array().map(f32::to_bits)
+        );
+    }
 
     let f = WalkFeatures {
         textures: true,

@@ -152,10 +152,10 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    /// [`Integrator::li_walk`] compiled for the features `S` (which must cover
-    /// `walk_features`; `General` always does). Each absent feature is a constant here:
-    /// RGB lanes, no filter state, no medium stack and no uv unless the observer or gatherer
-    /// reads them (`READS_STATE`).
+    /// [`Integrator::li_walk`] compiled for the features `S`; a path that needs more than
+    /// `S` covers runs the `General` instance instead (so no choice of `S` changes an image).
+    /// Each absent feature is a constant here: RGB lanes, no filter state, no medium stack and
+    /// no uv unless the observer or gatherer reads them (`READS_STATE`).
     pub fn li_spec<S: WalkSpec, O: PathObserver, G: Gather>(
         &self,
         (origin, dir): (Vec3, Vec3),
@@ -164,7 +164,9 @@ impl<'a> Integrator<'a> {
         obs: &mut O,
         gather: &G,
     ) -> Vec3 {
-        debug_assert!(self.walk_features(&sp).fits::<S>());
+        if !self.walk_features(&sp).fits::<S>() {
+            return self.li_spec::<General, O, G>((origin, dir), sampler, sp, obs, gather);
+        }
         let sp = if S::SPECTRAL { sp } else { Spectral::RGB };
         let filter = if S::FILTER { self.filter } else { None };
         let media = S::MEDIA || O::READS_STATE || G::READS_STATE;
