@@ -109,7 +109,7 @@ fn bsdf_report() -> String {
 }
 
 /// Path samples per second of builtin:cornell-glass at 256², depth 64, 16 spp: on one
-/// thread and on all of the pool's.
+/// thread and on all of the pool's, and which walk instance ran (`cpu::walk_spec`).
 fn render_report() -> Result<String> {
     let r = Renderer::new(Scene::load("builtin:cornell-glass")?)?;
     let mut opts = RenderOptions::from_scene(&r.scene);
@@ -121,12 +121,18 @@ fn render_report() -> Result<String> {
         r.render_pass(&opts, film, 0, spp);
         samples / t.elapsed().as_secs_f64()
     };
+    let sp = crate::cpu::spectral::Spectral::new(r.spectral, || 0.5);
+    let walk = if r.integrator(&opts).walk_features(&sp).lean() {
+        "lean"
+    } else {
+        "general"
+    };
     let all = run(&mut Film::new(opts.width, opts.height));
     let one_pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let one = one_pool.install(|| run(&mut Film::new(opts.width, opts.height)));
     Ok(format!(
-        "cornell-glass 256², depth 64, {spp} spp (path): {:.2} M samples/s on 1 thread, {:.2} M \
-         samples/s on {} threads\n",
+        "cornell-glass 256², depth 64, {spp} spp (path, {walk} walk): {:.2} M samples/s on 1 \
+         thread, {:.2} M samples/s on {} threads\n",
         one / 1e6,
         all / 1e6,
         rayon::current_num_threads()

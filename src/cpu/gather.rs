@@ -14,6 +14,10 @@ use crate::math::Color;
 
 /// Supplies caustic radiance at the camera walk's diffuse vertices.
 pub trait Gather {
+    /// The gatherer reads `PathState::media` or `Interaction::hit.uv` (see
+    /// `PathObserver::READS_STATE`); true unless it says otherwise.
+    const READS_STATE: bool = true;
+
     /// Radiance towards `it.wo` of the caustic paths L S^k D (k ≥ 1) ending at `it`, for
     /// a camera path in reversed-DFA state `q` (eye→light order, before `it`'s own D) with
     /// state `st`, not yet multiplied by the path throughput; `None` when this vertex is not
@@ -32,4 +36,6 @@ pub trait Gather {
 }
 
 /// The path tracer's own walk: no gather vertices.
-impl Gather for () {}
+impl Gather for () {
+    const READS_STATE: bool = false;
+}

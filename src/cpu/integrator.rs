@@ -3,14 +3,19 @@
 //! (`PathIntegrator`). Depth and Russian roulette follow Mitsuba 3's `path` integrator:
 //! `max_depth` 1 = emitters seen directly, 2 = direct lighting, RR from `rr_depth`.
 //! Lights are reached only through `scene::light::Light`; the per-vertex work lives in
-//! `Interaction` and `PathState`.
+//! `Interaction` and `PathState`. The walk is compiled per set of scene features
+//! (`cpu::walk_spec`): scenes without spectral lanes, a path filter, media or textures run an
+//! instance with that code removed.
 
 use super::gather::Gather;
-use super::interaction::{Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface};
+use super::interaction::{
+    Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface, surface_with,
+};
 use super::medium::medium_transmittance;
 use super::observer::{PathEnd, PathObserver};
 use super::path_state::{Interface, PathState};
 use super::spectral::Spectral;
+use super::walk_spec::{General, Lean, WalkFeatures, WalkSpec};
 use crate::bsdf::{BxDF, TransportMode};
 use crate::bvh::Bvh;
 use crate::math::sampling::power_heuristic;
@@ -34,13 +39,37 @@ pub struct Integrator<'a> {
     /// The scene's dielectric volumes nest or overlap (`Features::NESTED`): paths keep the
     /// medium stack and pass false hits.
     pub nested: bool,
+    /// A volume absorbs (`Features::ABSORPTION`): segments inside it attenuate.
+    pub absorption: bool,
+    /// A material reads a texture (`Features::TEXTURES`).
+    pub textures: bool,
 }
 
-/// Which Heckbert classes a next-event connection may use at a vertex (D, G).
+/// Which Heckbert classes a next-event connection may use at a vertex (D, G), and whether
+/// the walk keeps media (so the shadow ray may attenuate).
 #[derive(Clone, Copy)]
 struct ClassMask {
     d: bool,
     g: bool,
+    media: bool,
+}
+
+/// DFA state after `sym` (0 when unfiltered).
+#[inline(always)]
+fn step(filter: Option<&DfaTable>, q: u32, sym: Symbol) -> u32 {
+    match filter {
+        Some(f) => f.step(q, sym),
+        None => 0,
+    }
+}
+
+/// Does a path in state `q` that now reaches a light count?
+#[inline(always)]
+fn accepts_light(filter: Option<&DfaTable>, q: u32) -> bool {
+    match filter {
+        Some(f) => f.is_accepting(f.step(q, Symbol::L)),
+        None => true,
+    }
 }
 
 impl<'a> Integrator<'a> {
@@ -50,21 +79,14 @@ impl<'a> Integrator<'a> {
         surface(self.scene, hit)
     }
 
-    /// DFA state after `sym` (0 when unfiltered).
+    /// What the camera path with lanes `sp` needs of the walk (`cpu::walk_spec`).
     #[inline]
-    fn step(&self, q: u32, sym: Symbol) -> u32 {
-        match self.filter {
-            Some(f) => f.step(q, sym),
-            None => 0,
-        }
-    }
-
-    /// Does a path in state `q` that now reaches a light count?
-    #[inline]
-    fn accepts_light(&self, q: u32) -> bool {
-        match self.filter {
-            Some(f) => f.is_accepting(f.step(q, Symbol::L)),
-            None => true,
+    pub fn walk_features(&self, sp: &Spectral) -> WalkFeatures {
+        WalkFeatures {
+            spectral: sp.lambdas.is_some(),
+            filter: self.filter.is_some(),
+            media: self.nested || self.absorption,
+            textures: self.textures,
         }
     }
 
@@ -122,6 +144,33 @@ impl<'a> Integrator<'a> {
         obs: &mut O,
         gather: &G,
     ) -> Vec3 {
+        let ray = (origin, dir);
+        if self.walk_features(&sp).lean() {
+            self.li_spec::<Lean, O, G>(ray, sampler, sp, obs, gather)
+        } else {
+            self.li_spec::<General, O, G>(ray, sampler, sp, obs, gather)
+        }
+    }
+
+    /// [`Integrator::li_walk`] compiled for the features `S`; a path that needs more than
+    /// `S` covers runs the `General` instance instead (so no choice of `S` changes an image).
+    /// Each absent feature is a constant here: RGB lanes, no filter state, no medium stack and
+    /// no uv unless the observer or gatherer reads them (`READS_STATE`).
+    pub fn li_spec<S: WalkSpec, O: PathObserver, G: Gather>(
+        &self,
+        (origin, dir): (Vec3, Vec3),
+        sampler: &mut Sampler,
+        sp: Spectral,
+        obs: &mut O,
+        gather: &G,
+    ) -> Vec3 {
+        if !self.walk_features(&sp).fits::<S>() {
+            return self.li_spec::<General, O, G>((origin, dir), sampler, sp, obs, gather);
+        }
+        let sp = if S::SPECTRAL { sp } else { Spectral::RGB };
+        let filter = if S::FILTER { self.filter } else { None };
+        let media = S::MEDIA || O::READS_STATE || G::READS_STATE;
+        let with_uv = S::TEXTURES || O::READS_STATE || G::READS_STATE;
         let scene = self.scene;
         obs.start(origin, dir, &sp);
         // Specular vertices since the last gather vertex (None: no gather vertex, or a
@@ -134,12 +183,12 @@ impl<'a> Integrator<'a> {
         let mut t_pass = 0.0f32;
         let (mut prev_pdf, mut prev_delta) = (0.0f32, true);
         // Path-filter state: the camera vertex is E (reversed DFA reads eye→light).
-        let mut q = self.step(self.filter.map_or(0, |f| f.start()), Symbol::E);
+        let mut q = step(filter, filter.map_or(0, |f| f.start()), Symbol::E);
         let why = loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
                 // Escaped: the environment, MIS-weighted against NEE when it is light-sampled.
                 let gathered = chain.is_some_and(|k| k >= 1) && gather.environment_emits();
-                if self.accepts_light(q) && !gathered {
+                if accepts_light(filter, q) && !gathered {
                     let w = self.lights.env_weight(d, prev_pdf, prev_delta);
                     let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
                     obs.escaped(d, c);
@@ -147,21 +196,25 @@ impl<'a> Integrator<'a> {
                 }
                 break PathEnd::Escaped;
             };
-            let mut hit = self.surface(&h);
-            st.attenuate(scene, hit.t, &sp);
-            let enclosing = match st.interface(scene, &hit, d) {
-                Interface::Real(m) => m,
-                Interface::Pass => {
-                    t_pass += hit.t;
-                    o = self.pass_through(&hit, d);
-                    continue;
-                }
-                Interface::Lost => break PathEnd::Terminated,
-            };
+            let mut hit = surface_with(scene, &h, with_uv);
+            // Without media every interface is real and refracts against air.
+            let mut enclosing = None;
+            if media {
+                st.attenuate(scene, hit.t, &sp);
+                enclosing = match st.interface(scene, &hit, d) {
+                    Interface::Real(m) => m,
+                    Interface::Pass => {
+                        t_pass += hit.t;
+                        o = self.pass_through(&hit, d);
+                        continue;
+                    }
+                    Interface::Lost => break PathEnd::Terminated,
+                };
+            }
             hit.t += t_pass;
             t_pass = 0.0;
             obs.surface(scene, &hit, &st);
-            if self.accepts_light(q)
+            if accepts_light(filter, q)
                 && chain.is_none_or(|k| k == 0)
                 && let Some((le, w)) = self.hit_emission(&hit, d, prev_pdf, prev_delta)
             {
@@ -187,8 +240,9 @@ impl<'a> Integrator<'a> {
             let ul2 = sampler.next_2d();
             if !it.bsdf.is_delta() && !self.lights.is_empty() {
                 let mask = ClassMask {
-                    d: self.accepts_light(self.step(q, Symbol::D)),
-                    g: self.accepts_light(self.step(q, Symbol::G)),
+                    d: accepts_light(filter, step(filter, q, Symbol::D)),
+                    g: accepts_light(filter, step(filter, q, Symbol::G)),
+                    media,
                 };
                 if mask.d || mask.g {
                     l += self.sample_light(&it, &st, (ul, ul2), mask, &sp, obs);
@@ -205,13 +259,13 @@ impl<'a> Integrator<'a> {
                 }
             };
             obs.bounce(scene, &it, &st, &s, wi);
-            if let Some(f) = self.filter {
+            if let Some(f) = filter {
                 q = f.step(q, Symbol::from(s.lobe));
                 if !f.can_reach_accept(q) {
                     break PathEnd::Filtered; // nothing this path can still reach counts
                 }
             }
-            st.scatter(scene, &it, &s, wi, TransportMode::Radiance);
+            st.scatter_with(scene, &it, (&s, wi), TransportMode::Radiance, media);
             chain = match caustic {
                 Some(_) => Some(0),
                 None if it.bsdf.is_delta() => chain.map(|k| k + 1),
@@ -292,6 +346,9 @@ impl<'a> Integrator<'a> {
         };
         let c = f * wi.z.abs() * sp.c(ls.l) * (w / ls.pdf);
         // Absorption along the shadow ray (a light inside absorbing glass).
+        if !mask.media {
+            return (c, false);
+        }
         let medium = st.medium_towards(self.scene, it, ls.wi);
         if ls.infinite || medium.is_none() {
             return (c, false);

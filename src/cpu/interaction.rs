@@ -28,6 +28,13 @@ pub struct SurfaceHit {
 /// Reconstruct the surface record of a BVH hit.
 #[inline]
 pub fn surface(scene: &Scene, hit: &crate::bvh::Hit) -> SurfaceHit {
+    surface_with(scene, hit, true)
+}
+
+/// [`surface`], inlined into its caller, interpolating uv only when `with_uv` (else zero:
+/// for walks over scenes without textures whose observers do not read it).
+#[inline(always)]
+pub fn surface_with(scene: &Scene, hit: &crate::bvh::Hit, with_uv: bool) -> SurfaceHit {
     let mesh = &scene.mesh;
     let t = hit.tri as usize;
     let [i0, i1, i2] = mesh.indices[t];
@@ -44,7 +51,11 @@ pub fn surface(scene: &Scene, hit: &crate::bvh::Hit) -> SurfaceHit {
     } else if ns.dot(ng) < 0.0 {
         ns = -ns;
     }
-    let uv = mesh.uvs[i0] * b0 + mesh.uvs[i1] * hit.b1 + mesh.uvs[i2] * hit.b2;
+    let uv = if with_uv {
+        mesh.uvs[i0] * b0 + mesh.uvs[i1] * hit.b1 + mesh.uvs[i2] * hit.b2
+    } else {
+        Vec2::ZERO
+    };
     SurfaceHit {
         p,
         ng,

@@ -17,6 +17,7 @@ pub mod path_state;
 pub mod render;
 pub mod spectral;
 pub mod sppm;
+pub mod walk_spec;
 
 pub use integrator::Integrator;
 pub use interaction::SurfaceHit;

@@ -53,6 +53,10 @@ impl PathEnd {
 /// Contributions are in the path's colour lanes and already include the path throughput
 /// (and MIS weights): summed, they are the sample's estimate.
 pub trait PathObserver {
+    /// The observer reads walk state the renderer itself does not need in every scene (the
+    /// medium stack `PathState::media`, `SurfaceHit::uv`): a walk specialised on a scene
+    /// without media or textures keeps them exact only when this is true (the default).
+    const READS_STATE: bool = true;
     /// A camera ray from `origin` along `dir`, carrying the lanes `sp`.
     #[inline(always)]
     fn start(&mut self, _origin: Vec3, _dir: Vec3, _sp: &Spectral) {}
@@ -98,4 +102,6 @@ pub trait PathObserver {
 }
 
 /// The renderer's observer: sees nothing, costs nothing.
-impl PathObserver for () {}
+impl PathObserver for () {
+    const READS_STATE: bool = false;
+}

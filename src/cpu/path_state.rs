@@ -124,6 +124,20 @@ impl PathState {
         wi: Vec3,
         mode: TransportMode,
     ) {
+        self.scatter_with(scene, it, (s, wi), mode, true);
+    }
+
+    /// [`PathState::scatter`], updating the medium stack only when `media` (a walk over a
+    /// scene without nested or absorbing volumes keeps none: `cpu::walk_spec`).
+    #[inline(always)]
+    pub fn scatter_with(
+        &mut self,
+        scene: &Scene,
+        it: &Interaction,
+        (s, wi): (&BsdfSample, Vec3),
+        mode: TransportMode,
+        media: bool,
+    ) {
         let mut w = s.weight;
         if mode == TransportMode::Importance {
             w *= shading_correction(it.wo_w, wi, it.ns, it.ng);
@@ -131,7 +145,10 @@ impl PathState {
         self.beta *= w;
         if s.event == Event::Transmit {
             self.eta_scale *= s.eta_rel * s.eta_rel;
-            self.media = medium_after_transmit(scene, &self.media, it.hit.material, wi, it.hit.ng);
+            if media {
+                self.media =
+                    medium_after_transmit(scene, &self.media, it.hit.material, wi, it.hit.ng);
+            }
         }
         self.depth += 1;
     }

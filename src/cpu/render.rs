@@ -37,6 +37,10 @@ pub struct Renderer {
     pub spectral: bool,
     /// The scene's dielectric volumes nest or overlap: paths keep a medium stack.
     pub nested: bool,
+    /// A volume absorbs (Beer–Lambert along segments inside it).
+    pub absorption: bool,
+    /// A material reads a texture.
+    pub textures: bool,
 }
 
 impl Renderer {
@@ -51,17 +55,21 @@ impl Renderer {
             lights,
             spectral: false,
             nested: false,
+            absorption: false,
+            textures: false,
         };
         r.refresh_features();
         Ok(r)
     }
 
-    /// Re-derive what the walks specialise on (spectral transport, the medium stack) from
+    /// Re-derive what the walks specialise on (spectral transport, media, textures) from
     /// the scene's features, after its materials changed.
     pub fn refresh_features(&mut self) {
         let features = self.scene.features();
         self.spectral = features.contains(Features::DISPERSION);
         self.nested = features.contains(Features::NESTED);
+        self.absorption = features.contains(Features::ABSORPTION);
+        self.textures = features.contains(Features::TEXTURES);
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
@@ -74,6 +82,8 @@ impl Renderer {
             filter: opts.filter.as_ref(),
             spectral: self.spectral,
             nested: self.nested,
+            absorption: self.absorption,
+            textures: self.textures,
         }
     }
 

@@ -11,6 +11,9 @@ pub struct Spectral {
 }
 
 impl Spectral {
+    /// RGB lanes (no hero wavelengths).
+    pub const RGB: Spectral = Spectral { lambdas: None };
+
     /// RGB lanes, or hero wavelengths drawn from `u` when `spectral`.
     #[inline]
     pub fn new(spectral: bool, u: impl FnOnce() -> f32) -> Spectral {

@@ -64,6 +64,9 @@ impl PhotonLookup<'_> {
 }
 
 impl Gather for PhotonLookup<'_> {
+    /// Reads depth, collapse and the vertex geometry only, never media or uv.
+    const READS_STATE: bool = false;
+
     fn gather(&self, it: &Interaction, st: &PathState, q: u32, _sp: &Spectral) -> Option<Color> {
         if !matches!(it.bsdf, Bsdf::Lambert(_)) || st.depth + 3 > self.max_depth {
             return None;
