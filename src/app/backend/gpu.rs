@@ -4,8 +4,10 @@
 //! `egui_wgpu::RenderState`, created in `app::wgpu_configuration` with the adapter's limits),
 //! so the accumulated image never leaves the GPU:
 //!
-//! - [`Backend::step`] (UI thread, once per frame) queues at most one batch at a time and never
-//!   waits for the GPU. Completion is signalled by `Queue::on_submitted_work_done`; a helper
+//! - [`Backend::step`] (UI thread, once per frame) keeps at most two batches queued (the next
+//!   waits in the queue while one runs) where submissions are asynchronous, one on GL and on
+//!   software drivers, and never waits for the GPU. While a new specialisation's pipelines
+//!   compile on a worker thread it queues nothing and the last image stays on screen. Completion is signalled by `Queue::on_submitted_work_done`; a helper
 //!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
 //!   fires (and is timed) within about a millisecond, and wakes the UI. On wgpu's GL backend
 //!   there is no helper thread: GL has one context, whose lock the submitting thread holds
