@@ -387,6 +387,11 @@ fn gpu_backend_compiles_a_new_specialisation_without_blocking_the_ui() {
     let Some(mut ctx) = context(test) else {
         return;
     };
+    if ctx.info.backend == wgpu::Backend::Gl {
+        // One GL context, which compilation holds: the GL backend compiles in the edit.
+        eprintln!("SKIP {test}: GL compiles on the UI thread");
+        return;
+    }
     // No warm disk cache from an earlier run: every compilation here is a cold one.
     ctx.pipeline_cache_dir = None;
     let renderer = egui_wgpu::Renderer::new(

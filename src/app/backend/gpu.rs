@@ -7,7 +7,9 @@
 //! - [`Backend::step`] (UI thread, once per frame) keeps at most two batches queued (the next
 //!   waits in the queue while one runs) where submissions are asynchronous, one on GL and on
 //!   software drivers, and never waits for the GPU. While a new specialisation's pipelines
-//!   compile on a worker thread it queues nothing and the last image stays on screen. Completion is signalled by `Queue::on_submitted_work_done`; a helper
+//!   compile on a worker thread it queues nothing and the last image stays on screen (not on
+//!   GL: its one context would be held by the compiling thread, so there they compile in the
+//!   edit). Completion is signalled by `Queue::on_submitted_work_done`; a helper
 //!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
 //!   fires (and is timed) within about a millisecond, and wakes the UI. On wgpu's GL backend
 //!   there is no helper thread: GL has one context, whose lock the submitting thread holds
@@ -361,11 +363,14 @@ impl GpuBackend {
         match self.renderer.as_mut() {
             Some(r) => r.set_scene(scene, gopts)?,
             None => {
-                self.renderer = Some(GpuRenderer::with_context_in_background(
-                    self.ctx.clone(),
-                    scene,
-                    gopts,
-                )?);
+                // GL has one context, which a compiling thread holds (wgpu-hal panics after
+                // waiting 1 s for it): there the pipelines compile in the edit, as before.
+                let ctx = self.ctx.clone();
+                self.renderer = Some(if self.ctx.info.backend == wgpu::Backend::Gl {
+                    GpuRenderer::with_context(ctx, scene, gopts)?
+                } else {
+                    GpuRenderer::with_context_in_background(ctx, scene, gopts)?
+                });
             }
         }
         if let Some(r) = self.renderer.as_mut() {
