@@ -83,6 +83,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
             ""
         }
     );
+    eprintln!("{}", pipeline_report(&r));
     let bar = super::spp_progress_bar(spp, args.quiet);
     let img = match r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
         bar.set_position(d)
@@ -116,4 +117,17 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
     );
     super::budget_report(args.time_budget, stats.spp, r.batch_spp());
     Ok(true)
+}
+
+/// "GPU pipelines compiled in … ms (pipeline cache …)": how long the kernels took to compile
+/// and whether the driver pipeline cache was warm (`gpu::pipeline_cache`).
+fn pipeline_report(r: &GpuRenderer) -> String {
+    let ms = r.last_compile_time().map_or(0.0, |t| t.as_secs_f64() * 1e3);
+    let cache = match (r.pipeline_cache_loaded(), r.pipeline_cache_path()) {
+        (None, _) => "no pipeline cache on this device".to_owned(),
+        (Some(_), None) => "pipeline cache in memory only".to_owned(),
+        (Some(0), Some(p)) => format!("pipeline cache cold, saved to {}", p.display()),
+        (Some(n), Some(p)) => format!("pipeline cache: {n} bytes loaded from {}", p.display()),
+    };
+    format!("GPU pipelines compiled in {ms:.0} ms ({cache})")
 }

@@ -1207,3 +1207,241 @@ fn gpu_bands_and_batches_give_the_same_image() {
         );
     }
 }
+
+/// Render `spp` samples (after a 1-spp probe) of `scene` with `estimator` under a 1 µs
+/// submission budget (every submission one sample per pixel, in 8-row bands where the estimator
+/// allows: a plan that does not depend on timing) with `in_flight` batches queued.
+fn render_in_flight(
+    ctx: GpuContext,
+    scene: &Scene,
+    estimator: refract::render::Estimator,
+    in_flight: usize,
+    spp: u32,
+) -> (refract::gpu::GpuImage, refract::render::RenderStats) {
+    let mut opts = RenderOptions::from_scene(scene);
+    opts.width = 64;
+    opts.height = 44; // not a multiple of 8: the last band and its workgroups are short
+    opts.estimator = estimator;
+    let mut r = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
+    r.set_batches_in_flight(in_flight);
+    r.set_submission_budget(std::time::Duration::from_micros(1));
+    r.render(1).unwrap();
+    let img = r.render(spp).unwrap();
+    assert_eq!(
+        r.batch_spp(),
+        1,
+        "a 1 µs budget plans one sample per submission"
+    );
+    (img, r.stats().unwrap())
+}
+
+/// Two batches in flight (the next submitted before waiting for the one running) add exactly
+/// the samples one at a time adds: the same image bit for bit, the same counters.
+#[test]
+fn gpu_two_batches_in_flight_give_the_same_image() {
+    use refract::render::Estimator;
+    for (name, estimator) in [
+        ("builtin:cornell-glass", Estimator::Path),
+        ("builtin:caustic", Estimator::LtPt),
+    ] {
+        let scene = Scene::load(name).unwrap();
+        let Some(ctx) = context("gpu_two_batches_in_flight_give_the_same_image") else {
+            return;
+        };
+        let (a, sa) = render_in_flight(ctx.clone(), &scene, estimator, 1, 4);
+        let (b, sb) = render_in_flight(ctx, &scene, estimator, 2, 4);
+        assert_eq!((a.spp, b.spp), (5, 5), "{name}");
+        assert!(
+            a.mean.iter().any(|p| p.max_element() > 0.0),
+            "{name}: a lit image"
+        );
+        assert!(
+            a.mean == b.mean,
+            "{name} {estimator}: the images differ with two batches in flight"
+        );
+        assert_eq!(
+            (sa.segments, sa.dropped),
+            (sb.segments, sb.dropped),
+            "{name}"
+        );
+    }
+}
+
+/// The path-segment counter, reduced per workgroup before one global atomic add: with the
+/// camera looking away from the scene every camera path is one segment (the ray that
+/// escapes), so the count is exactly width × height × spp, on an image whose edge
+/// workgroups are partly outside it (their idle invocations must add nothing).
+#[test]
+fn gpu_segment_counter_counts_every_path_once() {
+    let Some(ctx) = context("gpu_segment_counter_counts_every_path_once") else {
+        return;
+    };
+    let mut scene = Scene::load("builtin:cornell-glass").unwrap();
+    let (lo, hi) = scene.bounds();
+    // Behind the scene's far −Z side, looking further down −Z: nothing in view.
+    let eye = Vec3::new(
+        0.5 * (lo.x + hi.x),
+        0.5 * (lo.y + hi.y),
+        lo.z - 10.0 * (hi - lo).length(),
+    );
+    scene.camera = Camera::look_at(eye, eye - Vec3::Z, Vec3::Y, 0.6);
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.width = 61;
+    opts.height = 45;
+    let mut r = GpuRenderer::with_context(ctx, scene, opts).unwrap();
+    r.render(3).unwrap();
+    let s = r.stats().unwrap();
+    assert_eq!(s.spp, 3);
+    assert_eq!(s.segments, Some(61 * 45 * 3));
+    assert_eq!(s.dropped, 0);
+}
+
+/// A fresh directory for a test's pipeline cache.
+fn cache_dir(test: &str) -> std::path::PathBuf {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let d = std::env::temp_dir().join(format!("refract-{test}-{}-{nanos}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The driver pipeline cache (where the device has `Features::PIPELINE_CACHE`): written to
+/// its file after compilation, loaded by the next device on the adapter, and a corrupt file
+/// is only a cold start. The same image every time.
+#[test]
+fn gpu_pipeline_cache_is_saved_loaded_and_survives_corruption() {
+    let test = "gpu_pipeline_cache_is_saved_loaded_and_survives_corruption";
+    let Some(mut ctx) = context(test) else {
+        return;
+    };
+    if !ctx
+        .device
+        .features()
+        .contains(eframe::wgpu::Features::PIPELINE_CACHE)
+    {
+        eprintln!("SKIP {test}: {} has no pipeline cache", ctx.describe());
+        return;
+    }
+    let dir = cache_dir("pipeline-cache");
+    let scene = Scene::load("builtin:cornell-glass").unwrap();
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.width = 32;
+    opts.height = 24;
+    let render = |ctx: GpuContext| {
+        let mut r = GpuRenderer::with_context(ctx, scene.clone(), opts).unwrap();
+        let t = r.last_compile_time().unwrap();
+        let loaded = r.pipeline_cache_loaded();
+        let path = r.pipeline_cache_path().map(|p| p.to_owned());
+        (r.render(2).unwrap().mean, t, loaded, path)
+    };
+    ctx.pipeline_cache_dir = Some(dir.clone());
+    let (cold, t_cold, loaded, path) = render(ctx);
+    assert_eq!(loaded, Some(0), "an empty directory is a cold start");
+    let path = path.expect("a cache file");
+    assert!(path.starts_with(&dir));
+    let bytes = std::fs::read(&path).expect("the cache was written");
+    assert!(!bytes.is_empty());
+
+    let mut ctx = context(test).unwrap();
+    ctx.pipeline_cache_dir = Some(dir.clone());
+    let (warm, t_warm, loaded, _) = render(ctx);
+    assert_eq!(loaded, Some(bytes.len()), "the next device loads the file");
+    assert!(warm == cold, "the same kernels from the cache");
+
+    std::fs::write(&path, b"not a pipeline cache").unwrap();
+    let mut ctx = context(test).unwrap();
+    ctx.pipeline_cache_dir = Some(dir.clone());
+    let (again, _, _, _) = render(ctx);
+    assert!(again == cold, "a corrupt cache file is only a cold start");
+    eprintln!(
+        "pipeline creation: cold {:.0} ms, warm {:.0} ms ({} bytes of cache data)",
+        t_cold.as_secs_f64() * 1e3,
+        t_warm.as_secs_f64() * 1e3,
+        bytes.len()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Pipelines compiled on a worker thread: the renderer answers at once, reports when they are
+/// ready, and renders what a renderer that compiled them before returning renders; a new
+/// specialisation (a material made dispersive) is compiled in the background too.
+#[test]
+fn gpu_background_compilation_renders_the_same_image() {
+    let test = "gpu_background_compilation_renders_the_same_image";
+    let Some(ctx) = context(test) else {
+        return;
+    };
+    let scene = Scene::load("builtin:cornell-glass").unwrap();
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.width = 32;
+    opts.height = 24;
+    let glass = scene
+        .materials
+        .iter()
+        .position(|m| m.is_transmissive())
+        .expect("cornell-glass has glass");
+    let mut dispersive = scene.materials[glass].clone();
+    dispersive.abbe = Some(30.0);
+
+    let mut sync = GpuRenderer::with_context(ctx.clone(), scene.clone(), opts).unwrap();
+    assert!(!sync.is_compiling());
+    let a = sync.render(2).unwrap().mean;
+    sync.set_material(glass, dispersive.clone()).unwrap();
+    assert!(
+        !sync.is_compiling(),
+        "blocking renderers compile in the edit"
+    );
+    let a2 = sync.render(2).unwrap().mean;
+
+    let mut bg = GpuRenderer::with_context_in_background(ctx, scene, opts).unwrap();
+    let wait = |r: &mut GpuRenderer| {
+        let start = std::time::Instant::now();
+        while !r.pipelines_ready().unwrap() {
+            assert!(
+                start.elapsed().as_secs() < 300,
+                "compilation never finished"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    };
+    wait(&mut bg);
+    assert!(!bg.is_compiling());
+    assert!(bg.render(2).unwrap().mean == a);
+    bg.set_material(glass, dispersive).unwrap();
+    assert!(bg.specialization().spectral);
+    assert!(
+        bg.is_compiling(),
+        "the new specialisation compiles on a worker thread"
+    );
+    wait(&mut bg);
+    assert!(bg.render(2).unwrap().mean == a2);
+}
+
+/// The effect of a second batch in flight on `render_with` (a measurement, not a check:
+/// `cargo test --release --test gpu -- --ignored --nocapture gpu_batches_in_flight_timing`):
+/// cornell-glass 256×256, 16 spp, one and two in flight alternately, three times each.
+#[test]
+#[ignore]
+fn gpu_batches_in_flight_timing() {
+    let Some(ctx) = context("gpu_batches_in_flight_timing") else {
+        return;
+    };
+    let scene = Scene::load("builtin:cornell-glass").unwrap();
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.width = 256;
+    opts.height = 256;
+    for round in 0..3 {
+        for n in [1, 2] {
+            let mut r = GpuRenderer::with_context(ctx.clone(), scene.clone(), opts).unwrap();
+            r.set_batches_in_flight(n);
+            r.render(1).unwrap();
+            let t = std::time::Instant::now();
+            r.render(16).unwrap();
+            eprintln!(
+                "round {round}: {n} in flight: 16 spp in {:.3} s",
+                t.elapsed().as_secs_f64()
+            );
+        }
+    }
+}

@@ -89,3 +89,30 @@ fn kernels_fit_their_register_budgets_on_rdna2() {
     eprintln!("{text}");
     assert!(out.status.success(), "register budgets failed:\n{text}");
 }
+
+/// What RADV's pipeline cache saves (a measurement, run by hand: `MESA_SHADER_CACHE_DISABLE=true
+/// VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/radeon_icd.x86_64.json RADV_FORCE_FAMILY=navi21
+/// cargo test --release --test gpu_registers -- --ignored --nocapture radv_pipeline_cache`):
+/// the all-features `render` kernel compiled with an empty `VkPipelineCache`, then on a new
+/// device with the first one's data (what `gpu::pipeline_cache` stores through wgpu).
+#[test]
+#[ignore]
+fn radv_pipeline_cache_cold_and_warm() {
+    let bindings = kernels::buffer_bindings().expect("bindings");
+    let spec = Specialization::all();
+    for k in kernels::kernels_of(&spec) {
+        let spirv = kernels::spirv(&spec, k).expect("SPIR-V");
+        let (cold, data) =
+            radv::compile_time_with_cache(&spirv, k.entry(), &bindings, None).expect("cold");
+        let (warm, _) =
+            radv::compile_time_with_cache(&spirv, k.entry(), &bindings, Some(&data)).expect("warm");
+        eprintln!(
+            "all features {}: cold {:.0} ms, warm {:.0} µs ({} bytes of cache data)",
+            k.entry(),
+            cold.as_secs_f64() * 1e3,
+            warm.as_secs_f64() * 1e6,
+            data.len()
+        );
+        assert!(!data.is_empty());
+    }
+}

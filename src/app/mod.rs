@@ -569,6 +569,8 @@ pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
         std::sync::Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
             label: Some("refract device"),
             required_limits: adapter.limits(),
+            // The driver pipeline cache where there is one (gpu::pipeline_cache).
+            required_features: adapter.features() & wgpu::Features::PIPELINE_CACHE,
             ..Default::default()
         });
     WgpuConfiguration {

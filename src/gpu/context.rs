@@ -32,11 +32,26 @@ pub fn install_error_handlers(device: &wgpu::Device) -> ErrorLog {
     log
 }
 
-fn record(log: &ErrorLog, msg: String) {
+/// Record `msg` in `log` as an uncaptured error would be (the first one is kept).
+pub fn record(log: &ErrorLog, msg: String) {
     let mut slot = log.lock().unwrap_or_else(|e| e.into_inner());
     if slot.is_none() {
         eprintln!("refract: {msg}");
         *slot = Some(msg);
+    }
+}
+
+/// Run `f` on this thread in validation and out-of-memory error scopes of `device` (wgpu's
+/// error scopes are per thread): an error there is an `Err` naming `what`, never a panic.
+pub fn scoped_on<T>(device: &wgpu::Device, what: &str, f: impl FnOnce() -> T) -> Result<T> {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let value = f();
+    let v = pollster::block_on(validation.pop());
+    let o = pollster::block_on(oom.pop());
+    match v.or(o) {
+        Some(e) => Err(anyhow::anyhow!("{what}: {e}")),
+        None => Ok(value),
     }
 }
 
@@ -50,6 +65,9 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// Errors no scope caught (see [`install_error_handlers`]).
     pub errors: ErrorLog,
+    /// Where the driver pipeline cache is kept between runs (`pipeline_cache::default_dir`;
+    /// None: in memory only). Used by renderers created on this context.
+    pub pipeline_cache_dir: Option<std::path::PathBuf>,
 }
 
 impl GpuContext {
@@ -89,7 +107,8 @@ impl GpuContext {
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("refract"),
-            required_features: wgpu::Features::empty(),
+            // The driver pipeline cache where the adapter has one (Vulkan): `pipeline_cache`.
+            required_features: adapter.features() & wgpu::Features::PIPELINE_CACHE,
             required_limits: limits,
             ..Default::default()
         }))
@@ -106,6 +125,7 @@ impl GpuContext {
             device,
             queue,
             errors,
+            pipeline_cache_dir: super::pipeline_cache::default_dir(),
         }
     }
 
@@ -120,15 +140,7 @@ impl GpuContext {
     /// Run `f` (resource or pipeline creation) in validation and out-of-memory error scopes:
     /// an error there is an `Err` naming `what`, never a panic.
     pub fn scoped<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T> {
-        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let value = f();
-        let v = pollster::block_on(validation.pop());
-        let o = pollster::block_on(oom.pop());
-        match v.or(o) {
-            Some(e) => Err(anyhow::anyhow!("{what}: {e}")),
-            None => Ok(value),
-        }
+        scoped_on(&self.device, what, f)
     }
 
     /// True for CPU-emulated adapters (lavapipe, SwiftShader, WARP, llvmpipe GL).
@@ -150,6 +162,18 @@ impl GpuContext {
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,
+                timeout: Some(WAIT_TIMEOUT),
+            })
+            .map_err(|e| anyhow::anyhow!("GPU wait failed: {e}"))?;
+        self.check_errors()
+    }
+
+    /// Block until submission `index` (and all before it) is done: errors as
+    /// [`GpuContext::wait`].
+    pub fn wait_for(&self, index: wgpu::SubmissionIndex) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
                 timeout: Some(WAIT_TIMEOUT),
             })
             .map_err(|e| anyhow::anyhow!("GPU wait failed: {e}"))?;

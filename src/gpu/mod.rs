@@ -7,7 +7,9 @@
 //! - [`context`]: adapter and device (`required_limits = adapter.limits()`).
 //! - [`layout`]: `#[repr(C)]` Pod twins of the WGSL structs, naga layout reflection.
 //! - [`upload`]: scene → GPU arrays (BVH2 repack in leaf order, materials, light CDF).
-//! - [`pipeline`]: WGSL assembly, specialisation by override constants, pipeline cache.
+//! - [`pipeline`]: WGSL assembly, specialisation by override constants, compiled pipelines
+//!   (compiled on a worker thread where the caller asks for it).
+//! - [`pipeline_cache`]: wgpu's driver pipeline cache, kept on disk between runs.
 //! - [`light_probe`]: the light twin probe (light.wgsl against `scene::light::Light`).
 //! - [`kernels`]: each entry point of a specialisation as WGSL and SPIR-V (dumps, register budgets).
 //! - [`photons`]: the `sppm` photon store (radius schedule, photons, hash grid).
@@ -22,6 +24,7 @@ pub mod layout;
 pub mod light_probe;
 pub mod photons;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod prelude;
 pub mod renderer;
 pub mod submissions;

@@ -4,13 +4,18 @@
 //! are compiled out by the driver. The key is derived from the scene's *kinds* (which BSDFs
 //! and light types exist), never from parameter values, so moving a slider (IOR, colour,
 //! roughness within a kind, emission, environment) never recompiles. Pipelines are cached per
-//! key.
+//! key, in memory and, through the driver's pipeline cache, on disk (`pipeline_cache`).
+//! [`Pipelines::compile_in_background`] compiles a specialisation on a worker thread, so the
+//! viewer keeps drawing while the driver compiles (seconds for every feature on RADV).
 
 use super::GpuContext;
 use super::layout::{GpuLayout, ProbeCase, ProbeOut};
+use super::pipeline_cache::DiskPipelineCache;
 use crate::scene::Features;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 const COMMON: &str = include_str!("../shaders/common.wgsl");
 const RNG: &str = include_str!("../shaders/rng.wgsl");
@@ -276,11 +281,76 @@ pub const STORAGE_BUFFERS: u32 = 11;
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
+    device: wgpu::Device,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
+    /// The driver's pipeline cache, kept on disk (None: the device has none).
+    disk_cache: Option<Arc<DiskPipelineCache>>,
     cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
+    /// Specialisations being compiled on worker threads.
+    pending: Vec<Pending>,
     /// Number of pipelines compiled so far (tests check that edits do not recompile).
     pub compiled: u32,
+    /// Wall time of the last specialisation's pipeline creation (all its kernels).
+    pub last_compile: Option<Duration>,
+}
+
+/// The compiled kernels of one specialisation, and how long their creation took.
+type Compiled = Result<(Vec<(Kernel, wgpu::ComputePipeline)>, Duration)>;
+
+/// A specialisation's pipelines being compiled on a worker thread.
+struct Pending {
+    spec: Specialization,
+    thread: std::thread::JoinHandle<Compiled>,
+}
+
+/// What a compilation needs (wgpu handles are reference-counted and `Send + Sync`: a worker
+/// thread compiles while the caller's thread keeps submitting).
+#[derive(Clone)]
+struct Compiler {
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    disk_cache: Option<Arc<DiskPipelineCache>>,
+}
+
+impl Compiler {
+    /// Create the pipelines of `kernels` for `spec` in error scopes (validation and
+    /// out-of-memory errors are an `Err`), then write the pipeline cache back to disk (a
+    /// failed write is a warning).
+    fn compile(&self, spec: Specialization, kernels: &[Kernel]) -> Compiled {
+        let start = Instant::now();
+        let pipelines =
+            super::context::scoped_on(&self.device, "cannot compile the GPU kernels", || {
+                kernels
+                    .iter()
+                    .map(|&k| (k, self.create(spec, k)))
+                    .collect::<Vec<_>>()
+            })?;
+        let took = start.elapsed();
+        if let Some(c) = &self.disk_cache
+            && let Err(e) = c.save()
+        {
+            eprintln!("refract: warning: {e:#}");
+        }
+        Ok((pipelines, took))
+    }
+
+    fn create(&self, spec: Specialization, kernel: Kernel) -> wgpu::ComputePipeline {
+        let constants = spec.constants();
+        self.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(kernel.entry()),
+                layout: Some(&self.layout),
+                module: &self.module,
+                entry_point: Some(kernel.entry()),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    zero_initialize_workgroup_memory: false,
+                },
+                cache: self.disk_cache.as_ref().map(|c| &c.cache),
+            })
+    }
 }
 
 /// A compute-stage buffer binding of type `ty`.
@@ -361,44 +431,131 @@ impl Pipelines {
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
+        let disk_cache =
+            DiskPipelineCache::open(ctx, ctx.pipeline_cache_dir.as_deref()).map(Arc::new);
         Ok(Pipelines {
             bind_group_layout,
+            device: ctx.device.clone(),
             layout,
             module,
+            disk_cache,
             cache: HashMap::new(),
+            pending: Vec::new(),
             compiled: 0,
+            last_compile: None,
         })
     }
 
-    /// The `render` pipeline for `spec` (compiled on first use, then cached).
-    pub fn get(&mut self, ctx: &GpuContext, spec: Specialization) -> &wgpu::ComputePipeline {
-        self.get_kernel(ctx, spec, Kernel::Render)
+    /// The driver pipeline cache in use (None: the device has none, e.g. wgpu's GL backend).
+    pub fn disk_cache(&self) -> Option<&DiskPipelineCache> {
+        self.disk_cache.as_deref()
     }
 
-    /// The pipeline of `kernel` for `spec` (compiled on first use, then cached).
+    fn compiler(&self) -> Compiler {
+        Compiler {
+            device: self.device.clone(),
+            layout: self.layout.clone(),
+            module: self.module.clone(),
+            disk_cache: self.disk_cache.clone(),
+        }
+    }
+
+    /// The kernels of `spec` not compiled yet.
+    fn missing(&self, spec: Specialization) -> Vec<Kernel> {
+        super::kernels::kernels_of(&spec)
+            .into_iter()
+            .filter(|&k| !self.cache.contains_key(&(spec, k)))
+            .collect()
+    }
+
+    /// True when every kernel `spec` dispatches is compiled.
+    pub fn is_ready(&self, spec: Specialization) -> bool {
+        self.missing(spec).is_empty()
+    }
+
+    /// Compile the pipelines `spec` dispatches now, on this thread (waiting for a worker
+    /// already compiling them).
+    pub fn compile(&mut self, spec: Specialization) -> Result<()> {
+        if let Some(i) = self.pending.iter().position(|p| p.spec == spec) {
+            let p = self.pending.swap_remove(i);
+            return self.finish(p);
+        }
+        let missing = self.missing(spec);
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let compiled = self.compiler().compile(spec, &missing);
+        self.store(spec, compiled)
+    }
+
+    /// Start compiling the pipelines `spec` dispatches on a worker thread (nothing to do when
+    /// they are compiled or being compiled); [`Pipelines::poll`] collects them.
+    pub fn compile_in_background(&mut self, spec: Specialization) -> Result<()> {
+        let missing = self.missing(spec);
+        if missing.is_empty() || self.pending.iter().any(|p| p.spec == spec) {
+            return Ok(());
+        }
+        let compiler = self.compiler();
+        let thread = std::thread::Builder::new()
+            .name("refract-gpu-compile".into())
+            .spawn(move || compiler.compile(spec, &missing))
+            .context("cannot start the GPU kernel compiler thread")?;
+        self.pending.push(Pending { spec, thread });
+        Ok(())
+    }
+
+    /// True while some specialisation is being compiled on a worker thread.
+    pub fn is_compiling(&self) -> bool {
+        !self.pending.is_empty()
+    }
+
+    /// Collect the pipelines of finished worker threads (never waits). An `Err` if one
+    /// failed.
+    pub fn poll(&mut self) -> Result<()> {
+        let mut result = Ok(());
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.pending[i].thread.is_finished() {
+                let p = self.pending.swap_remove(i);
+                let r = self.finish(p);
+                if result.is_ok() {
+                    result = r;
+                }
+            } else {
+                i += 1;
+            }
+        }
+        result
+    }
+
+    /// Join the worker compiling `p` and keep its pipelines.
+    fn finish(&mut self, p: Pending) -> Result<()> {
+        let compiled = p
+            .thread
+            .join()
+            .map_err(|_| anyhow::anyhow!("the GPU kernel compiler thread panicked"))
+            .and_then(|r| r);
+        self.store(p.spec, compiled)
+    }
+
+    fn store(&mut self, spec: Specialization, compiled: Compiled) -> Result<()> {
+        let (pipelines, took) = compiled?;
+        for (kernel, pipeline) in pipelines {
+            self.compiled += 1;
+            self.cache.insert((spec, kernel), pipeline);
+        }
+        self.last_compile = Some(took);
+        Ok(())
+    }
+
+    /// The compiled pipeline of `kernel` for `spec` (None: not compiled, see
+    /// [`Pipelines::compile`]).
     pub fn get_kernel(
-        &mut self,
-        ctx: &GpuContext,
+        &self,
         spec: Specialization,
         kernel: Kernel,
-    ) -> &wgpu::ComputePipeline {
-        let (layout, module, compiled) = (&self.layout, &self.module, &mut self.compiled);
-        self.cache.entry((spec, kernel)).or_insert_with(|| {
-            *compiled += 1;
-            let constants = spec.constants();
-            ctx.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("integrator"),
-                    layout: Some(layout),
-                    module,
-                    entry_point: Some(kernel.entry()),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
-                        zero_initialize_workgroup_memory: false,
-                    },
-                    cache: None,
-                })
-        })
+    ) -> Option<&wgpu::ComputePipeline> {
+        self.cache.get(&(spec, kernel))
     }
 }
 

@@ -99,6 +99,28 @@ pub struct GpuRenderer {
     features: Features,
     /// `sppm`: the first iteration's photon radius r₁ (`photons::radius0`).
     photon_r0: f32,
+    /// Compile new specialisations on a worker thread (the viewer) instead of in the call
+    /// that changes the specialisation (the CLI, tests).
+    background_compile: bool,
+    /// A reset waits for the new specialisation's pipelines: the film is cleared by the
+    /// first submission, and until then still holds the last image (the viewer shows it).
+    clear_pending: bool,
+    /// Submissions [`GpuRenderer::render_with`] keeps queued (2: the next waits while one runs).
+    batches_in_flight: usize,
+}
+
+/// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
+/// the next is already submitted, so it never idles while the CPU plans and encodes.
+pub const BATCHES_IN_FLIGHT: usize = 2;
+
+/// A submission of [`GpuRenderer::render_with`] not yet known to be finished.
+struct Queued {
+    index: wgpu::SubmissionIndex,
+    submitted: Instant,
+    /// Pixel samples it adds.
+    samples: u64,
+    /// The spp accumulated once it finishes, where it completes a pass.
+    completes: Option<u64>,
 }
 
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
@@ -180,19 +202,42 @@ impl GpuRenderer {
         Self::with_context(ctx, scene, opts)
     }
 
-    /// Prepare `scene` on an existing device.
+    /// Prepare `scene` on an existing device (its pipelines compiled before this returns).
     pub fn with_context(ctx: GpuContext, scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
+        Self::build(ctx, scene, opts, false)
+    }
+
+    /// Prepare `scene` on an existing device, compiling its pipelines, and those of every
+    /// later specialisation, on a worker thread: see [`GpuRenderer::pipelines_ready`].
+    /// Dispatching before they are ready waits for them.
+    pub fn with_context_in_background(
+        ctx: GpuContext,
+        scene: Scene,
+        opts: RenderOptions,
+    ) -> Result<GpuRenderer> {
+        Self::build(ctx, scene, opts, true)
+    }
+
+    fn build(
+        ctx: GpuContext,
+        scene: Scene,
+        opts: RenderOptions,
+        background_compile: bool,
+    ) -> Result<GpuRenderer> {
         scene.validate()?;
         upload::check_supported(&scene)?;
         opts.check()?;
         gpu_estimator(opts.estimator, &scene)?;
         let features = scene.features();
         let spec = Self::specialization_for(features, &opts, &scene);
-        let pipelines = ctx.scoped("cannot compile the GPU kernels", || {
-            let mut pipelines = Pipelines::new(&ctx)?;
-            Self::compile(&ctx, &mut pipelines, spec);
-            anyhow::Ok(pipelines)
+        let mut pipelines = ctx.scoped("cannot create the GPU pipeline layout", || {
+            Pipelines::new(&ctx)
         })??;
+        if background_compile {
+            pipelines.compile_in_background(spec)?;
+        } else {
+            pipelines.compile(spec)?;
+        }
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
@@ -218,6 +263,9 @@ impl GpuRenderer {
             tex_slots,
             features,
             photon_r0: 0.0,
+            background_compile,
+            clear_pending: false,
+            batches_in_flight: BATCHES_IN_FLIGHT,
         };
         r.photon_r0 = r.sppm_radius0();
         r.write_filter_table();
@@ -398,6 +446,37 @@ impl GpuRenderer {
     pub fn pipelines_compiled(&self) -> u32 {
         self.pipelines.compiled
     }
+    /// Wall time of the last specialisation's pipeline creation.
+    pub fn last_compile_time(&self) -> Option<Duration> {
+        self.pipelines.last_compile
+    }
+    /// Bytes of driver pipeline cache data loaded from disk when the renderer was created
+    /// (None: the device has no pipeline cache; 0: a cold cache).
+    pub fn pipeline_cache_loaded(&self) -> Option<usize> {
+        self.pipelines.disk_cache().map(|c| c.loaded_bytes)
+    }
+    /// The pipeline cache file (None: no cache, or no cache directory).
+    pub fn pipeline_cache_path(&self) -> Option<&std::path::Path> {
+        self.pipelines.disk_cache().and_then(|c| c.path.as_deref())
+    }
+
+    /// Collect pipelines compiled on a worker thread (never waits): Ok(true) once those of
+    /// the current specialisation are ready, an `Err` if their compilation failed.
+    pub fn pipelines_ready(&mut self) -> Result<bool> {
+        self.pipelines.poll()?;
+        Ok(self.pipelines.is_ready(self.spec))
+    }
+
+    /// True while the current specialisation's pipelines are not compiled yet.
+    pub fn is_compiling(&self) -> bool {
+        !self.pipelines.is_ready(self.spec)
+    }
+
+    /// Submissions [`GpuRenderer::render_with`] keeps queued (at least 1; default
+    /// [`BATCHES_IN_FLIGHT`]).
+    pub fn set_batches_in_flight(&mut self, n: usize) {
+        self.batches_in_flight = n.max(1);
+    }
     pub fn specialization(&self) -> Specialization {
         self.spec
     }
@@ -406,20 +485,32 @@ impl GpuRenderer {
         (self.bvh.build_time, self.bvh.depth, self.bvh.nodes.len())
     }
 
-    /// Drop all accumulated samples and counters (the next sample index is 0 again).
+    /// Drop all accumulated samples and counters (the next sample index is 0 again). While
+    /// the specialisation's pipelines compile, the film keeps the last image until the first
+    /// submission clears it (the viewer shows it meanwhile).
     pub fn reset(&mut self) {
-        let mut enc = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        if self.pipelines.is_ready(self.spec) {
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            self.encode_clear(&mut enc);
+            self.ctx.queue.submit([enc.finish()]);
+            self.clear_pending = false;
+        } else {
+            self.clear_pending = true;
+        }
+        self.spp = 0;
+        self.elapsed = Duration::ZERO;
+        self.photon_r0 = self.sppm_radius0();
+    }
+
+    /// Zero the film, the counters, the splats and the photon grid.
+    fn encode_clear(&self, enc: &mut wgpu::CommandEncoder) {
         enc.clear_buffer(&self.buffers.accum, 0, None);
         enc.clear_buffer(&self.buffers.stats, 0, None);
         enc.clear_buffer(&self.buffers.splats, 0, None);
         enc.clear_buffer(&self.buffers.photon_store.grid, 0, None);
-        self.ctx.queue.submit([enc.finish()]);
-        self.spp = 0;
-        self.elapsed = Duration::ZERO;
-        self.photon_r0 = self.sppm_radius0();
     }
 
     /// The uniforms of a dispatch adding `batch` samples per pixel to the `first` accumulated.
@@ -510,19 +601,60 @@ impl GpuRenderer {
     /// Queue `k` samples per pixel for image rows `y0 .. y0 + rows` (all rows with light
     /// tracing, whose splats land anywhere, and with sppm, one submission per iteration);
     /// `self.spp` is not advanced.
-    fn submit(&mut self, k: u32, y0: u32, rows: u32) {
+    /// Returns the last submission's index (None: nothing submitted, the pipelines failed
+    /// to compile; the error is recorded for [`GpuContext::check_errors`]).
+    fn submit(&mut self, k: u32, y0: u32, rows: u32) -> Option<wgpu::SubmissionIndex> {
         if self.spec.sppm {
             // Iteration s = sample index s: its own photons, then its camera paths.
+            let mut last = None;
             for i in 0..u64::from(k) {
-                self.submit_pass(self.spp + i, 1, 0, self.opts.height);
+                last = self.submit_pass(self.spp + i, 1, 0, self.opts.height);
             }
+            last
         } else {
-            self.submit_pass(self.spp, k, y0, rows);
+            self.submit_pass(self.spp, k, y0, rows)
+        }
+    }
+
+    /// The current specialisation's pipelines, waiting for (or doing) their compilation;
+    /// false (the error recorded) if it fails.
+    fn ensure_pipelines(&mut self) -> bool {
+        if self.pipelines.is_ready(self.spec) {
+            return true;
+        }
+        match self.pipelines.compile(self.spec) {
+            Ok(()) => true,
+            Err(e) => {
+                super::context::record(&self.ctx.errors, format!("{e:#}"));
+                false
+            }
+        }
+    }
+
+    /// Compile the current specialisation's pipelines (on a worker thread with background
+    /// compilation); a failure is recorded for [`GpuContext::check_errors`].
+    fn request_pipelines(&mut self) {
+        let r = if self.background_compile {
+            self.pipelines.compile_in_background(self.spec)
+        } else {
+            self.pipelines.compile(self.spec)
+        };
+        if let Err(e) = r {
+            super::context::record(&self.ctx.errors, format!("{e:#}"));
         }
     }
 
     /// One submission: `k` samples per pixel from sample index `first` for rows `y0 ..`.
-    fn submit_pass(&mut self, first: u64, k: u32, y0: u32, rows: u32) {
+    fn submit_pass(
+        &mut self,
+        first: u64,
+        k: u32,
+        y0: u32,
+        rows: u32,
+    ) -> Option<wgpu::SubmissionIndex> {
+        if !self.ensure_pipelines() {
+            return None;
+        }
         let mut params = self.params(first, k);
         params.tile_y0 = y0;
         self.ctx
@@ -532,6 +664,9 @@ impl GpuRenderer {
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        if std::mem::take(&mut self.clear_pending) {
+            self.encode_clear(&mut enc);
+        }
         let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
         // Light subpaths first: `render` folds their splats into the film; photons first:
         // `render` gathers them (wgpu orders the passes' storage accesses).
@@ -543,17 +678,15 @@ impl GpuRenderer {
             self.encode_kernel(&mut enc, Kernel::PhotonTrace, groups);
         }
         self.encode_kernel(&mut enc, Kernel::Render, groups);
-        self.ctx.queue.submit([enc.finish()]);
+        Some(self.ctx.queue.submit([enc.finish()]))
     }
 
-    /// Record one compute pass of `kernel` over `groups` workgroups.
-    fn encode_kernel(
-        &mut self,
-        enc: &mut wgpu::CommandEncoder,
-        kernel: Kernel,
-        groups: (u32, u32),
-    ) {
-        let pipeline = self.pipelines.get_kernel(&self.ctx, self.spec, kernel);
+    /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is
+    /// compiled: [`GpuRenderer::ensure_pipelines`]).
+    fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
+        let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
+            return;
+        };
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(kernel.entry()),
             timestamp_writes: None,
@@ -569,37 +702,80 @@ impl GpuRenderer {
     }
 
     /// Add up to `spp` samples per pixel, stopping early once `budget` is spent (at least one
-    /// batch); `progress` gets the spp accumulated after each batch.
+    /// batch); `progress` gets the spp accumulated after each batch. Up to
+    /// [`GpuRenderer::set_batches_in_flight`] submissions are queued at a time: the next is
+    /// submitted before waiting for the one running. The submissions, and so the image, are
+    /// those of one at a time; only the waiting differs.
     pub fn render_with(
         &mut self,
         spp: u32,
         budget: Option<Duration>,
         mut progress: impl FnMut(u64),
     ) -> Result<GpuImage> {
+        self.pipelines.compile(self.spec)?;
         let start = Instant::now();
+        let mut queued = std::collections::VecDeque::new();
+        // When the GPU finished the last retired submission (the next one starts then).
+        let mut last_done = start;
         let mut done = 0u32;
-        while done < spp {
+        while done < spp && !budget.is_some_and(|b| done > 0 && start.elapsed() >= b) {
             let (w, h) = (self.opts.width, self.opts.height);
             let (k, rows) = self
                 .submissions
                 .plan(w, h, spp - done, self.needs_whole_image());
             for y0 in (0..h).step_by(rows as usize) {
                 let band = rows.min(h - y0);
-                let t = Instant::now();
-                self.submit(k, y0, band);
-                self.ctx.wait()?;
-                self.submissions
-                    .observe(t.elapsed(), u64::from(w) * u64::from(band) * u64::from(k));
+                let submitted = Instant::now();
+                let index = self.submit(k, y0, band);
+                let last_band = y0 + band >= h;
+                let Some(index) = index else {
+                    return Err(self
+                        .ctx
+                        .check_errors()
+                        .err()
+                        .unwrap_or_else(|| anyhow::anyhow!("the GPU kernels are not compiled")));
+                };
+                queued.push_back(Queued {
+                    index,
+                    submitted,
+                    samples: u64::from(w) * u64::from(band) * u64::from(k),
+                    completes: last_band.then_some(self.spp + u64::from(k)),
+                });
+                while queued.len() >= self.batches_in_flight {
+                    self.retire(&mut queued, &mut last_done, &mut progress)?;
+                }
             }
             self.spp += k as u64;
             done += k;
-            progress(self.spp);
-            if budget.is_some_and(|b| start.elapsed() >= b) {
-                break;
-            }
+        }
+        while !queued.is_empty() {
+            self.retire(&mut queued, &mut last_done, &mut progress)?;
         }
         self.elapsed += start.elapsed();
         self.image()
+    }
+
+    /// Wait for the oldest queued submission and time it: from its submission, or from when
+    /// the one before it finished if that was later (it waited in the queue until then).
+    fn retire(
+        &mut self,
+        queued: &mut std::collections::VecDeque<Queued>,
+        last_done: &mut Instant,
+        progress: &mut impl FnMut(u64),
+    ) -> Result<()> {
+        let Some(q) = queued.pop_front() else {
+            return Ok(());
+        };
+        self.ctx.wait_for(q.index)?;
+        let now = Instant::now();
+        let began = q.submitted.max(*last_done);
+        self.submissions
+            .observe(now.saturating_duration_since(began), q.samples);
+        *last_done = now;
+        if let Some(spp) = q.completes {
+            progress(spp);
+        }
+        Ok(())
     }
 
     fn read_stats(&self) -> Result<(layout::Stats, Vec<Vec4>)> {
@@ -800,19 +976,11 @@ impl GpuRenderer {
         Ok(())
     }
 
-    /// Compile the pipelines `spec` dispatches (cached).
-    fn compile(ctx: &GpuContext, pipelines: &mut Pipelines, spec: Specialization) {
-        for kernel in super::kernels::kernels_of(&spec) {
-            pipelines.get_kernel(ctx, spec, kernel);
-        }
-    }
-
+    /// Select the specialisation for the current features, filter and estimator, and have
+    /// its pipelines compiled (cached; on a worker thread with background compilation).
     fn respecialize(&mut self) {
-        let spec = Self::specialization_for(self.features, &self.opts, &self.scene);
-        if spec != self.spec {
-            self.spec = spec;
-            Self::compile(&self.ctx, &mut self.pipelines, spec);
-        }
+        self.spec = Self::specialization_for(self.features, &self.opts, &self.scene);
+        self.request_pipelines();
     }
 
     /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);

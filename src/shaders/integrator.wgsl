@@ -105,6 +105,31 @@ fn add_counter_segments(x: u32) {
 
 var<private> segments: u32;
 
+// Each invocation's counts are summed per workgroup in workgroup memory, then one lane adds
+// the totals to the global counters: one global atomic add per counter and workgroup instead
+// of one per invocation (the usual two-level reduction; Harris, "Optimizing Parallel
+// Reduction in CUDA", NVIDIA 2007). The memory is the traversal stack's (scene.wgsl), free
+// once every invocation has finished its paths: slots 0 and 1 of each lane's stack, so the
+// kernels need no LDS beyond the stack's 16 KiB (8 more bytes cost RADV a 512-byte block).
+// Every invocation of the workgroup must call this (it has a barrier): entry points call it
+// from uniform control flow, after their per-pixel work.
+fn add_counters_workgroup(dropped: u32, segs: u32) {
+    // The lane's own stack slots (i·64 + lane, i = 0 and 1): no other lane touches them.
+    BVH_STACK[LANE] = dropped;
+    BVH_STACK[WORKGROUP_LANES + LANE] = segs;
+    workgroupBarrier();
+    if LANE == 0u {
+        var d = 0u;
+        var s = 0u;
+        for (var l = 0u; l < WORKGROUP_LANES; l++) {
+            d += BVH_STACK[l];
+            s += BVH_STACK[WORKGROUP_LANES + l];
+        }
+        add_counter_dropped(d);
+        add_counter_segments(s);
+    }
+}
+
 // Everything known about a ray/surface intersection (cpu::SurfaceHit).
 struct SurfaceHit {
     p: vec3<f32>,
@@ -566,15 +591,22 @@ fn render(
 ) {
     LANE = lane;
     OFFSET_SCALE = params.offset_scale;
-    let x = gid.x;
+    segments = 0u;
+    var dropped = 0u;
+    // Invocations past the image edge do no work but still take part in the reduction.
     let y = gid.y + params.tile_y0;
+    if gid.x < params.width && y < params.height {
+        dropped = render_pixel(gid.x, y);
+    }
+    add_counters_workgroup(dropped, segments);
+}
+
+// The batch of camera paths of pixel (x, y), folded into the running mean; returns the
+// samples dropped (non-finite or negative).
+fn render_pixel(x: u32, y: u32) -> u32 {
     let w = params.width;
     let h = params.height;
-    if x >= w || y >= h {
-        return;
-    }
     let pixel = y * w + x;
-    segments = 0u;
     var sum = vec3<f32>(0.0);
     var dropped = 0u;
     for (var k = 0u; k < params.batch; k++) {
@@ -604,6 +636,5 @@ fn render(
     // Fold the batch into the running mean without drift: mean·n/(n+k) + Σ/(n+k).
     let old = accum[pixel];
     accum[pixel] = vec4<f32>(old.xyz * params.w_old + sum * params.w_new, 1.0);
-    add_counter_dropped(dropped);
-    add_counter_segments(segments);
+    return dropped;
 }

@@ -478,16 +478,15 @@ fn light_trace(
     OFFSET_SCALE = params.offset_scale;
     let x = gid.x;
     let y = gid.y;
-    if x >= params.width || y >= params.height {
-        return;
-    }
-    let id = y * params.width + x;
     segments = 0u;
     var rejected = 0u;
-    for (var k = 0u; k < params.batch; k++) {
-        var sampler = sampler_new(id, params.sample_offset + k, params.seed ^ LT_SEED_MIX);
-        rejected += lt_path(&sampler);
+    // Invocations past the image edge trace nothing but still take part in the reduction.
+    if x < params.width && y < params.height {
+        let id = y * params.width + x;
+        for (var k = 0u; k < params.batch; k++) {
+            var sampler = sampler_new(id, params.sample_offset + k, params.seed ^ LT_SEED_MIX);
+            rejected += lt_path(&sampler);
+        }
     }
-    add_counter_dropped(rejected);
-    add_counter_segments(segments);
+    add_counters_workgroup(rejected, segments);
 }

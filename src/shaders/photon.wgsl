@@ -187,14 +187,14 @@ fn photon_trace(
         return;
     }
     OFFSET_SCALE = params.offset_scale;
-    if gid.x >= params.width || gid.y >= params.height {
-        return;
-    }
     segments = 0u;
-    var sampler = sampler_new(gid.y * params.width + gid.x, params.sample_offset, params.seed);
-    sampler.dim = PHOTON_DIMS;
-    photon_path(&sampler, photon_spectral());
-    add_counter_segments(segments);
+    // Invocations past the image edge trace nothing but still take part in the reduction.
+    if gid.x < params.width && gid.y < params.height {
+        var sampler = sampler_new(gid.y * params.width + gid.x, params.sample_offset, params.seed);
+        sampler.dim = PHOTON_DIMS;
+        photon_path(&sampler, photon_spectral());
+    }
+    add_counters_workgroup(0u, segments);
 }
 
 // Bit k set: the string D S^k L read from state `q` passes the filter (k < 32; twin of

@@ -25,6 +25,35 @@ pub fn compile_stats(
     entry: &str,
     bindings: &[BufferBinding],
 ) -> Result<Vec<Stats>, String> {
+    on_device(bindings, |instance, device, layout| {
+        pipeline_stats(instance, device, layout, spirv, entry)
+    })
+}
+
+/// Compile `spirv` with a `VkPipelineCache` created from `data` (None: empty) on the first
+/// Vulkan device the loader offers: (the pipeline creation's wall time, the cache's data
+/// afterwards). What wgpu's `PipelineCache` hands the Vulkan driver.
+pub fn compile_time_with_cache(
+    spirv: &[u32],
+    entry: &str,
+    bindings: &[BufferBinding],
+    data: Option<&[u8]>,
+) -> Result<(std::time::Duration, Vec<u8>), String> {
+    on_device(bindings, |_, device, layout| {
+        cached_compile(device, layout, spirv, entry, data)
+    })
+}
+
+/// The device function of [`on_device`]: an instance, a device, and a pipeline layout of
+/// the bindings.
+type DeviceFn<'a, T> =
+    &'a mut dyn FnMut(&ash::Instance, &ash::Device, vk::PipelineLayout) -> Result<T, String>;
+
+/// Run `f` on the first Vulkan device with a pipeline layout of `bindings`.
+fn on_device<T>(
+    bindings: &[BufferBinding],
+    mut f: impl FnMut(&ash::Instance, &ash::Device, vk::PipelineLayout) -> Result<T, String>,
+) -> Result<T, String> {
     // SAFETY: the Vulkan loader library is loaded once here and every object created from it
     // below is destroyed before `entry` goes out of scope.
     let entry_fns = unsafe { ash::Entry::load() }.map_err(|e| format!("no Vulkan loader: {e}"))?;
@@ -33,18 +62,17 @@ pub fn compile_stats(
     // SAFETY: `info` and what it points to outlive the call.
     let instance = unsafe { entry_fns.create_instance(&info, None) }
         .map_err(|e| format!("vkCreateInstance: {e}"))?;
-    let result = with_instance(&instance, spirv, entry, bindings);
+    let result = with_instance(&instance, bindings, &mut f);
     // SAFETY: every child object of `instance` was destroyed in `with_instance`.
     unsafe { instance.destroy_instance(None) };
     result
 }
 
-fn with_instance(
+fn with_instance<T>(
     instance: &ash::Instance,
-    spirv: &[u32],
-    entry: &str,
     bindings: &[BufferBinding],
-) -> Result<Vec<Stats>, String> {
+    f: DeviceFn<'_, T>,
+) -> Result<T, String> {
     // SAFETY: a valid instance.
     let pdevs = unsafe { instance.enumerate_physical_devices() }
         .map_err(|e| format!("enumerate devices: {e}"))?;
@@ -63,19 +91,18 @@ fn with_instance(
     // SAFETY: `pdev` came from this instance; `dinfo` outlives the call.
     let device = unsafe { instance.create_device(pdev, &dinfo, None) }
         .map_err(|e| format!("vkCreateDevice (pipeline executable properties): {e}"))?;
-    let result = with_device(instance, &device, spirv, entry, bindings);
+    let result = with_device(instance, &device, bindings, f);
     // SAFETY: the pipeline and its layouts were destroyed in `with_device`.
     unsafe { device.destroy_device(None) };
     result
 }
 
-fn with_device(
+fn with_device<T>(
     instance: &ash::Instance,
     device: &ash::Device,
-    spirv: &[u32],
-    entry: &str,
     bindings: &[BufferBinding],
-) -> Result<Vec<Stats>, String> {
+    f: DeviceFn<'_, T>,
+) -> Result<T, String> {
     let groups = bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
     let mut set_layouts = Vec::new();
     for g in 0..groups {
@@ -104,7 +131,7 @@ fn with_device(
     // SAFETY: the set layouts are alive.
     let layout = unsafe { device.create_pipeline_layout(&pl_info, None) }
         .map_err(|e| format!("pipeline layout: {e}"))?;
-    let stats = pipeline_stats(instance, device, layout, spirv, entry);
+    let stats = f(instance, device, layout);
     // SAFETY: no pipeline using them is alive any more.
     unsafe {
         device.destroy_pipeline_layout(layout, None);
@@ -113,6 +140,49 @@ fn with_device(
         }
     }
     stats
+}
+
+/// Create the pipeline of `spirv` through a pipeline cache made from `data`, timed.
+fn cached_compile(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    spirv: &[u32],
+    entry: &str,
+    data: Option<&[u8]>,
+) -> Result<(std::time::Duration, Vec<u8>), String> {
+    let cinfo = vk::PipelineCacheCreateInfo::default().initial_data(data.unwrap_or(&[]));
+    // SAFETY: valid device; `data` is what `get_pipeline_cache_data` returned on this driver
+    // (and drivers check its header anyway).
+    let cache = unsafe { device.create_pipeline_cache(&cinfo, None) }
+        .map_err(|e| format!("pipeline cache: {e}"))?;
+    let sm_info = vk::ShaderModuleCreateInfo::default().code(spirv);
+    // SAFETY: `spirv` is a whole SPIR-V module (naga's output).
+    let module = unsafe { device.create_shader_module(&sm_info, None) }
+        .map_err(|e| format!("shader module: {e}"))?;
+    let name = std::ffi::CString::new(entry).map_err(|e| e.to_string())?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(&name);
+    let info = [vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout)];
+    let start = std::time::Instant::now();
+    // SAFETY: cache, module and layout are alive; one create info, one pipeline out.
+    let created = unsafe { device.create_compute_pipelines(cache, &info, None) };
+    let took = start.elapsed();
+    // SAFETY: the cache is alive and not used by another thread.
+    let out = unsafe { device.get_pipeline_cache_data(cache) };
+    // SAFETY: nothing uses the module or the cache any more; the pipeline is not in use.
+    unsafe {
+        device.destroy_shader_module(module, None);
+        if let Ok(p) = &created {
+            device.destroy_pipeline(p[0], None);
+        }
+        device.destroy_pipeline_cache(cache, None);
+    }
+    created.map_err(|(_, e)| format!("compute pipeline: {e}"))?;
+    Ok((took, out.map_err(|e| format!("pipeline cache data: {e}"))?))
 }
 
 fn pipeline_stats(

@@ -4,8 +4,12 @@
 //! `egui_wgpu::RenderState`, created in `app::wgpu_configuration` with the adapter's limits),
 //! so the accumulated image never leaves the GPU:
 //!
-//! - [`Backend::step`] (UI thread, once per frame) queues at most one batch at a time and never
-//!   waits for the GPU. Completion is signalled by `Queue::on_submitted_work_done`; a helper
+//! - [`Backend::step`] (UI thread, once per frame) keeps at most two batches queued (the next
+//!   waits in the queue while one runs) where submissions are asynchronous, one on GL and on
+//!   software drivers, and never waits for the GPU. While a new specialisation's pipelines
+//!   compile on a worker thread it queues nothing and the last image stays on screen (not on
+//!   GL: its one context would be held by the compiling thread, so there they compile in the
+//!   edit). Completion is signalled by `Queue::on_submitted_work_done`; a helper
 //!   thread drives `device.poll(PollType::Poll)` while a batch is in flight so the callback
 //!   fires (and is timed) within about a millisecond, and wakes the UI. On wgpu's GL backend
 //!   there is no helper thread: GL has one context, whose lock the submitting thread holds
@@ -44,7 +48,8 @@ use eframe::egui;
 use eframe::egui::mutex::RwLock;
 use eframe::egui_wgpu;
 use eframe::wgpu;
-use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -61,7 +66,8 @@ const DEFAULT_BUDGET: Duration = Duration::from_millis(8);
 /// Polls the device (never waits on it) while a batch is in flight. A blocking
 /// `PollType::Wait` would hold the device's fence lock and stall the UI thread's submissions.
 struct Poller {
-    busy: Arc<AtomicBool>,
+    /// Batches in flight (their callbacks decrement it).
+    busy: Arc<AtomicUsize>,
     quit: Arc<AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
@@ -69,7 +75,7 @@ struct Poller {
 impl Poller {
     /// A poller with a helper thread, or (`threaded` false, for GL) without one.
     fn new(device: wgpu::Device, threaded: bool) -> Poller {
-        let busy = Arc::new(AtomicBool::new(false));
+        let busy = Arc::new(AtomicUsize::new(0));
         let quit = Arc::new(AtomicBool::new(false));
         let (b, q) = (Arc::clone(&busy), Arc::clone(&quit));
         if !threaded {
@@ -83,7 +89,7 @@ impl Poller {
             .name("refract-gpu-poll".into())
             .spawn(move || {
                 while !q.load(Ordering::Acquire) {
-                    if b.load(Ordering::Acquire) {
+                    if b.load(Ordering::Acquire) > 0 {
                         let _ = device.poll(wgpu::PollType::Poll);
                         std::thread::sleep(Duration::from_micros(500));
                     } else {
@@ -95,9 +101,9 @@ impl Poller {
         Poller { busy, quit, thread }
     }
 
-    /// A batch was queued: poll until its callback clears `busy`.
+    /// A batch was queued: poll until its callback decrements `busy`.
     fn kick(&self) {
-        self.busy.store(true, Ordering::Release);
+        self.busy.fetch_add(1, Ordering::AcqRel);
         if let Some(t) = &self.thread {
             t.thread().unpark();
         }
@@ -168,7 +174,13 @@ pub struct GpuBackend {
     done_spp: u64,
     elapsed: Duration,
     dropped: u64,
-    in_flight: Option<Batch>,
+    /// Batches queued and not yet finished, oldest first.
+    in_flight: VecDeque<Batch>,
+    /// Most batches in flight: 2 where submissions are asynchronous (the next waits in the
+    /// queue while one runs, so the GPU never idles between frames), else 1.
+    depth: usize,
+    /// When the GPU finished the last collected batch (the next one started then).
+    last_done: Option<Instant>,
     /// A banded pass under way: (samples per pixel, first row not yet submitted). Used where
     /// one sample of the whole image would overrun the frame budget (a slow GPU, GL's
     /// synchronous submissions), so no frame waits for more than a band.
@@ -217,6 +229,13 @@ impl GpuBackend {
             state: Arc::new(AtomicU8::new(MAP_PENDING)),
         };
         let poller = Poller::new(ctx.device.clone(), ctx.info.backend != wgpu::Backend::Gl);
+        // GL runs a batch inside `submit`, and software Vulkan drivers (lavapipe) finish one
+        // submission before accepting the next: a second batch would block the UI thread.
+        let depth = if poller.thread.is_some() && !ctx.is_software() {
+            2
+        } else {
+            1
+        };
         Ok(GpuBackend {
             ctx,
             egui_renderer,
@@ -232,7 +251,9 @@ impl GpuBackend {
             done_spp: 0,
             elapsed: Duration::ZERO,
             dropped: 0,
-            in_flight: None,
+            in_flight: VecDeque::new(),
+            depth,
+            last_done: None,
             pass: None,
             sec_per_sample: None,
             budget: DEFAULT_BUDGET,
@@ -258,7 +279,24 @@ impl GpuBackend {
 
     /// True while a batch is queued on the GPU and not yet finished.
     pub fn batch_in_flight(&self) -> bool {
-        self.in_flight.is_some()
+        !self.in_flight.is_empty()
+    }
+
+    /// Batches queued on the GPU and not yet finished.
+    pub fn batches_in_flight(&self) -> usize {
+        self.in_flight.len()
+    }
+
+    /// Keep up to `n` batches in flight (at least 1; default 2 on hardware Vulkan, Metal and
+    /// DX12, 1 on GL and software drivers, whose submissions block).
+    pub fn set_batches_in_flight(&mut self, n: usize) {
+        self.depth = n.max(1);
+    }
+
+    /// True while the current specialisation's pipelines compile on a worker thread (the
+    /// last image stays on screen meanwhile).
+    pub fn is_compiling(&self) -> bool {
+        self.fallback.is_none() && self.renderer.as_ref().is_some_and(|r| r.is_compiling())
     }
 
     /// Samples per pixel queued for the current generation (finished or not).
@@ -325,7 +363,14 @@ impl GpuBackend {
         match self.renderer.as_mut() {
             Some(r) => r.set_scene(scene, gopts)?,
             None => {
-                self.renderer = Some(GpuRenderer::with_context(self.ctx.clone(), scene, gopts)?);
+                // GL has one context, which a compiling thread holds (wgpu-hal panics after
+                // waiting 1 s for it): there the pipelines compile in the edit, as before.
+                let ctx = self.ctx.clone();
+                self.renderer = Some(if self.ctx.info.backend == wgpu::Backend::Gl {
+                    GpuRenderer::with_context(ctx, scene, gopts)?
+                } else {
+                    GpuRenderer::with_context_in_background(ctx, scene, gopts)?
+                });
             }
         }
         if let Some(r) = self.renderer.as_mut() {
@@ -382,7 +427,7 @@ impl GpuBackend {
 
     /// Render on the CPU from now on (state replayed), with a message saying why.
     fn enter_fallback(&mut self, why: &anyhow::Error) {
-        self.in_flight = None;
+        self.in_flight.clear();
         self.message = Some(format!(
             "The GPU renderer cannot render this ({why:#}); rendering on the CPU instead."
         ));
@@ -429,14 +474,17 @@ impl GpuBackend {
             self.enter_fallback(&e);
             return;
         }
-        let finished = self
+        // Batches finish in submission order.
+        while let Some(t) = self
             .in_flight
-            .as_ref()
-            .and_then(|b| *b.done.lock().unwrap_or_else(|e| e.into_inner()));
-        if let Some(t) = finished
-            && let Some(b) = self.in_flight.take()
+            .front()
+            .and_then(|b| *b.done.lock().unwrap_or_else(|e| e.into_inner()))
+            && let Some(b) = self.in_flight.pop_front()
         {
-            let dt = t.saturating_duration_since(b.submitted);
+            // A batch queued behind another started when that one finished.
+            let began = self.last_done.map_or(b.submitted, |d| d.max(b.submitted));
+            self.last_done = Some(t);
+            let dt = t.saturating_duration_since(began);
             let per = dt.as_secs_f64() / (b.k as f64 * b.pixels as f64).max(1.0);
             self.sec_per_sample = Some(match self.sec_per_sample {
                 Some(s) => 0.5 * s + 0.5 * per,
@@ -448,7 +496,7 @@ impl GpuBackend {
             }
         }
         // Without a poller thread nobody wakes the UI when the batch finishes: keep stepping.
-        if self.in_flight.is_some()
+        if !self.in_flight.is_empty()
             && self.poller.thread.is_none()
             && let Some(c) = &self.repaint
         {
@@ -504,7 +552,7 @@ impl GpuBackend {
     /// only while no batch is in flight (otherwise the next `step` does it, right after the
     /// batch finishes: the image and a new exposure appear within one batch).
     fn refresh_display(&mut self) {
-        if self.in_flight.is_some() {
+        if self.in_flight.len() >= self.depth {
             return;
         }
         let (Some(r), Some(display)) = (self.renderer.as_ref(), self.display) else {
@@ -512,8 +560,11 @@ impl GpuBackend {
         };
         let size = [r.options().width, r.options().height];
         let key = (self.generation, r.spp(), size, display);
+        // While a new specialisation compiles the film still holds the last image (its clear
+        // waits for the first batch): tone-map it on display changes.
+        let stale = r.spp() == 0 && r.is_compiling() && self.shown.is_some_and(|s| s.2 == size);
         // Nothing rendered for this generation yet: keep showing the previous image.
-        if r.spp() > 0 && self.shown != Some(key) {
+        if (r.spp() > 0 || stale) && self.shown != Some(key) {
             if self.tonemap.ensure_target(&self.ctx, size) {
                 register_image(
                     &self.ctx,
@@ -707,82 +758,30 @@ impl Backend for GpuBackend {
         if self.fallback.is_some() {
             return; // a GPU error: the CPU renders from the next step on
         }
-        if self.in_flight.is_some() {
-            return; // at most one batch in flight
+        if self.in_flight.len() >= self.depth {
+            return; // at most `depth` batches in flight
         }
-        // The GPU is idle now: tone-map and copy the counters before the next batch, so no
-        // submission of ours ever queues behind a running batch (software drivers such as
-        // lavapipe block `queue.submit` until the previous submission has finished).
+        // The GPU is idle now (or, with two in flight, runs one batch): tone-map and copy the
+        // counters before the next batch, so no submission of ours ever queues behind more
+        // than one batch (software drivers such as lavapipe block `queue.submit` until the
+        // previous submission has finished: there `depth` is 1).
         self.refresh_display();
         self.start_readback();
-        let (generation, budget, per) = (self.generation, frame_budget, self.sec_per_sample);
-        let Some(r) = self.renderer.as_mut() else {
-            return;
-        };
-        let queued = r.spp();
-        if self.paused || (self.spp_target > 0 && queued >= self.spp_target) {
-            return;
+        // A new specialisation compiles on a worker thread: keep showing the last image.
+        match self.renderer.as_mut().map(|r| r.pipelines_ready()) {
+            None | Some(Ok(true)) => {}
+            Some(Ok(false)) => {
+                if let Some(c) = &self.repaint {
+                    c.request_repaint_after(Duration::from_millis(10));
+                }
+                return;
+            }
+            Some(Err(e)) => {
+                self.enter_fallback(&e);
+                return;
+            }
         }
-        let o = r.options();
-        let (w, h) = (o.width, o.height);
-        let pixels = w as u64 * h as u64;
-        // Bands of rows where one sample of the whole image would take too long: with
-        // synchronous submissions (GL: the batch runs inside `submit`, which froze the UI for
-        // 0.7 s on llvmpipe) beyond the frame budget; on a hardware GPU (watchdogs) beyond
-        // `SUBMISSION_BUDGET`. A software Vulkan device runs asynchronously and has no
-        // watchdog: whole images. Untimed, a first band of ~2¹⁴ pixels measures the device.
-        let band_time = if self.poller.thread.is_none() {
-            Some(budget)
-        } else if r.is_software() {
-            None
-        } else {
-            Some(budget.max(crate::gpu::SUBMISSION_BUDGET))
-        };
-        let band_rows = match (per, band_time) {
-            _ if r.needs_whole_image() => None,
-            (_, None) => None,
-            (Some(s), Some(t)) => {
-                let rows = (t.as_secs_f64() / (s * w.max(1) as f64)) as u32 / 8 * 8;
-                (rows < h).then_some(rows.max(8))
-            }
-            (None, Some(_)) => {
-                let rows = (PROBE_PIXELS / w.max(1)) / 8 * 8;
-                (rows < h).then_some(rows.max(8))
-            }
-        };
-        if self.pass.is_some() || band_rows.is_some() {
-            let (k, y0) = self.pass.unwrap_or((1, 0));
-            let rows = band_rows.unwrap_or(h).min(h - y0);
-            let last = y0 + rows >= h;
-            self.poller.kick();
-            let before = Instant::now();
-            r.dispatch_band(k, y0, rows);
-            if last {
-                r.end_pass(k);
-            }
-            self.pass = (!last).then_some((k, y0 + rows));
-            let batch = (k, w as u64 * rows as u64, if last { k } else { 0 });
-            self.track(batch, generation, before);
-            return;
-        }
-        let mut k = match per {
-            // The first batch of a generation: one sample, to show the edit at once.
-            _ if queued == 0 => 1,
-            Some(s) => {
-                let fit = budget.as_secs_f64() / (s * pixels.max(1) as f64);
-                fit.clamp(1.0, MAX_BATCH_SPP as f64) as u32
-            }
-            None => 1,
-        };
-        if self.spp_target > 0 {
-            k = k.min((self.spp_target - queued).min(MAX_BATCH_SPP as u64) as u32);
-        }
-        let k = k.max(1);
-        // Mark busy before the callback can possibly run.
-        self.poller.kick();
-        let before = Instant::now();
-        r.dispatch(k);
-        self.track((k, pixels, k), generation, before);
+        while self.in_flight.len() < self.depth && self.queue_batch(frame_budget) {}
     }
 
     fn spp(&self) -> u64 {
@@ -838,7 +837,7 @@ impl Backend for GpuBackend {
         if let Some(cpu) = &self.fallback {
             return cpu.is_rendering();
         }
-        self.in_flight.is_some()
+        !self.in_flight.is_empty()
             || self
                 .renderer
                 .as_ref()
@@ -902,6 +901,80 @@ impl Backend for GpuBackend {
 }
 
 impl GpuBackend {
+    /// Queue the next batch (a whole image, or the next band of a pass); false when there is
+    /// nothing to render (paused, the spp target reached, no renderer).
+    fn queue_batch(&mut self, frame_budget: Duration) -> bool {
+        let (generation, budget, per) = (self.generation, frame_budget, self.sec_per_sample);
+        let Some(r) = self.renderer.as_mut() else {
+            return false;
+        };
+        let queued = r.spp();
+        if self.paused || (self.spp_target > 0 && queued >= self.spp_target) {
+            return false;
+        }
+        let o = r.options();
+        let (w, h) = (o.width, o.height);
+        let pixels = w as u64 * h as u64;
+        // Bands of rows where one sample of the whole image would take too long: with
+        // synchronous submissions (GL: the batch runs inside `submit`, which froze the UI for
+        // 0.7 s on llvmpipe) beyond the frame budget; on a hardware GPU (watchdogs) beyond
+        // `SUBMISSION_BUDGET`. A software Vulkan device runs asynchronously and has no
+        // watchdog: whole images. Untimed, a first band of ~2¹⁴ pixels measures the device.
+        let band_time = if self.poller.thread.is_none() {
+            Some(budget)
+        } else if r.is_software() {
+            None
+        } else {
+            Some(budget.max(crate::gpu::SUBMISSION_BUDGET))
+        };
+        let band_rows = match (per, band_time) {
+            _ if r.needs_whole_image() => None,
+            (_, None) => None,
+            (Some(s), Some(t)) => {
+                let rows = (t.as_secs_f64() / (s * w.max(1) as f64)) as u32 / 8 * 8;
+                (rows < h).then_some(rows.max(8))
+            }
+            (None, Some(_)) => {
+                let rows = (PROBE_PIXELS / w.max(1)) / 8 * 8;
+                (rows < h).then_some(rows.max(8))
+            }
+        };
+        if self.pass.is_some() || band_rows.is_some() {
+            let (k, y0) = self.pass.unwrap_or((1, 0));
+            let rows = band_rows.unwrap_or(h).min(h - y0);
+            let last = y0 + rows >= h;
+            self.poller.kick();
+            let before = Instant::now();
+            r.dispatch_band(k, y0, rows);
+            if last {
+                r.end_pass(k);
+            }
+            self.pass = (!last).then_some((k, y0 + rows));
+            let batch = (k, w as u64 * rows as u64, if last { k } else { 0 });
+            self.track(batch, generation, before);
+            return true;
+        }
+        let mut k = match per {
+            // The first batch of a generation: one sample, to show the edit at once.
+            _ if queued == 0 => 1,
+            Some(s) => {
+                let fit = budget.as_secs_f64() / (s * pixels.max(1) as f64);
+                fit.clamp(1.0, MAX_BATCH_SPP as f64) as u32
+            }
+            None => 1,
+        };
+        if self.spp_target > 0 {
+            k = k.min((self.spp_target - queued).min(MAX_BATCH_SPP as u64) as u32);
+        }
+        let k = k.max(1);
+        // Mark busy before the callback can possibly run.
+        self.poller.kick();
+        let before = Instant::now();
+        r.dispatch(k);
+        self.track((k, pixels, k), generation, before);
+        true
+    }
+
     /// Follow the submission just made: (samples per pixel, pixels covered, samples per pixel
     /// it completes), submitted at `before`.
     fn track(&mut self, (k, pixels, completes): (u32, u64, u32), generation: u64, before: Instant) {
@@ -912,13 +985,13 @@ impl GpuBackend {
             let repaint = self.repaint.clone();
             self.ctx.queue.on_submitted_work_done(move || {
                 *done.lock().unwrap_or_else(|e| e.into_inner()) = Some(Instant::now());
-                busy.store(false, Ordering::Release);
+                busy.fetch_sub(1, Ordering::AcqRel);
                 if let Some(c) = repaint {
                     c.request_repaint();
                 }
             });
         }
-        self.in_flight = Some(Batch {
+        self.in_flight.push_back(Batch {
             k,
             pixels,
             completes,
