@@ -10,8 +10,9 @@ use glam::{Vec2, Vec3};
 use refract::bsdf::fresnel::{fresnel_dielectric_terms, refract};
 use refract::bsdf::microfacet::{erf, erfc, erfinv};
 use refract::bsdf::{
-    Bsdf, BxDF, Event, Lambert, Lobe, MetalRough, Microfacet, MicrofacetDistribution, Mirror,
-    RoughConductor, RoughDielectric, SmoothDielectric, ThinDielectric, TransportMode,
+    Bsdf, BxDF, ComplexIor, Event, Lambert, Lobe, Metal, MetalRough, Microfacet,
+    MicrofacetDistribution, Mirror, RoughConductor, RoughDielectric, RoughFresnelConductor,
+    SmoothConductor, SmoothDielectric, ThinDielectric, TransportMode,
 };
 use refract::cpu::Renderer;
 use refract::film::Film;
@@ -145,11 +146,32 @@ fn probe_bsdf(c: &ProbeCase) -> Bsdf {
             ior: eta,
             ..MetalRough::new(col, c.metallic, alpha)
         }),
+        BSDF_SMOOTH_CONDUCTOR => Bsdf::SmoothConductor(SmoothConductor {
+            ior: probe_ior(eta),
+            tint: col,
+        }),
+        BSDF_ROUGH_FRESNEL_CONDUCTOR => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+            ior: probe_ior(eta),
+            lobe: RoughConductor {
+                reflectance: col,
+                alpha,
+                dist,
+            },
+        }),
         k => panic!("unknown kind {k}"),
     }
 }
 
-const ALL_KINDS: [u32; 7] = [
+/// The probe conductors' complex IOR (probe.wgsl `PROBE_COND_ETA`, `PROBE_COND_K`).
+fn probe_ior(eta: f32) -> ComplexIor {
+    ComplexIor {
+        eta: (eta * Vec3::new(0.15, 0.4, 1.2)).extend(0.0),
+        k: Vec3::new(4.0, 2.4, 1.6).extend(0.0),
+        metal: Metal::Au,
+    }
+}
+
+const ALL_KINDS: [u32; 9] = [
     BSDF_LAMBERT,
     BSDF_MIRROR,
     BSDF_SMOOTH_DIELECTRIC,
@@ -157,6 +179,8 @@ const ALL_KINDS: [u32; 7] = [
     BSDF_ROUGH_DIELECTRIC,
     BSDF_ROUGH_CONDUCTOR,
     BSDF_METAL_ROUGH,
+    BSDF_SMOOTH_CONDUCTOR,
+    BSDF_ROUGH_FRESNEL_CONDUCTOR,
 ];
 
 /// The probe grid: every BSDF × (wo, wi, u) × η × (α ∈ {0.05, 0.3, 1}, GGX/Beckmann) for
@@ -168,7 +192,10 @@ fn probe_cases() -> Vec<ProbeCase> {
     for kind in ALL_KINDS {
         let rough = matches!(
             kind,
-            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+            BSDF_ROUGH_DIELECTRIC
+                | BSDF_ROUGH_CONDUCTOR
+                | BSDF_METAL_ROUGH
+                | BSDF_ROUGH_FRESNEL_CONDUCTOR
         );
         let alphas: &[f32] = if rough { &[0.05, 0.3, 1.0] } else { &[0.3] };
         let dists: &[u32] = if rough && kind != BSDF_METAL_ROUGH {

@@ -19,6 +19,7 @@ override HAS_ROUGH_DIELECTRIC: bool = true;
 override HAS_ROUGH_CONDUCTOR: bool = true;
 override HAS_METAL_ROUGH: bool = true;
 override HAS_THIN_DIELECTRIC: bool = true;
+override HAS_CONDUCTOR: bool = true;
 
 // Smooth threshold (bsdf::SMOOTH_ALPHA).
 const SMOOTH_ALPHA: f32 = 1e-3;
@@ -46,12 +47,16 @@ struct Bsdf {
     ior: f32,
     specular_factor: f32,
     specular_color: vec4<f32>,
+    // Tabulated-metal complex IOR η − ik per lane (BSDF_SMOOTH_CONDUCTOR,
+    // BSDF_ROUGH_FRESNEL_CONDUCTOR; bsdf::ComplexIor).
+    cond_eta: vec4<f32>,
+    cond_k: vec4<f32>,
 }
 
 // A BSDF of `kind`; the metal-rough parameters (read only by BSDF_METAL_ROUGH, which sets
 // them in `material_bsdf`) start as metallic 0, IOR 1.5, specular factor 1, white.
 fn bsdf_new(kind: u32, color: vec4<f32>, eta: f32, alpha: f32, dist: u32) -> Bsdf {
-    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0));
+    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
 }
 
 // One sampled scattering direction (bsdf::BsdfSample; `valid` = Some).
@@ -109,7 +114,7 @@ fn bsdf_sample_index_matched(wo: vec3<f32>) -> BsdfSample {
 // True if every lobe is a delta distribution (next-event estimation is skipped).
 fn bsdf_is_delta(b: Bsdf) -> bool {
     switch b.kind {
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
             return true;
         }
         default: {
@@ -136,7 +141,7 @@ fn bsdf_class(b: Bsdf) -> u32 {
         case BSDF_LAMBERT: {
             return LOBE_D;
         }
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
             return LOBE_S;
         }
         default: {
@@ -167,6 +172,11 @@ fn bsdf_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
                 return metal_rough_eval(b, wo, wi);
             }
         }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_fresnel_conductor_eval(b, wo, wi);
+            }
+        }
         default: {}
     }
     // Delta lobes (mirror, smooth and thin dielectric) and compiled-out kinds.
@@ -193,6 +203,11 @@ fn bsdf_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         case BSDF_METAL_ROUGH: {
             if HAS_METAL_ROUGH {
                 return metal_rough_pdf(b, wo, wi);
+            }
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_conductor_pdf(b, wo, wi);
             }
         }
         default: {}
@@ -247,6 +262,16 @@ fn bsdf_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> Bsd
         case BSDF_METAL_ROUGH: {
             if HAS_METAL_ROUGH {
                 return metal_rough_sample(b, wo, uc, u2);
+            }
+        }
+        case BSDF_SMOOTH_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return smooth_conductor_sample(b, wo);
+            }
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_fresnel_conductor_sample(b, wo, u2);
             }
         }
         default: {}
