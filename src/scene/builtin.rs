@@ -6,7 +6,7 @@
 //! each face's corners from one corner array), so a watertight intersector sees no cracks.
 
 use super::{Camera, Material, MaterialKind, Mesh, RenderSettings, Scene};
-use crate::bsdf::MicrofacetDistribution;
+use crate::bsdf::{Metal, MicrofacetDistribution};
 use glam::{Quat, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -25,6 +25,7 @@ pub const NAMES: &[&str] = &[
     "glass-of-water",
     "env-spheres",
     "sun-sky",
+    "metals",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -40,6 +41,7 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "glass-of-water" => Ok(glass_of_water::glass_of_water()),
         "env-spheres" => Ok(env_spheres()),
         "sun-sky" => Ok(sun_sky()),
+        "metals" => Ok(metals()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")
@@ -854,6 +856,51 @@ pub fn sun_sky() -> Scene {
         0.5,
     );
     let mut s = scene("sun-sky", m, materials, cam, Vec3::ZERO, settings(320, 180));
+    s.env_map = Some(super::hdri::sun_sky_env());
+    s
+}
+
+/// Tabulated metals (`extras.conductor`): gold, silver, copper and aluminium spheres
+/// (r = 0.3 m, white base colour = the bare metal), smooth in the front row and rough
+/// (roughness 0.3, GGX) behind, on a checkerboard under the generated sun-and-sky HDRI.
+pub fn metals() -> Scene {
+    let mut materials = vec![
+        Material::diffuse("checker-light", Vec3::splat(0.7)),
+        Material::diffuse("checker-dark", Vec3::splat(0.1)),
+    ];
+    for m in Metal::ALL {
+        materials.push(Material {
+            conductor: Some(m),
+            ..Material::mirror(m.symbol(), Vec3::ONE)
+        });
+    }
+    for m in Metal::ALL {
+        materials.push(Material {
+            conductor: Some(m),
+            ..glossy_metal(&format!("{}-r0.3", m.symbol()), Vec3::ONE, 0.3)
+        });
+    }
+    let mut mesh = Mesh::default();
+    checkerboard(&mut mesh, Vec3::ZERO, 6.0, 12, 0, 1);
+    for k in 0..4u32 {
+        let x = -1.05 + 0.7 * k as f32;
+        sphere(&mut mesh, Vec3::new(x, 0.3, 0.45), 0.3, 48, 96, 2 + k);
+        sphere(&mut mesh, Vec3::new(x, 0.3, -0.45), 0.3, 48, 96, 6 + k);
+    }
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.3, 3.4),
+        Vec3::new(0.0, 0.25, 0.0),
+        Vec3::Y,
+        0.55,
+    );
+    let mut s = scene(
+        "metals",
+        mesh,
+        materials,
+        cam,
+        Vec3::ZERO,
+        settings(400, 240),
+    );
     s.env_map = Some(super::hdri::sun_sky_env());
     s
 }
