@@ -548,6 +548,7 @@ fn reciprocity() {
         let alpha = match b {
             Bsdf::RoughDielectric(d) => d.alpha,
             Bsdf::RoughConductor(c) => c.alpha,
+            Bsdf::RoughFresnelConductor(c) => c.lobe.alpha,
             Bsdf::MetalRough(m) => m.alpha,
             _ => unreachable!(),
         };

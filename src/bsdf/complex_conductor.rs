@@ -124,8 +124,7 @@ impl BxDF for RoughFresnelConductor {
             return None;
         }
         let m = self.lobe.mf().sample_visible(wo, u2);
-        let dot_o = wo.dot(m);
-        if dot_o <= 0.0 {
+        if wo.dot(m) <= 0.0 {
             return None;
         }
         let wi = reflect(wo, m);
@@ -136,7 +135,9 @@ impl BxDF for RoughFresnelConductor {
         if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
             return None;
         }
-        let f = self.lobe.reflectance * self.ior.fresnel(dot_o) * f;
+        // F at the half vector rebuilt from (wo, wi), as `eval` computes it (equal to m up to
+        // rounding), so that sample and eval agree to the last bit.
+        let f = self.lobe.reflectance * self.fresnel_half(wo, wi) * f;
         Some(BsdfSample::new(
             wi,
             f,

@@ -58,17 +58,22 @@ fn rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
 
 // Rough conductor with a complex IOR (twin of `RoughFresnelConductor`,
 // src/bsdf/complex_conductor.rs): f = T F(wo·m) D G2 / (4 cosθo cosθi), the lobe above.
-fn rough_fresnel_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
-    let f = rough_conductor_eval_pdf(b, wo, wi).f;
-    if f == 0.0 {
-        return vec4<f32>(0.0);
-    }
+// F at the half vector of (wo, wi) (`RoughFresnelConductor::fresnel_half`).
+fn rough_fresnel_conductor_f_half(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     let h = wo + wi;
     let len2 = dot3(h, h);
     if len2 <= 0.0 {
         return vec4<f32>(0.0);
     }
-    return b.color * fresnel_conductor4(dot3(wo, h) / sqrt(len2), b.cond_eta, b.cond_k) * f;
+    return fresnel_conductor4(dot3(wo, h) / sqrt(len2), b.cond_eta, b.cond_k);
+}
+
+fn rough_fresnel_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let f = rough_conductor_eval_pdf(b, wo, wi).f;
+    if f == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return b.color * rough_fresnel_conductor_f_half(b, wo, wi) * f;
 }
 
 // Visible-normal sampling as `rough_conductor_sample`, weight T F(wo·m) G2/G1(wo) = f·cos/pdf.
@@ -77,8 +82,7 @@ fn rough_fresnel_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> Bsdf
         return bsdf_sample_none();
     }
     let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
-    let dot_o = dot3(wo, m);
-    if dot_o <= 0.0 {
+    if dot3(wo, m) <= 0.0 {
         return bsdf_sample_none();
     }
     let wi = reflect(wo, m);
@@ -89,6 +93,6 @@ fn rough_fresnel_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> Bsdf
     if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
         return bsdf_sample_none();
     }
-    let f = b.color * fresnel_conductor4(dot_o, b.cond_eta, b.cond_k) * ep.f;
+    let f = b.color * rough_fresnel_conductor_f_half(b, wo, wi) * ep.f;
     return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
 }
