@@ -477,7 +477,10 @@ fn kernel_and_rng_parity() {
         // sample values of the rough kinds (measured worst on lavapipe: 8.8e-5).
         let rough = matches!(
             c.kind,
-            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+            BSDF_ROUGH_DIELECTRIC
+                | BSDF_ROUGH_CONDUCTOR
+                | BSDF_METAL_ROUGH
+                | BSDF_ROUGH_FRESNEL_CONDUCTOR
         );
         let dir_tol = if beck { BECKMANN_REL } else { 2e-5 };
         let val_tol = if beck || rough { 2e-4 } else { rel };
@@ -735,6 +738,13 @@ fn image_parity_rough_glass() {
     let mut s = Scene::load("builtin:rough-glass").unwrap();
     small(&mut s, 64, 48);
     image_parity("image_parity_rough_glass", s, 8, 8);
+}
+
+#[test]
+fn image_parity_metals() {
+    let mut s = Scene::load("builtin:metals").unwrap();
+    small(&mut s, 64, 40);
+    image_parity("image_parity_metals", s, 8, 8);
 }
 
 #[test]
