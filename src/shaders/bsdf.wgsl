@@ -47,16 +47,32 @@ struct Bsdf {
     ior: f32,
     specular_factor: f32,
     specular_color: vec4<f32>,
-    // Tabulated-metal complex IOR η − ik per lane (BSDF_SMOOTH_CONDUCTOR,
-    // BSDF_ROUGH_FRESNEL_CONDUCTOR; bsdf::ComplexIor).
-    cond_eta: vec4<f32>,
-    cond_k: vec4<f32>,
+}
+
+// Tabulated metals (BSDF_SMOOTH_CONDUCTOR, BSDF_ROUGH_FRESNEL_CONDUCTOR; bsdf::ComplexIor) keep
+// their complex IOR η − ik in the metal-rough slots, which they do not otherwise use (two more
+// vec4 fields cost the all-features kernel 8 VGPRs over its budget, tests/gpu_registers.rs):
+// η per RGB channel in `specular_color` (w = 0), k in (`metallic`, `ior`, `specular_factor`).
+// RGB only: gpu::upload::check_supported keeps conductors out of spectral kernels.
+fn bsdf_set_conductor_ior(b: ptr<function, Bsdf>, eta: vec3<f32>, k: vec3<f32>) {
+    (*b).specular_color = vec4<f32>(eta, 0.0);
+    (*b).metallic = k.x;
+    (*b).ior = k.y;
+    (*b).specular_factor = k.z;
+}
+
+fn bsdf_conductor_eta(b: Bsdf) -> vec4<f32> {
+    return b.specular_color;
+}
+
+fn bsdf_conductor_k(b: Bsdf) -> vec4<f32> {
+    return vec4<f32>(b.metallic, b.ior, b.specular_factor, 0.0);
 }
 
 // A BSDF of `kind`; the metal-rough parameters (read only by BSDF_METAL_ROUGH, which sets
 // them in `material_bsdf`) start as metallic 0, IOR 1.5, specular factor 1, white.
 fn bsdf_new(kind: u32, color: vec4<f32>, eta: f32, alpha: f32, dist: u32) -> Bsdf {
-    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0));
 }
 
 // One sampled scattering direction (bsdf::BsdfSample; `valid` = Some).

@@ -15,6 +15,6 @@ fn smooth_conductor_sample(b: Bsdf, wo: vec3<f32>) -> BsdfSample {
     if wo.z <= 0.0 {
         return bsdf_sample_none();
     }
-    let f = fresnel_conductor4(wo.z, b.cond_eta, b.cond_k);
+    let f = fresnel_conductor4(wo.z, bsdf_conductor_eta(b), bsdf_conductor_k(b));
     return bsdf_sample_delta(vec3<f32>(-wo.x, -wo.y, wo.z), b.color * f, 1.0, EVENT_REFLECT, 1.0);
 }

@@ -65,7 +65,7 @@ fn rough_fresnel_conductor_f_half(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4
     if len2 <= 0.0 {
         return vec4<f32>(0.0);
     }
-    return fresnel_conductor4(dot3(wo, h) / sqrt(len2), b.cond_eta, b.cond_k);
+    return fresnel_conductor4(dot3(wo, h) / sqrt(len2), bsdf_conductor_eta(b), bsdf_conductor_k(b));
 }
 
 fn rough_fresnel_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {

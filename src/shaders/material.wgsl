@@ -40,8 +40,7 @@ fn material_bsdf(m: Material, uv: vec2<f32>, eta: f32, sp: Spectral) -> Bsdf {
     }
     if HAS_CONDUCTOR && m.metal != METAL_NONE {
         // RGB η, k (gpu::upload::check_supported keeps conductors out of spectral kernels).
-        b.cond_eta = vec4<f32>(v3(m.cond_eta), 0.0);
-        b.cond_k = vec4<f32>(v3(m.cond_k), 0.0);
+        bsdf_set_conductor_ior(&b, v3(m.cond_eta), v3(m.cond_k));
     }
     return b;
 }

@@ -101,8 +101,9 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     b.metallic = c.metallic;
     b.ior = c.eta;
     b.specular_color = vec4<f32>(1.0);
-    b.cond_eta = vec4<f32>(c.eta * PROBE_COND_ETA, 0.0);
-    b.cond_k = vec4<f32>(PROBE_COND_K, 0.0);
+    if c.kind == BSDF_SMOOTH_CONDUCTOR || c.kind == BSDF_ROUGH_FRESNEL_CONDUCTOR {
+        bsdf_set_conductor_ior(&b, c.eta * PROBE_COND_ETA, PROBE_COND_K);
+    }
     o.eval = a4(bsdf_eval(b, wo, wi, c.mode));
     o.pdf = bsdf_pdf(b, wo, wi);
     let lv = bsdf_eval_lobes(b, wo, wi, c.mode);
