@@ -885,8 +885,8 @@ pub fn metals() -> Scene {
     checkerboard(&mut mesh, Vec3::ZERO, 6.0, 12, 0, 1);
     for k in 0..4u32 {
         let x = -1.05 + 0.7 * k as f32;
-        sphere(&mut mesh, Vec3::new(x, 0.3, 0.45), 0.3, 48, 96, 2 + k);
-        sphere(&mut mesh, Vec3::new(x, 0.3, -0.45), 0.3, 48, 96, 6 + k);
+        sphere(&mut mesh, Vec3::new(x, 0.3, 0.45), 0.3, 24, 48, 2 + k);
+        sphere(&mut mesh, Vec3::new(x, 0.3, -0.45), 0.3, 24, 48, 6 + k);
     }
     let cam = Camera::look_at(
         Vec3::new(0.0, 1.3, 3.4),
