@@ -149,3 +149,42 @@ impl BxDF for RoughFresnelConductor {
         ))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::{Bsdf, MicrofacetDistribution};
+
+    #[test]
+    fn spectral_lanes_take_the_tabulated_values() {
+        let l = [400.0, 500.0, 600.0, 700.0];
+        for metal in Metal::ALL {
+            let smooth = Bsdf::SmoothConductor(SmoothConductor {
+                ior: ComplexIor::rgb(metal),
+                tint: Color::ONE,
+            });
+            let rough = Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+                ior: ComplexIor::rgb(metal),
+                lobe: RoughConductor {
+                    reflectance: Color::ONE,
+                    alpha: 0.2,
+                    dist: MicrofacetDistribution::Ggx,
+                },
+            });
+            for b in [smooth, rough] {
+                let ior = match b.at_wavelengths(l) {
+                    Bsdf::SmoothConductor(c) => c.ior,
+                    Bsdf::RoughFresnelConductor(c) => c.ior,
+                    other => panic!("{other:?}"),
+                };
+                for (i, &lambda) in l.iter().enumerate() {
+                    assert_eq!((ior.eta[i], ior.k[i]), metal.ior_at(lambda));
+                }
+            }
+        }
+        // Gold: its blue end absorbs (η > 1, low k), its red end reflects (η ≪ 1, high k).
+        let gold = ComplexIor::rgb(Metal::Au).at_wavelengths(l);
+        let f = gold.fresnel(1.0);
+        assert!(f.x < 0.5 && f.w > 0.95, "{f:?}");
+    }
+}
