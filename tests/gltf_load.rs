@@ -313,6 +313,7 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
         );
         assert_eq!(x.ior, y.ior, "{n}: {} ior", x.name);
         assert_eq!(x.roughness, y.roughness, "{n}: {} roughness", x.name);
+        assert_eq!(x.conductor, y.conductor, "{n}: {} conductor", x.name);
         assert!(
             close(
                 x.emission,
