@@ -1368,8 +1368,7 @@ fn extras_conductor_makes_a_tabulated_metal_and_rejects_unknown_names() {
         let e = load(&one_triangle(
             json!({"materials": [metal("shiny", 0.0, c)]}),
         ))
-        .err()
-        .expect("refused");
+        .expect_err("refused");
         let msg = format!("{e:#}");
         assert!(
             msg.contains("material 'shiny'") && msg.contains(want),
@@ -1380,8 +1379,7 @@ fn extras_conductor_makes_a_tabulated_metal_and_rejects_unknown_names() {
     let e = load(&one_triangle(json!({"materials": [
         {"name": "plastic", "pbrMetallicRoughness": {"metallicFactor": 0.0}, "extras": {"conductor": "Cu"}}
     ]})))
-    .err()
-    .expect("refused");
+            .expect_err("refused");
     let msg = format!("{e:#}");
     assert!(
         msg.contains("material 'plastic'") && msg.contains("needs a metallic material"),

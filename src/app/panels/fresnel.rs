@@ -156,12 +156,15 @@ fn angle_notes(ui: &mut egui::Ui, eta: f32) {
     };
 }
 
+/// A plotted curve: (angle in degrees, reflectance) points.
+pub type Curve = Vec<[f64; 2]>;
+
 /// Plot samples of the conductor curves (every half degree).
 const CONDUCTOR_STEPS: usize = 180;
 
 /// Per RGB channel: (exact conductor F(θ), Schlick with F0 = F(0°)) as (degrees, F) points,
 /// for the metal's RGB η, k (the values an RGB render uses, `Metal::rgb`).
-pub fn conductor_curves(metal: Metal) -> [(Vec<[f64; 2]>, Vec<[f64; 2]>); 3] {
+pub fn conductor_curves(metal: Metal) -> [(Curve, Curve); 3] {
     let (eta, k) = metal.rgb();
     std::array::from_fn(|c| {
         let f0 = fresnel_conductor(1.0, eta[c], k[c]);
