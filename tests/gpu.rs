@@ -1244,3 +1244,26 @@ fn gpu_bands_and_batches_give_the_same_image() {
         );
     }
 }
+
+#[test]
+fn gpu_refuses_a_spectral_conductor_scene() {
+    // The GPU has RGB conductors only: a tabulated metal next to a dispersive glass is refused
+    // with a message naming both (no device needed: the check runs before any upload).
+    let mut s = Scene::load("builtin:metals").unwrap();
+    upload::check_supported(&s).unwrap();
+    let glass = s
+        .materials
+        .iter()
+        .position(|m| m.name == "checker-dark")
+        .unwrap();
+    s.materials[glass] = Material {
+        abbe: Some(30.0),
+        ..Material::glass("flint", 1.6)
+    };
+    let e = upload::check_supported(&s).expect_err("refused");
+    let msg = format!("{e:#}");
+    assert!(
+        msg.contains("conductor") && msg.contains("dispersive"),
+        "{msg}"
+    );
+}
