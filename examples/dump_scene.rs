@@ -68,7 +68,7 @@ fn main() -> anyhow::Result<()> {
             "base_color": m.base_color.to_array(), "ior": m.ior, "roughness": m.roughness,
             "ext_ior": ext_ior(&scene, mi),
             "distribution": m.distribution, "emission": m.emission.to_array(),
-            "double_sided": m.double_sided,
+            "double_sided": m.double_sided, "conductor": m.conductor,
         }));
     }
     // The environment image as linear EXR next to the meshes (Mitsuba's `envmap`).

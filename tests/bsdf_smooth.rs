@@ -623,3 +623,58 @@ fn thin_glass_material_maps_to_thin_dielectric() {
     let solid = Material::glass("solid", 1.5).bsdf(&[], Vec2::ZERO, 1.5);
     assert!(matches!(solid, Bsdf::SmoothDielectric(_)));
 }
+
+#[test]
+fn smooth_conductor_reflects_with_the_conductor_fresnel() {
+    // Delta reflection, Heckbert S, weight = tint × F(cosθo) per channel (in [0, 1] for a
+    // white tint), nothing from below; the material maps to it (smooth) or the rough lobe.
+    use refract::bsdf::fresnel::fresnel_conductor_color;
+    for metal in Metal::ALL {
+        let ior = ComplexIor::rgb(metal);
+        let b = Bsdf::SmoothConductor(SmoothConductor {
+            ior,
+            tint: rgb(1.0, 0.5, 0.25),
+        });
+        assert!(b.is_delta() && b.class() == Lobe::S && !b.can_transmit());
+        for c in [1.0f32, 0.7, 0.3, 0.05] {
+            let wo = Vec3::new((1.0 - c * c).sqrt(), 0.0, c);
+            let s = b
+                .sample(wo, 0.5, Vec2::splat(0.5), TransportMode::Radiance)
+                .unwrap();
+            assert!(
+                s.is_delta
+                    && s.lobe == Lobe::S
+                    && (s.wi - Vec3::new(-wo.x, 0.0, c)).length() < 1e-6
+            );
+            let f = fresnel_conductor_color(c, ior.eta, ior.k);
+            let want = rgb(1.0, 0.5, 0.25) * f;
+            assert!(
+                (s.weight - want).abs().max_element() < 1e-6,
+                "{metal:?} cos {c}: {:?}",
+                s.weight
+            );
+            assert!(f.truncate().max_element() <= 1.0 && f.truncate().min_element() > 0.0);
+            assert!(
+                b.sample(-wo, 0.5, Vec2::splat(0.5), TransportMode::Radiance)
+                    .is_none()
+            );
+        }
+        let smooth = Material {
+            conductor: Some(metal),
+            ..Material::mirror("m", Vec3::ONE)
+        };
+        assert!(matches!(
+            smooth.bsdf(&[], Vec2::ZERO, 1.5),
+            Bsdf::SmoothConductor(_)
+        ));
+        let rough = Material {
+            kind: MaterialKind::GlossyMetal,
+            roughness: 0.3,
+            ..smooth.clone()
+        };
+        match rough.bsdf(&[], Vec2::ZERO, 1.5) {
+            Bsdf::RoughFresnelConductor(r) => assert!((r.lobe.alpha - 0.09).abs() < 1e-6),
+            other => panic!("{other:?}"),
+        }
+    }
+}

@@ -31,6 +31,7 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         ("glass-of-water", Estimator::Path, Estimator::Path),
         ("env-spheres", Estimator::Path, Estimator::Path),
         ("sun-sky", Estimator::Path, Estimator::Path),
+        ("metals", Estimator::Path, Estimator::Path),
     ];
     for (name, cpu, gpu) in expect {
         let scene = load(name);

@@ -313,6 +313,7 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
         );
         assert_eq!(x.ior, y.ior, "{n}: {} ior", x.name);
         assert_eq!(x.roughness, y.roughness, "{n}: {} roughness", x.name);
+        assert_eq!(x.conductor, y.conductor, "{n}: {} conductor", x.name);
         assert!(
             close(
                 x.emission,
@@ -1346,4 +1347,42 @@ fn camera_aspect_ratio_sizes_the_image_without_extras() {
     assert_eq!((s.settings.width, s.settings.height), (512, 256));
     let s = load(&cam(json!({"render": {"width": 300}}))).unwrap();
     assert_eq!((s.settings.width, s.settings.height), (300, 512));
+}
+
+#[test]
+fn extras_conductor_makes_a_tabulated_metal_and_rejects_unknown_names() {
+    let metal = |name: &str, r: f32, c: serde_json::Value| json!({"name": name, "pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": r}, "extras": {"conductor": c}});
+    let s = load(&one_triangle(json!({
+        "materials": [metal("gold", 0.0, json!("Au")), metal("rough-al", 0.4, json!("Al"))]
+    })))
+    .unwrap();
+    let m = |name: &str| s.materials.iter().find(|x| x.name == name).unwrap();
+    assert_eq!(m("gold").conductor, Some(refract::bsdf::Metal::Au));
+    assert_eq!(m("gold").kind, MaterialKind::Mirror);
+    assert_eq!(m("rough-al").conductor, Some(refract::bsdf::Metal::Al));
+    assert_eq!(m("rough-al").kind, MaterialKind::GlossyMetal);
+    for (c, want) in [
+        (json!("Pt"), "extras.conductor \"Pt\" is not a known metal"),
+        (json!(3), "extras.conductor must be a string"),
+    ] {
+        let e = load(&one_triangle(
+            json!({"materials": [metal("shiny", 0.0, c)]}),
+        ))
+        .expect_err("refused");
+        let msg = format!("{e:#}");
+        assert!(
+            msg.contains("material 'shiny'") && msg.contains(want),
+            "{msg}"
+        );
+    }
+    // Not metallic: refused, naming the material.
+    let e = load(&one_triangle(json!({"materials": [
+        {"name": "plastic", "pbrMetallicRoughness": {"metallicFactor": 0.0}, "extras": {"conductor": "Cu"}}
+    ]})))
+            .expect_err("refused");
+    let msg = format!("{e:#}");
+    assert!(
+        msg.contains("material 'plastic'") && msg.contains("needs a metallic material"),
+        "{msg}"
+    );
 }

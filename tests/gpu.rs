@@ -10,8 +10,9 @@ use glam::{Vec2, Vec3};
 use refract::bsdf::fresnel::{fresnel_dielectric_terms, refract};
 use refract::bsdf::microfacet::{erf, erfc, erfinv};
 use refract::bsdf::{
-    Bsdf, BxDF, Event, Lambert, Lobe, MetalRough, Microfacet, MicrofacetDistribution, Mirror,
-    RoughConductor, RoughDielectric, SmoothDielectric, ThinDielectric, TransportMode,
+    Bsdf, BxDF, ComplexIor, Event, Lambert, Lobe, Metal, MetalRough, Microfacet,
+    MicrofacetDistribution, Mirror, RoughConductor, RoughDielectric, RoughFresnelConductor,
+    SmoothConductor, SmoothDielectric, ThinDielectric, TransportMode,
 };
 use refract::cpu::Renderer;
 use refract::film::Film;
@@ -145,11 +146,32 @@ fn probe_bsdf(c: &ProbeCase) -> Bsdf {
             ior: eta,
             ..MetalRough::new(col, c.metallic, alpha)
         }),
+        BSDF_SMOOTH_CONDUCTOR => Bsdf::SmoothConductor(SmoothConductor {
+            ior: probe_ior(eta),
+            tint: col,
+        }),
+        BSDF_ROUGH_FRESNEL_CONDUCTOR => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+            ior: probe_ior(eta),
+            lobe: RoughConductor {
+                reflectance: col,
+                alpha,
+                dist,
+            },
+        }),
         k => panic!("unknown kind {k}"),
     }
 }
 
-const ALL_KINDS: [u32; 7] = [
+/// The probe conductors' complex IOR (probe.wgsl `PROBE_COND_ETA`, `PROBE_COND_K`).
+fn probe_ior(eta: f32) -> ComplexIor {
+    ComplexIor {
+        eta: (eta * Vec3::new(0.15, 0.4, 1.2)).extend(0.0),
+        k: Vec3::new(4.0, 2.4, 1.6).extend(0.0),
+        metal: Metal::Au,
+    }
+}
+
+const ALL_KINDS: [u32; 9] = [
     BSDF_LAMBERT,
     BSDF_MIRROR,
     BSDF_SMOOTH_DIELECTRIC,
@@ -157,6 +179,8 @@ const ALL_KINDS: [u32; 7] = [
     BSDF_ROUGH_DIELECTRIC,
     BSDF_ROUGH_CONDUCTOR,
     BSDF_METAL_ROUGH,
+    BSDF_SMOOTH_CONDUCTOR,
+    BSDF_ROUGH_FRESNEL_CONDUCTOR,
 ];
 
 /// The probe grid: every BSDF × (wo, wi, u) × η × (α ∈ {0.05, 0.3, 1}, GGX/Beckmann) for
@@ -168,7 +192,10 @@ fn probe_cases() -> Vec<ProbeCase> {
     for kind in ALL_KINDS {
         let rough = matches!(
             kind,
-            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+            BSDF_ROUGH_DIELECTRIC
+                | BSDF_ROUGH_CONDUCTOR
+                | BSDF_METAL_ROUGH
+                | BSDF_ROUGH_FRESNEL_CONDUCTOR
         );
         let alphas: &[f32] = if rough { &[0.05, 0.3, 1.0] } else { &[0.3] };
         let dists: &[u32] = if rough && kind != BSDF_METAL_ROUGH {
@@ -450,7 +477,10 @@ fn kernel_and_rng_parity() {
         // sample values of the rough kinds (measured worst on lavapipe: 8.8e-5).
         let rough = matches!(
             c.kind,
-            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_CONDUCTOR | BSDF_METAL_ROUGH
+            BSDF_ROUGH_DIELECTRIC
+                | BSDF_ROUGH_CONDUCTOR
+                | BSDF_METAL_ROUGH
+                | BSDF_ROUGH_FRESNEL_CONDUCTOR
         );
         let dir_tol = if beck { BECKMANN_REL } else { 2e-5 };
         let val_tol = if beck || rough { 2e-4 } else { rel };
@@ -708,6 +738,13 @@ fn image_parity_rough_glass() {
     let mut s = Scene::load("builtin:rough-glass").unwrap();
     small(&mut s, 64, 48);
     image_parity("image_parity_rough_glass", s, 8, 8);
+}
+
+#[test]
+fn image_parity_metals() {
+    let mut s = Scene::load("builtin:metals").unwrap();
+    small(&mut s, 64, 40);
+    image_parity("image_parity_metals", s, 8, 8);
 }
 
 #[test]
@@ -1444,4 +1481,27 @@ fn gpu_batches_in_flight_timing() {
             );
         }
     }
+}
+
+#[test]
+fn gpu_refuses_a_spectral_conductor_scene() {
+    // The GPU has RGB conductors only: a tabulated metal next to a dispersive glass is refused
+    // with a message naming both (no device needed: the check runs before any upload).
+    let mut s = Scene::load("builtin:metals").unwrap();
+    upload::check_supported(&s).unwrap();
+    let glass = s
+        .materials
+        .iter()
+        .position(|m| m.name == "checker-dark")
+        .unwrap();
+    s.materials[glass] = Material {
+        abbe: Some(30.0),
+        ..Material::glass("flint", 1.6)
+    };
+    let e = upload::check_supported(&s).expect_err("refused");
+    let msg = format!("{e:#}");
+    assert!(
+        msg.contains("conductor") && msg.contains("dispersive"),
+        "{msg}"
+    );
 }

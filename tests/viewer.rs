@@ -119,6 +119,30 @@ fn ior_preset_sets_the_ior() {
 }
 
 #[test]
+fn fresnel_panel_plots_a_selected_conductor_with_schlick() {
+    let mut app = ViewerApp::open("builtin:metals").expect("metals scene opens");
+    app.settings.render.render_scale = 0.125;
+    app.settings.render.fit_viewport = false;
+    app.options_changed();
+    let gold = app
+        .scene
+        .materials
+        .iter()
+        .position(|m| m.name == "Au")
+        .expect("gold sphere");
+    let mut h = harness(app);
+    h.state_mut().selected = Some(gold);
+    h.step();
+    h.step();
+    h.get_by_label_contains("'Au': conductor Au");
+    h.get_by_label_contains("dashed: Schlick");
+    // Gold's red channel (Mitsuba's RGB η 0.143, k 3.98): F0 ≈ 0.96.
+    h.get_by_label_contains("R: η = 0.14");
+    // The glass mode is gone.
+    assert!(h.query_by_label_contains("Brewster angle").is_none());
+}
+
+#[test]
 fn clicking_the_sphere_selects_the_glass() {
     let app = small_app();
     // Film point of the sphere's centre (0.35, 0.35, 0.3) seen from the default camera.

@@ -45,12 +45,16 @@ elif max(s["environment"]) > 0:
 for i, m in enumerate(s["materials"]):
     rgb = lambda v: {"type": "rgb", "value": v}
     k = m["kind"]
+    # Tabulated metal (extras.conductor): Mitsuba's own Au/Ag/Cu/Al data, which refract ships
+    # too; the base colour is the specular_reflectance tint in both. "none" = eta 0, k 1: a
+    # perfect mirror (refract's constant reflectance = base colour).
+    metal = m.get("conductor") or "none"
     if k == "diffuse":
         b = {"type": "diffuse", "reflectance": rgb(m["base_color"])}
     elif k == "mirror":
-        b = {"type": "conductor", "material": "none", "specular_reflectance": rgb(m["base_color"])}
+        b = {"type": "conductor", "material": metal, "specular_reflectance": rgb(m["base_color"])}
     elif k == "glossy":
-        b = {"type": "roughconductor", "material": "none", "alpha": m["roughness"] ** 2,
+        b = {"type": "roughconductor", "material": metal, "alpha": m["roughness"] ** 2,
              "distribution": m["distribution"], "specular_reflectance": rgb(m["base_color"])}
     elif k == "glass" and m["ior"] == m.get("ext_ior", 1.0):
         # Index-matched: Mitsuba refuses a dielectric with equal IORs; it passes light

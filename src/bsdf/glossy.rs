@@ -20,13 +20,14 @@ pub struct RoughConductor {
 
 impl RoughConductor {
     #[inline]
-    fn mf(&self) -> Microfacet {
+    pub(super) fn mf(&self) -> Microfacet {
         Microfacet::new(self.dist, self.alpha)
     }
 
     /// Scalar D G2/(4 cos cos) and pdf, shared by eval/pdf/sample so they agree exactly.
+    /// Also the lobe of [`super::RoughFresnelConductor`].
     #[inline]
-    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (f32, f32) {
+    pub(super) fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (f32, f32) {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return (0.0, 0.0);
         }

@@ -10,11 +10,13 @@
 //! (Veach 1997, §5.2).
 
 pub mod chi2;
+pub mod complex_conductor;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
 pub mod glossy;
+pub mod metal_ior;
 pub mod metal_rough;
 pub mod microfacet;
 pub mod rough_dielectric;
@@ -23,10 +25,12 @@ pub mod thin;
 use crate::math::Color;
 use glam::{Vec2, Vec3};
 
+pub use complex_conductor::{ComplexIor, RoughFresnelConductor, SmoothConductor};
 pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
 pub use glossy::RoughConductor;
+pub use metal_ior::Metal;
 pub use metal_rough::MetalRough;
 pub use microfacet::Microfacet;
 pub use rough_dielectric::RoughDielectric;
@@ -178,6 +182,10 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     RoughConductor(RoughConductor),
     MetalRough(MetalRough),
+    /// Smooth conductor with a complex IOR (tabulated metal).
+    SmoothConductor(SmoothConductor),
+    /// Rough conductor with a complex IOR (tabulated metal).
+    RoughFresnelConductor(RoughFresnelConductor),
 }
 
 impl Bsdf {
@@ -186,8 +194,14 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         match self {
             Bsdf::Lambert(_) => false,
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => true,
-            Bsdf::RoughDielectric(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => false,
+            Bsdf::Mirror(_)
+            | Bsdf::SmoothDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => true,
+            Bsdf::RoughDielectric(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::MetalRough(_)
+            | Bsdf::RoughFresnelConductor(_) => false,
         }
     }
 
@@ -210,6 +224,34 @@ impl Bsdf {
                 specular_color: f(b.specular_color),
                 ..b
             }),
+            Bsdf::SmoothConductor(b) => Bsdf::SmoothConductor(SmoothConductor {
+                tint: f(b.tint),
+                ..b
+            }),
+            Bsdf::RoughFresnelConductor(b) => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+                lobe: RoughConductor {
+                    reflectance: f(b.lobe.reflectance),
+                    ..b.lobe
+                },
+                ..b
+            }),
+            other => other,
+        }
+    }
+
+    /// Spectral mode: re-evaluate wavelength-dependent parameters (a conductor's tabulated
+    /// η, k) at the path's four wavelengths; colours go through [`Bsdf::map_colors`].
+    #[inline]
+    pub fn at_wavelengths(self, lambdas: [f32; 4]) -> Bsdf {
+        match self {
+            Bsdf::SmoothConductor(b) => Bsdf::SmoothConductor(SmoothConductor {
+                ior: b.ior.at_wavelengths(lambdas),
+                ..b
+            }),
+            Bsdf::RoughFresnelConductor(b) => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+                ior: b.ior.at_wavelengths(lambdas),
+                ..b
+            }),
             other => other,
         }
     }
@@ -218,9 +260,12 @@ impl Bsdf {
     #[inline]
     pub fn can_transmit(&self) -> bool {
         match self {
-            Bsdf::Lambert(_) | Bsdf::Mirror(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => {
-                false
-            }
+            Bsdf::Lambert(_)
+            | Bsdf::Mirror(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::MetalRough(_)
+            | Bsdf::SmoothConductor(_)
+            | Bsdf::RoughFresnelConductor(_) => false,
             Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => true,
         }
     }
@@ -231,8 +276,14 @@ impl Bsdf {
     pub fn class(&self) -> Lobe {
         match self {
             Bsdf::Lambert(_) => Lobe::D,
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => Lobe::S,
-            Bsdf::RoughDielectric(_) | Bsdf::RoughConductor(_) | Bsdf::MetalRough(_) => Lobe::G,
+            Bsdf::Mirror(_)
+            | Bsdf::SmoothDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::SmoothConductor(_) => Lobe::S,
+            Bsdf::RoughDielectric(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::MetalRough(_)
+            | Bsdf::RoughFresnelConductor(_) => Lobe::G,
         }
     }
 
@@ -267,6 +318,8 @@ impl BxDF for Bsdf {
             Bsdf::RoughDielectric(b) => b.eval(wo, wi, mode),
             Bsdf::RoughConductor(b) => b.eval(wo, wi, mode),
             Bsdf::MetalRough(b) => b.eval(wo, wi, mode),
+            Bsdf::SmoothConductor(b) => b.eval(wo, wi, mode),
+            Bsdf::RoughFresnelConductor(b) => b.eval(wo, wi, mode),
         }
     }
     #[inline]
@@ -279,6 +332,8 @@ impl BxDF for Bsdf {
             Bsdf::RoughDielectric(b) => b.pdf(wo, wi),
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
             Bsdf::MetalRough(b) => b.pdf(wo, wi),
+            Bsdf::SmoothConductor(b) => b.pdf(wo, wi),
+            Bsdf::RoughFresnelConductor(b) => b.pdf(wo, wi),
         }
     }
     #[inline]
@@ -291,6 +346,8 @@ impl BxDF for Bsdf {
             Bsdf::RoughDielectric(b) => b.sample(wo, uc, u2, mode),
             Bsdf::RoughConductor(b) => b.sample(wo, uc, u2, mode),
             Bsdf::MetalRough(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::SmoothConductor(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::RoughFresnelConductor(b) => b.sample(wo, uc, u2, mode),
         }
     }
 }

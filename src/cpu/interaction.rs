@@ -159,8 +159,8 @@ impl Interaction {
             eta /= medium_ior(scene, outer, sp);
         }
         let mut bsdf = mat.bsdf(&scene.textures, hit.uv, eta);
-        if sp.lambdas.is_some() {
-            bsdf = bsdf.map_colors(|c| sp.c(c.truncate()));
+        if let Some(l) = sp.lambdas {
+            bsdf = bsdf.map_colors(|c| sp.c(c.truncate())).at_wavelengths(l);
         }
         let frame = Frame::from_normal(ns);
         let wo_w = -d;

@@ -106,6 +106,12 @@ gpu_struct! {
         pub mr_tex: u32,
         /// Nested dielectrics: `scene::Material::priority`.
         pub priority: i32,
+        /// Tabulated metal (`scene::Material::conductor`): linear-sRGB η and k per channel
+        /// (`Metal::rgb`) and its code ([`METAL_NONE`] or `Metal::index() + 1`).
+        pub cond_eta: [f32; 3],
+        pub metal: u32,
+        pub cond_k: [f32; 3],
+        pub _pad_cond: u32,
     }
 }
 
@@ -339,6 +345,11 @@ pub const BSDF_ROUGH_DIELECTRIC: u32 = 3;
 pub const BSDF_ROUGH_CONDUCTOR: u32 = 4;
 pub const BSDF_METAL_ROUGH: u32 = 5;
 pub const BSDF_THIN_DIELECTRIC: u32 = 6;
+pub const BSDF_SMOOTH_CONDUCTOR: u32 = 7;
+pub const BSDF_ROUGH_FRESNEL_CONDUCTOR: u32 = 8;
+
+/// `Material.metal` of a material without a tabulated metal.
+pub const METAL_NONE: u32 = 0;
 
 /// Microfacet distributions (`bsdf::MicrofacetDistribution`, see `upload::dist_code`).
 pub const DIST_GGX: u32 = 0;

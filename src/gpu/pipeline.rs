@@ -136,6 +136,8 @@ pub struct Specialization {
     pub rough_dielectric: bool,
     pub rough_conductor: bool,
     pub metal_rough: bool,
+    /// Tabulated metals with the conductor Fresnel term (smooth or rough).
+    pub conductor: bool,
     /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
     pub ggx: bool,
     pub beckmann: bool,
@@ -171,6 +173,7 @@ impl Specialization {
             rough_dielectric: f.contains(Features::ROUGH_GLASS),
             rough_conductor: f.contains(Features::GLOSSY_METAL),
             metal_rough: f.contains(Features::METAL_ROUGH),
+            conductor: f.intersects(Features::SMOOTH_CONDUCTOR | Features::ROUGH_FRESNEL_CONDUCTOR),
             ggx: f.contains(Features::GGX),
             beckmann: f.contains(Features::BECKMANN),
             area_lights: f.contains(Features::AREA_LIGHTS),
@@ -198,6 +201,7 @@ impl Specialization {
             rough_dielectric: true,
             rough_conductor: true,
             metal_rough: true,
+            conductor: true,
             ggx: true,
             beckmann: true,
             area_lights: true,
@@ -233,6 +237,7 @@ impl Specialization {
             ("HAS_ROUGH_DIELECTRIC", b(self.rough_dielectric)),
             ("HAS_ROUGH_CONDUCTOR", b(self.rough_conductor)),
             ("HAS_METAL_ROUGH", b(self.metal_rough)),
+            ("HAS_CONDUCTOR", b(self.conductor)),
             ("HAS_GGX", b(self.ggx)),
             ("HAS_BECKMANN", b(self.beckmann)),
             ("HAS_LIGHTS", b(self.area_lights)),

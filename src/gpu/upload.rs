@@ -6,7 +6,7 @@ use super::layout::{self, BvhNode, Light, Material, Triangle, Vertex};
 use crate::bsdf::{Bsdf, MicrofacetDistribution};
 use crate::scene::light::{Light as SceneLight, LightSet};
 use crate::scene::material::Wrap;
-use crate::scene::{MaterialKind, Scene};
+use crate::scene::{Features, MaterialKind, Scene};
 use anyhow::{Result, bail, ensure};
 use glam::{Vec2, Vec3};
 use obvhs::{BvhBuildParams, triangle::Triangle as ObvhsTriangle};
@@ -178,6 +178,8 @@ pub fn bsdf_kind(scene: &Scene, m: &crate::scene::Material) -> (u32, Vec3) {
         Bsdf::RoughDielectric(_) => (layout::BSDF_ROUGH_DIELECTRIC, m.base_color),
         Bsdf::RoughConductor(_) => (layout::BSDF_ROUGH_CONDUCTOR, m.base_color),
         Bsdf::MetalRough(_) => (layout::BSDF_METAL_ROUGH, m.base_color),
+        Bsdf::SmoothConductor(_) => (layout::BSDF_SMOOTH_CONDUCTOR, m.base_color),
+        Bsdf::RoughFresnelConductor(_) => (layout::BSDF_ROUGH_FRESNEL_CONDUCTOR, m.base_color),
     }
 }
 
@@ -192,6 +194,12 @@ pub fn dist_code(d: MicrofacetDistribution) -> u32 {
 /// Reject what the GPU kernel cannot render. Every material kind, textures, dispersion and
 /// the path filter are supported; what is left are limits (checked when buffers are built).
 pub fn check_supported(scene: &Scene) -> Result<()> {
+    let f = scene.features();
+    let conductors = Features::SMOOTH_CONDUCTOR | Features::ROUGH_FRESNEL_CONDUCTOR;
+    ensure!(
+        !(f.intersects(conductors) && f.contains(Features::DISPERSION)),
+        "the GPU renderer has no spectral (hero-wavelength) conductor yet: this scene has a tabulated metal (extras.conductor) and a dispersive material; render it on the CPU"
+    );
     for (i, t) in scene.textures.iter().enumerate() {
         ensure!(
             (t.width as u64) < (1 << 30) && (t.height as u64) < (1 << 30),
@@ -310,6 +318,7 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32))
         flags |= layout::MAT_ABSORBS;
     }
     let absorbs = m.has_absorption();
+    let cond = m.conductor.map_or((Vec3::ZERO, Vec3::ZERO), |c| c.rgb());
     Material {
         base_color: color.to_array(),
         bsdf,
@@ -329,6 +338,12 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32))
         base_tex: tex.0,
         mr_tex: tex.1,
         priority: m.priority,
+        cond_eta: cond.0.to_array(),
+        metal: m
+            .conductor
+            .map_or(layout::METAL_NONE, |c| c.index() as u32 + 1),
+        cond_k: cond.1.to_array(),
+        _pad_cond: 0,
     }
 }
 

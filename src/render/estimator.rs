@@ -89,8 +89,12 @@ impl Estimator {
             return (self, "");
         }
         let f = scene.features();
-        let specular =
-            f.intersects(Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::MIRROR);
+        let specular = f.intersects(
+            Features::SMOOTH_GLASS
+                | Features::THIN_GLASS
+                | Features::MIRROR
+                | Features::SMOOTH_CONDUCTOR,
+        );
         let glass_kinds = Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::ROUGH_GLASS;
         let glass = specular || f.contains(Features::ROUGH_GLASS);
         // "Small" light: the emitters cover < 1% of the scene's bounding-box area, so

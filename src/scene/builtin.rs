@@ -6,7 +6,7 @@
 //! each face's corners from one corner array), so a watertight intersector sees no cracks.
 
 use super::{Camera, Material, MaterialKind, Mesh, RenderSettings, Scene};
-use crate::bsdf::MicrofacetDistribution;
+use crate::bsdf::{Metal, MicrofacetDistribution};
 use glam::{Quat, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -28,6 +28,7 @@ pub const NAMES: &[&str] = &[
     "sun-sky",
     "ior-grid",
     "transmission-roughness",
+    "metals",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -45,6 +46,7 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "sun-sky" => Ok(sun_sky()),
         "ior-grid" => Ok(khronos::ior_grid()),
         "transmission-roughness" => Ok(khronos::transmission_roughness()),
+        "metals" => Ok(metals()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")
@@ -868,4 +870,48 @@ pub fn sun_sky() -> Scene {
     let mut s = scene("sun-sky", m, materials, cam, Vec3::ZERO, settings(320, 180));
     s.env_map = Some(super::hdri::sun_sky_env());
     s
+}
+
+/// Tabulated metals (`extras.conductor`): gold, silver, copper and aluminium spheres
+/// (r = 0.3 m, white base colour = the bare metal), smooth in the front row and rough
+/// (roughness 0.3, GGX) behind, on a checkerboard under a uniform white sky (no sun: no
+/// caustics or fireflies, so the comparison with Mitsuba measures the conductors).
+pub fn metals() -> Scene {
+    let mut materials = vec![
+        Material::diffuse("checker-light", Vec3::splat(0.7)),
+        Material::diffuse("checker-dark", Vec3::splat(0.1)),
+    ];
+    for m in Metal::ALL {
+        materials.push(Material {
+            conductor: Some(m),
+            ..Material::mirror(m.symbol(), Vec3::ONE)
+        });
+    }
+    for m in Metal::ALL {
+        materials.push(Material {
+            conductor: Some(m),
+            ..glossy_metal(&format!("{}-r0.3", m.symbol()), Vec3::ONE, 0.3)
+        });
+    }
+    let mut mesh = Mesh::default();
+    checkerboard(&mut mesh, Vec3::ZERO, 6.0, 12, 0, 1);
+    for k in 0..4u32 {
+        let x = -1.05 + 0.7 * k as f32;
+        sphere(&mut mesh, Vec3::new(x, 0.3, 0.45), 0.3, 24, 48, 2 + k);
+        sphere(&mut mesh, Vec3::new(x, 0.3, -0.45), 0.3, 24, 48, 6 + k);
+    }
+    let cam = Camera::look_at(
+        Vec3::new(0.0, 1.3, 3.4),
+        Vec3::new(0.0, 0.25, 0.0),
+        Vec3::Y,
+        0.55,
+    );
+    scene(
+        "metals",
+        mesh,
+        materials,
+        cam,
+        Vec3::ONE,
+        settings(400, 240),
+    )
 }

@@ -48,6 +48,10 @@ bitflags::bitflags! {
         const NESTED = 1 << 15;
         /// An environment image (importance-sampled, in the light distribution).
         const ENV_IMAGE = 1 << 16;
+        /// A smooth tabulated metal with the exact conductor Fresnel term (`extras.conductor`).
+        const SMOOTH_CONDUCTOR = 1 << 17;
+        /// A rough tabulated metal with the exact conductor Fresnel term (`extras.conductor`).
+        const ROUGH_FRESNEL_CONDUCTOR = 1 << 18;
     }
 }
 
@@ -72,6 +76,8 @@ pub fn compute(scene: &Scene) -> Features {
             Bsdf::ThinDielectric(_) => Features::THIN_GLASS,
             Bsdf::RoughDielectric(b) => Features::ROUGH_GLASS | dist(b.dist),
             Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
+            Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
+            Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
             Bsdf::MetalRough(_) => {
                 let mut k = Features::METAL_ROUGH | Features::GGX;
                 k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());

@@ -358,6 +358,13 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         };
         j["extras"] = json!({ "microfacet_distribution": d });
     }
+    if let Some(metal) = m.conductor {
+        // Tabulated metal (material.extras.conductor, the loader's contract).
+        if !j["extras"].is_object() {
+            j["extras"] = json!({});
+        }
+        j["extras"]["conductor"] = json!(metal.symbol());
+    }
     if m.priority != 0 {
         // Nested dielectrics (material.extras.priority, the loader's contract).
         if !j["extras"].is_object() {

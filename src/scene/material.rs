@@ -82,6 +82,11 @@ pub struct Material {
     /// Nested dielectrics: where closed volumes overlap, the one with the higher priority
     /// is the medium (`material.extras.priority`, Schmidt & Budge 2002); default 0.
     pub priority: i32,
+    /// A tabulated metal (`material.extras.conductor`, metallic materials only): the mirror
+    /// or glossy metal becomes a conductor with spectral η, k and the exact conductor Fresnel
+    /// term, tinted by the base colour (Mitsuba's `specular_reflectance`; white = the bare
+    /// metal). `None`: the constant reflectance = base colour of the scene contract.
+    pub conductor: Option<bsdf::Metal>,
 }
 
 impl Default for Material {
@@ -104,6 +109,7 @@ impl Default for Material {
             specular_factor: 1.0,
             specular_color: Vec3::ONE,
             priority: 0,
+            conductor: None,
         }
     }
 }
@@ -217,6 +223,9 @@ impl Material {
     /// `spectral` converts RGB parameters to the path's wavelengths when set.
     pub fn bsdf(&self, textures: &[Texture], uv: Vec2, eta: f32) -> Bsdf {
         let base = self.base_color_at(textures, uv);
+        if let Some(metal) = self.conductor.filter(|_| self.is_metal_kind()) {
+            return self.conductor_bsdf(metal, base);
+        }
         match self.kind {
             MaterialKind::Mirror => Bsdf::Mirror(bsdf::Mirror {
                 reflectance: rgb3(base),
@@ -251,6 +260,36 @@ impl Material {
             }
             MaterialKind::MetalRough => Bsdf::MetalRough(self.metal_rough_at(textures, uv, base)),
             MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
+        }
+    }
+
+    /// Mirror or glossy metal (the kinds `extras.conductor` applies to).
+    #[inline]
+    pub fn is_metal_kind(&self) -> bool {
+        matches!(self.kind, MaterialKind::Mirror | MaterialKind::GlossyMetal)
+    }
+
+    /// A tabulated metal with RGB η, k (spectral paths re-evaluate them with
+    /// `Bsdf::at_wavelengths`): smooth below the α threshold, else the microfacet lobe of
+    /// glossy metal (same roughness and distribution) with the exact Fresnel term.
+    fn conductor_bsdf(&self, metal: bsdf::Metal, base: Vec3) -> Bsdf {
+        let ior = bsdf::ComplexIor::rgb(metal);
+        let tint = rgb3(base);
+        let alpha = match self.kind {
+            MaterialKind::Mirror => 0.0,
+            _ => bsdf::roughness_to_alpha(self.roughness),
+        };
+        if bsdf::effectively_smooth(alpha) {
+            Bsdf::SmoothConductor(bsdf::SmoothConductor { ior, tint })
+        } else {
+            Bsdf::RoughFresnelConductor(bsdf::RoughFresnelConductor {
+                ior,
+                lobe: bsdf::RoughConductor {
+                    reflectance: tint,
+                    alpha,
+                    dist: self.distribution,
+                },
+            })
         }
     }
 

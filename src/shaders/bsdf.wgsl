@@ -19,6 +19,7 @@ override HAS_ROUGH_DIELECTRIC: bool = true;
 override HAS_ROUGH_CONDUCTOR: bool = true;
 override HAS_METAL_ROUGH: bool = true;
 override HAS_THIN_DIELECTRIC: bool = true;
+override HAS_CONDUCTOR: bool = true;
 
 // Smooth threshold (bsdf::SMOOTH_ALPHA).
 const SMOOTH_ALPHA: f32 = 1e-3;
@@ -46,6 +47,26 @@ struct Bsdf {
     ior: f32,
     specular_factor: f32,
     specular_color: vec4<f32>,
+}
+
+// Tabulated metals (BSDF_SMOOTH_CONDUCTOR, BSDF_ROUGH_FRESNEL_CONDUCTOR; bsdf::ComplexIor) keep
+// their complex IOR η − ik in the metal-rough slots, which they do not otherwise use (two more
+// vec4 fields cost the all-features kernel 8 VGPRs over its budget, tests/gpu_registers.rs):
+// η per RGB channel in `specular_color` (w = 0), k in (`metallic`, `ior`, `specular_factor`).
+// RGB only: gpu::upload::check_supported keeps conductors out of spectral kernels.
+fn bsdf_set_conductor_ior(b: ptr<function, Bsdf>, eta: vec3<f32>, k: vec3<f32>) {
+    (*b).specular_color = vec4<f32>(eta, 0.0);
+    (*b).metallic = k.x;
+    (*b).ior = k.y;
+    (*b).specular_factor = k.z;
+}
+
+fn bsdf_conductor_eta(b: Bsdf) -> vec4<f32> {
+    return b.specular_color;
+}
+
+fn bsdf_conductor_k(b: Bsdf) -> vec4<f32> {
+    return vec4<f32>(b.metallic, b.ior, b.specular_factor, 0.0);
 }
 
 // A BSDF of `kind`; the metal-rough parameters (read only by BSDF_METAL_ROUGH, which sets
@@ -109,7 +130,7 @@ fn bsdf_sample_index_matched(wo: vec3<f32>) -> BsdfSample {
 // True if every lobe is a delta distribution (next-event estimation is skipped).
 fn bsdf_is_delta(b: Bsdf) -> bool {
     switch b.kind {
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
             return true;
         }
         default: {
@@ -136,7 +157,7 @@ fn bsdf_class(b: Bsdf) -> u32 {
         case BSDF_LAMBERT: {
             return LOBE_D;
         }
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
             return LOBE_S;
         }
         default: {
@@ -167,6 +188,11 @@ fn bsdf_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
                 return metal_rough_eval(b, wo, wi);
             }
         }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_fresnel_conductor_eval(b, wo, wi);
+            }
+        }
         default: {}
     }
     // Delta lobes (mirror, smooth and thin dielectric) and compiled-out kinds.
@@ -193,6 +219,11 @@ fn bsdf_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         case BSDF_METAL_ROUGH: {
             if HAS_METAL_ROUGH {
                 return metal_rough_pdf(b, wo, wi);
+            }
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_conductor_pdf(b, wo, wi);
             }
         }
         default: {}
@@ -247,6 +278,16 @@ fn bsdf_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> Bsd
         case BSDF_METAL_ROUGH: {
             if HAS_METAL_ROUGH {
                 return metal_rough_sample(b, wo, uc, u2);
+            }
+        }
+        case BSDF_SMOOTH_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return smooth_conductor_sample(b, wo);
+            }
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                return rough_fresnel_conductor_sample(b, wo, u2);
             }
         }
         default: {}

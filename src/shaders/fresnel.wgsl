@@ -38,6 +38,27 @@ fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     return fresnel_dielectric_terms(cos_i, eta).f;
 }
 
+// Exact unpolarised conductor Fresnel reflectance per lane for complex relative IOR η − ik.
+// Real-arithmetic form of PBR 4th ed. §9.3.6 (`FrComplex`), as PBR 3rd ed. §8.2.1
+// (`FrConductor`); Born & Wolf §14.2. Twin of `fresnel_conductor` in src/bsdf/fresnel.rs
+// (same degenerate-denominator guards).
+fn fresnel_conductor4(cos_i: f32, eta: vec4<f32>, k: vec4<f32>) -> vec4<f32> {
+    let cos = min(abs(cos_i), 1.0);
+    let cos2 = cos * cos;
+    let sin2 = 1.0 - cos2;
+    let t1 = eta * eta - k * k - sin2;
+    let a2b2 = sqrt(t1 * t1 + 4.0 * eta * eta * k * k);
+    let a = sqrt(max(0.5 * (a2b2 + t1), vec4<f32>(0.0)));
+    let t2 = 2.0 * a * cos;
+    let d1 = a2b2 + cos2 + t2;
+    let rs = select(vec4<f32>(1.0), (a2b2 + cos2 - t2) / d1, d1 > vec4<f32>(0.0));
+    let t3 = a2b2 * cos2 + sin2 * sin2;
+    let t4 = t2 * sin2;
+    let d2 = t3 + t4;
+    let rp = select(rs, rs * (t3 - t4) / d2, d2 > vec4<f32>(0.0));
+    return clamp(0.5 * (rs + rp), vec4<f32>(0.0), vec4<f32>(1.0));
+}
+
 // Mirror reflection of `wo` about the normal `n`. PBR 4th ed. §9.3.1.
 fn reflect(wo: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return -wo + 2.0 * dot3(wo, n) * n;

@@ -55,3 +55,44 @@ fn rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
     let f = b.color * ep.f;
     return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
 }
+
+// Rough conductor with a complex IOR (twin of `RoughFresnelConductor`,
+// src/bsdf/complex_conductor.rs): f = T F(wo·m) D G2 / (4 cosθo cosθi), the lobe above.
+// F at the half vector of (wo, wi) (`RoughFresnelConductor::fresnel_half`).
+fn rough_fresnel_conductor_f_half(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let h = wo + wi;
+    let len2 = dot3(h, h);
+    if len2 <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return fresnel_conductor4(dot3(wo, h) / sqrt(len2), bsdf_conductor_eta(b), bsdf_conductor_k(b));
+}
+
+fn rough_fresnel_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let f = rough_conductor_eval_pdf(b, wo, wi).f;
+    if f == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return b.color * rough_fresnel_conductor_f_half(b, wo, wi) * f;
+}
+
+// Visible-normal sampling as `rough_conductor_sample`, weight T F(wo·m) G2/G1(wo) = f·cos/pdf.
+fn rough_fresnel_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
+    if wo.z <= 0.0 || !is_finite_v3(wo) {
+        return bsdf_sample_none();
+    }
+    let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
+    if dot3(wo, m) <= 0.0 {
+        return bsdf_sample_none();
+    }
+    let wi = reflect(wo, m);
+    if wi.z <= 0.0 {
+        return bsdf_sample_none();
+    }
+    let ep = rough_conductor_eval_pdf(b, wo, wi);
+    if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
+        return bsdf_sample_none();
+    }
+    let f = b.color * rough_fresnel_conductor_f_half(b, wo, wi) * ep.f;
+    return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
+}

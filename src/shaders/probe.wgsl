@@ -62,6 +62,9 @@ struct ProbeOut {
 
 // Fixed colours of the probe BSDFs (tests/gpu.rs uses the same).
 const PROBE_COLOR: vec3<f32> = vec3<f32>(0.25, 0.5, 0.875);
+// Complex IOR of the probe conductors: η = eta × PROBE_COND_ETA, k = PROBE_COND_K.
+const PROBE_COND_ETA: vec3<f32> = vec3<f32>(0.15, 0.4, 1.2);
+const PROBE_COND_K: vec3<f32> = vec3<f32>(4.0, 2.4, 1.6);
 
 fn a4(v: vec4<f32>) -> array<f32, 4> {
     return array<f32, 4>(v.x, v.y, v.z, v.w);
@@ -98,6 +101,9 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     b.metallic = c.metallic;
     b.ior = c.eta;
     b.specular_color = vec4<f32>(1.0);
+    if c.kind == BSDF_SMOOTH_CONDUCTOR || c.kind == BSDF_ROUGH_FRESNEL_CONDUCTOR {
+        bsdf_set_conductor_ior(&b, c.eta * PROBE_COND_ETA, PROBE_COND_K);
+    }
     o.eval = a4(bsdf_eval(b, wo, wi, c.mode));
     o.pdf = bsdf_pdf(b, wo, wi);
     let lv = bsdf_eval_lobes(b, wo, wi, c.mode);

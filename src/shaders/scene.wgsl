@@ -62,6 +62,12 @@ struct Material {
     mr_tex: u32,
     // Nested dielectrics: where volumes overlap, the higher priority is the medium.
     priority: i32,
+    // Tabulated metal (extras.conductor): linear-sRGB η, k per channel and METAL_NONE or the
+    // metal's code.
+    cond_eta: array<f32, 3>,
+    metal: u32,
+    cond_k: array<f32, 3>,
+    _pad_cond: u32,
 }
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.

@@ -1,8 +1,13 @@
 //! Fresnel plot: reflectance against angle of incidence for the selected glass, entering
-//! (air → glass) and leaving (glass → air), with Brewster and critical angles marked.
+//! (air → glass) and leaving (glass → air), with Brewster and critical angles marked; for a
+//! selected tabulated metal (`extras.conductor`) the exact conductor F(θ) per RGB channel with
+//! Schlick's approximation (F0 = F(0°)) dashed for comparison.
 
 use crate::app::ViewerApp;
-use crate::bsdf::fresnel::{FresnelTerms, fresnel_dielectric_terms};
+use crate::bsdf::Metal;
+use crate::bsdf::fresnel::{
+    FresnelTerms, fresnel_conductor, fresnel_dielectric_terms, fresnel_schlick,
+};
 use eframe::egui::{self, Color32};
 use egui_plot::{Line, LineStyle, Plot, PlotPoints, VLine};
 
@@ -27,7 +32,19 @@ fn plotted_glass(app: &ViewerApp) -> Option<(usize, f32)> {
         .map(|i| (i, mats[i].ior))
 }
 
+/// The selected material's tabulated metal, if it is a conductor.
+fn plotted_metal(app: &ViewerApp) -> Option<(usize, Metal)> {
+    let i = app.selected?;
+    let m = app.scene.materials.get(i)?;
+    m.conductor.filter(|_| m.is_metal_kind()).map(|c| (i, c))
+}
+
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    if let Some((idx, metal)) = plotted_metal(app) {
+        let name = &app.scene.materials[idx].name;
+        conductor_show(ui, name, metal);
+        return;
+    }
     let Some((idx, n)) = plotted_glass(app) else {
         ui.label(
             egui::RichText::new(
@@ -139,9 +156,117 @@ fn angle_notes(ui: &mut egui::Ui, eta: f32) {
     };
 }
 
+/// A plotted curve: (angle in degrees, reflectance) points.
+pub type Curve = Vec<[f64; 2]>;
+
+/// Plot samples of the conductor curves (every half degree).
+const CONDUCTOR_STEPS: usize = 180;
+
+/// Per RGB channel: (exact conductor F(θ), Schlick with F0 = F(0°)) as (degrees, F) points,
+/// for the metal's RGB η, k (the values an RGB render uses, `Metal::rgb`).
+pub fn conductor_curves(metal: Metal) -> [(Curve, Curve); 3] {
+    let (eta, k) = metal.rgb();
+    std::array::from_fn(|c| {
+        let f0 = fresnel_conductor(1.0, eta[c], k[c]);
+        let mut exact = Vec::with_capacity(CONDUCTOR_STEPS + 1);
+        let mut schlick = Vec::with_capacity(CONDUCTOR_STEPS + 1);
+        for i in 0..=CONDUCTOR_STEPS {
+            let deg = 90.0 * i as f32 / CONDUCTOR_STEPS as f32;
+            let cos = deg.to_radians().cos();
+            exact.push([deg as f64, fresnel_conductor(cos, eta[c], k[c]) as f64]);
+            schlick.push([deg as f64, fresnel_schlick(f0, cos) as f64]);
+        }
+        (exact, schlick)
+    })
+}
+
+/// Largest |exact − Schlick| over the plotted angles, and the angle (°) where it occurs.
+pub fn schlick_worst(exact: &[[f64; 2]], schlick: &[[f64; 2]]) -> (f64, f64) {
+    exact
+        .iter()
+        .zip(schlick)
+        .map(|(e, s)| ((e[1] - s[1]).abs(), e[0]))
+        .fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+/// The conductor mode: exact F(θ) per channel (solid) and Schlick (dashed), ticks in degrees.
+fn conductor_show(ui: &mut egui::Ui, name: &str, metal: Metal) {
+    let (eta, k) = metal.rgb();
+    ui.label(format!(
+        "'{name}': conductor {} (outside n = 1)",
+        metal.symbol()
+    ))
+    .on_hover_text("Tabulated spectral n, k (Mitsuba 3's data), projected to linear sRGB per channel as an RGB render uses them.");
+    let curves = conductor_curves(metal);
+    let channels = [
+        ("R", Color32::from_rgb(240, 80, 70)),
+        ("G", Color32::from_rgb(80, 200, 90)),
+        ("B", Color32::from_rgb(90, 140, 255)),
+    ];
+    Plot::new("fresnel-conductor")
+        .height(190.0)
+        .include_x(0.0)
+        .include_x(90.0)
+        .include_y(0.0)
+        .include_y(1.0)
+        .x_axis_label("angle of incidence θ (°)")
+        .y_axis_label("reflectance")
+        .x_axis_formatter(|m, _| format!("{:.0}°", m.value))
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .show(ui, |p| {
+            for ((exact, schlick), (ch, colour)) in curves.iter().zip(channels) {
+                p.line(
+                    Line::new(format!("F {ch}"), PlotPoints::from(exact.clone()))
+                        .color(colour)
+                        .width(2.0),
+                );
+                p.line(
+                    Line::new(format!("Schlick {ch}"), PlotPoints::from(schlick.clone()))
+                        .color(colour)
+                        .style(LineStyle::dashed_dense()),
+                );
+            }
+        });
+    ui.label("solid: exact conductor Fresnel F(θ) · dashed: Schlick F0 + (1 − F0)(1 − cosθ)⁵, F0 = F(0°)")
+        .on_hover_text("Schlick's approximation misses the dip a metal's reflectance has near grazing incidence.");
+    for (c, ((exact, schlick), (ch, colour))) in curves.iter().zip(channels).enumerate() {
+        let (worst, at) = schlick_worst(exact, schlick);
+        ui.colored_label(
+            colour,
+            format!(
+                "{ch}: η = {:.3}, k = {:.3}, F0 = {:.3}; Schlick off by up to {worst:.3} at {at:.0}°",
+                eta[c], k[c], exact[0][1]
+            ),
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn conductor_curves_start_at_f0_and_end_at_one() {
+        for metal in Metal::ALL {
+            let (eta, k) = metal.rgb();
+            for (c, (exact, schlick)) in conductor_curves(metal).iter().enumerate() {
+                let f0 = (((eta[c] - 1.0).powi(2) + k[c] * k[c])
+                    / ((eta[c] + 1.0).powi(2) + k[c] * k[c])) as f64;
+                assert!((exact[0][1] - f0).abs() < 1e-6 && (schlick[0][1] - f0).abs() < 1e-6);
+                let last = exact.len() - 1;
+                assert_eq!((exact[last][0], schlick[last][0]), (90.0, 90.0));
+                assert!(exact[last][1] > 0.999 && schlick[last][1] > 0.999);
+                // Schlick is an approximation: it differs somewhere in between, but not wildly.
+                let (worst, at) = schlick_worst(exact, schlick);
+                assert!(
+                    worst > 1e-3 && worst < 0.25,
+                    "{metal:?} {c}: {worst} at {at}°"
+                );
+            }
+        }
+    }
 
     #[test]
     fn angles_match_the_textbook_for_crown_glass() {

@@ -2,7 +2,7 @@
 
 use super::extras::extras_value;
 use super::{GLASS_TRANSMISSION_THRESHOLD, Loader, Warnings};
-use crate::bsdf::MicrofacetDistribution;
+use crate::bsdf::{Metal, MicrofacetDistribution};
 use crate::scene::{Material, MaterialKind};
 use glam::Vec3;
 use gltf::json;
@@ -84,6 +84,7 @@ impl Loader<'_> {
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
         let priority = self.priority(m, &name, i)?;
+        let conductor = conductor(m, &name, i)?;
 
         let base_color_texture = match &pbr.base_color_texture {
             Some(t) => self.texture_ref(t, true, &name)?,
@@ -119,7 +120,14 @@ impl Loader<'_> {
             specular_factor,
             specular_color,
             priority,
+            conductor,
         };
+        if mat.conductor.is_some() && !mat.is_metal_kind() {
+            anyhow::bail!(
+                "material '{}': extras.conductor needs a metallic material (metallicFactor 1, no metallic-roughness texture, no transmission)",
+                mat.name
+            );
+        }
         if mat.is_emissive() {
             // Contract: an emitter's surface is otherwise black.
             mat.kind = MaterialKind::Diffuse;
@@ -423,6 +431,28 @@ impl Loader<'_> {
                 MaterialKind::MetalRough
             }
         }
+    }
+}
+
+/// `extras.conductor`: "Au", "Ag", "Cu" or "Al" (a tabulated metal); anything else is an
+/// error naming the material and the value.
+fn conductor(m: &json::Material, name: &str, i: usize) -> anyhow::Result<Option<Metal>> {
+    let Some(x) = extras_value(&m.extras, &format!("/materials/{i}/extras"))? else {
+        return Ok(None);
+    };
+    let known = || Metal::ALL.map(|m| format!("\"{}\"", m.symbol())).join(", ");
+    match x.get("conductor") {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::String(s)) => Metal::from_symbol(s).map(Some).ok_or_else(|| {
+            anyhow::anyhow!(
+                "material '{name}': extras.conductor \"{s}\" is not a known metal (known: {})",
+                known()
+            )
+        }),
+        Some(v) => anyhow::bail!(
+            "material '{name}': extras.conductor must be a string (one of {}), got {v}",
+            known()
+        ),
     }
 }
 
