@@ -12,6 +12,10 @@ use std::time::{Duration, Instant};
 fn harness(spec: &str) -> Harness<'static, ViewerApp> {
     let mut app = ViewerApp::open(spec).expect("scene opens");
     app.settings.render.render_scale = 0.125;
+    // A fixed image size: with Fit viewport the inspector's panel appearing shrinks the
+    // viewport, restarts accumulation at the new size and re-traces, closing the open paths
+    // while the test clicks them.
+    app.settings.render.fit_viewport = false;
     app.options_changed();
     let mut h = Harness::builder()
         .with_size(egui::vec2(1280.0, 2400.0))
