@@ -147,7 +147,7 @@ struct ViewArgs {
     /// or depth (heatmaps); the last four CPU only.
     #[arg(long, value_enum, ignore_case = true, default_value_t = refract::app::layer_view::ViewMode::Beauty)]
     view: refract::app::layer_view::ViewMode,
-    /// Open a lecture demonstration with large type: snell, fresnel, tir, caustic, prism or
+    /// Open a lecture demonstration: snell, fresnel, tir, caustic, prism or
     /// classes (the scene argument is then ignored).
     #[arg(long)]
     lecture: Option<String>,

@@ -596,6 +596,13 @@ fn renders_at_the_viewport_size_in_physical_pixels() {
     h.set_size(egui::vec2(1400.0, 1600.0));
     h.step();
     h.step();
+    assert_eq!(
+        h.state().settings.viewport,
+        Some((vw, vh)),
+        "a new size waits until it has held for the settle time"
+    );
+    std::thread::sleep(refract::app::VIEWPORT_SETTLE);
+    h.step();
     let (vw2, _) = h.state().settings.viewport.expect("viewport measured");
     assert!(
         vw2 >= vw + 700,

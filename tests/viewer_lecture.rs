@@ -51,6 +51,7 @@ fn every_demo_button_opens_its_scene_set_up() {
         );
         let selected = app.selected.map(|i| app.scene.materials[i].name.as_str());
         assert_eq!(selected, demo.select, "{}: selection", demo.key);
+        assert_eq!(app.view, demo.view, "{}: view", demo.key);
         // The demo renders: a sample of the demo's own scene arrives.
         assert!(
             app.messages.error.is_none(),

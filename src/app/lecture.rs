@@ -5,6 +5,7 @@
 //! A demo is data ([`Demo`]); [`ViewerApp::start_demo`] turns it into ordinary edits, so a
 //! demo is exactly what a user could set up by hand and every control keeps working in it.
 
+use super::layer_view::ViewMode;
 use super::{Edit, ViewerApp};
 
 /// One demonstration.
@@ -24,6 +25,8 @@ pub struct Demo {
     pub inspect: Option<(u32, u32)>,
     /// Select the material of this name (its Fresnel plot and dispersion panel show).
     pub select: Option<&'static str>,
+    /// What the viewport shows (a heatmap needs the CPU backend; elsewhere: the image).
+    pub view: ViewMode,
 }
 
 /// The demonstrations, in lecture order.
@@ -37,6 +40,7 @@ pub const DEMOS: [Demo; 6] = [
         filter: "",
         inspect: Some((280, 260)),
         select: Some("glass"),
+        view: ViewMode::Beauty,
     },
     Demo {
         key: "fresnel",
@@ -47,16 +51,18 @@ pub const DEMOS: [Demo; 6] = [
         filter: "",
         inspect: None,
         select: Some("glass"),
+        view: ViewMode::Beauty,
     },
     Demo {
         key: "tir",
         title: "Total internal reflection",
         scene: "builtin:glass-slab",
         caption: "Total internal reflection: beyond the critical angle asin(1/1.5) = 41.8° no \
-                  light leaves the glass, and the slab becomes a light pipe.",
+                  light leaves the glass: the slab is a light pipe. White: every path was trapped at least once.",
         filter: "",
         inspect: Some((420, 260)),
         select: Some("glass"),
+        view: ViewMode::Tir,
     },
     Demo {
         key: "caustic",
@@ -67,6 +73,7 @@ pub const DEMOS: [Demo; 6] = [
         filter: "",
         inspect: None,
         select: None,
+        view: ViewMode::Beauty,
     },
     Demo {
         key: "prism",
@@ -77,6 +84,7 @@ pub const DEMOS: [Demo; 6] = [
         filter: "",
         inspect: None,
         select: Some("dispersive-glass"),
+        view: ViewMode::Beauty,
     },
     Demo {
         key: "classes",
@@ -87,6 +95,7 @@ pub const DEMOS: [Demo; 6] = [
         filter: "LS+DE",
         inspect: None,
         select: None,
+        view: ViewMode::Beauty,
     },
 ];
 
@@ -102,7 +111,7 @@ pub fn find(key: &str) -> anyhow::Result<&'static Demo> {
 }
 
 /// Zoom factor of large type.
-pub const LARGE_ZOOM: f32 = 1.6;
+pub const LARGE_ZOOM: f32 = 1.4;
 
 /// Lecture-mode state of the viewer.
 #[derive(Clone, Debug, Default)]
@@ -147,6 +156,9 @@ impl ViewerApp {
         self.selected = demo
             .select
             .and_then(|name| self.scene.materials.iter().position(|m| m.name == name));
+        if demo.view != self.view {
+            self.set_view(demo.view);
+        }
         self.lecture.active = Some(index);
     }
 

@@ -29,6 +29,9 @@ use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+/// How long a new viewport size must hold before the image restarts at it.
+pub const VIEWPORT_SETTLE: Duration = Duration::from_millis(250);
+
 /// eframe storage key of the persisted [`ViewerSettings`].
 pub const STORAGE_KEY: &str = "refract-settings";
 
@@ -116,6 +119,8 @@ pub struct ViewerApp {
     pub view: layer_view::ViewMode,
     /// Lecture mode: the demo on screen and large type.
     pub lecture: lecture::Lecture,
+    /// A viewport size waiting to hold for [`VIEWPORT_SETTLE`], and since when.
+    viewport_pending: Option<((u32, u32), Instant)>,
     backend: Box<dyn Backend>,
     /// The adapter that draws the UI (status bar).
     display_device: String,
@@ -168,6 +173,7 @@ impl ViewerApp {
             inspector: inspect::Inspector::default(),
             view: layer_view::ViewMode::Beauty,
             lecture: lecture::Lecture::default(),
+            viewport_pending: None,
             backend,
             display_device: String::new(),
             dialog: None,
@@ -381,7 +387,7 @@ impl ViewerApp {
         self.inspect_follow();
         panels::inspect::side(self, ui);
         egui::CentralPanel::no_frame().show(ui, |ui| {
-            self.viewport_follow(ui.available_size() * ctx.pixels_per_point());
+            self.viewport_follow(&ctx, ui.available_size() * ctx.pixels_per_point());
             let tex = self.backend.display_texture(&ctx, &self.display_params());
             let res = self.settings.resolution(&self.scene);
             let yfov = self.scene.camera.yfov;
@@ -421,13 +427,31 @@ impl ViewerApp {
     }
 
     /// The image area measures `physical` pixels: with `fit_viewport`, a new size restarts
-    /// accumulation at that size (× render scale). Sizes under 16 pixels (a collapsed
-    /// layout) are ignored.
-    fn viewport_follow(&mut self, physical: egui::Vec2) {
+    /// accumulation at that size (× render scale) once it has held for [`VIEWPORT_SETTLE`]
+    /// (the first size at once). The settle time keeps a window drag from restarting every
+    /// frame and breaks layout feedback: the inspector's panel re-laid after each restart's
+    /// re-trace changed the image width by a few pixels, which restarted it again, forever.
+    /// Sizes under 16 pixels (a collapsed layout) are ignored.
+    fn viewport_follow(&mut self, ctx: &egui::Context, physical: egui::Vec2) {
         let px = (physical.x.round() as u32, physical.y.round() as u32);
         if px.0 < 16 || px.1 < 16 || self.settings.viewport == Some(px) {
+            self.viewport_pending = None;
             return;
         }
+        let now = Instant::now();
+        let settled = match self.viewport_pending {
+            _ if self.settings.viewport.is_none() => true,
+            Some((p, since)) if p == px => now - since >= VIEWPORT_SETTLE,
+            _ => {
+                self.viewport_pending = Some((px, now));
+                false
+            }
+        };
+        if !settled {
+            ctx.request_repaint_after(VIEWPORT_SETTLE);
+            return;
+        }
+        self.viewport_pending = None;
         let before = self.settings.resolution(&self.scene);
         self.settings.viewport = Some(px);
         if self.settings.resolution(&self.scene) != before {
@@ -678,7 +702,6 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 .lecture
                 .and_then(|k| lecture::DEMOS.iter().position(|d| d.key == k))
             {
-                app.lecture.large_type = true;
                 app.start_demo(i);
             }
             app.exit_frames = opts.frames;
