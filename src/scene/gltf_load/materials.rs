@@ -95,6 +95,8 @@ impl Loader<'_> {
             None => None,
         };
 
+        let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
+
         let kind = self.material_kind(
             &name,
             transmission,
@@ -110,6 +112,8 @@ impl Loader<'_> {
             metallic,
             roughness,
             metallic_roughness_texture,
+            normal_texture,
+            normal_scale,
             ior,
             abbe,
             distribution,
@@ -134,8 +138,45 @@ impl Loader<'_> {
             mat.base_color = Vec3::ZERO;
             mat.base_color_texture = None;
             mat.metallic_roughness_texture = None;
+            mat.normal_texture = None;
         }
         Ok(mat)
+    }
+
+    /// `normalTexture` (linear, not sRGB) and its `scale` (1 when absent; a non-finite scale
+    /// is replaced by 1 with a warning).
+    fn normal_texture(
+        &mut self,
+        m: &json::Material,
+        name: &str,
+    ) -> anyhow::Result<(Option<crate::scene::TextureRef>, f32)> {
+        let Some(nt) = &m.normal_texture else {
+            return Ok((None, 1.0));
+        };
+        let mut scale = nt.scale;
+        if !scale.is_finite() {
+            self.warnings.push(format!(
+                "material '{name}': normalTexture.scale {scale} is not finite; using 1"
+            ));
+            scale = 1.0;
+        }
+        // The normal texture's index, texCoord and KHR_texture_transform, as a texture info.
+        let info = json::texture::Info {
+            index: nt.index,
+            tex_coord: nt.tex_coord,
+            // gltf-json keeps a normal texture's extensions as raw JSON.
+            extensions: nt
+                .extensions
+                .as_ref()
+                .and_then(|e| e.others.get("KHR_texture_transform"))
+                .and_then(|v| serde_json::from_value(v.clone()).ok())
+                .map(|tt| json::extensions::texture::Info {
+                    texture_transform: Some(tt),
+                    others: Default::default(),
+                }),
+            extras: Default::default(),
+        };
+        Ok((self.texture_ref(&info, false, name)?, scale))
     }
 
     /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
@@ -300,12 +341,22 @@ impl Loader<'_> {
                 "transmission textures are ignored".into()
             });
         }
-        if m.normal_texture.is_some()
-            || m.occlusion_texture.is_some()
-            || m.emissive_texture.is_some()
+        if m.occlusion_texture.is_some() {
+            self.warnings.once("occlusion-tex", || {
+                "occlusion textures are ignored: a path tracer computes occlusion itself".into()
+            });
+        }
+        if m.emissive_texture.is_some() {
+            self.warnings.once("emissive-tex", || {
+                "emissive textures are ignored (emissiveFactor alone sets the radiance)".into()
+            });
+        }
+        if ext
+            .and_then(|e| e.volume.as_ref())
+            .is_some_and(|v| v.thickness_texture.is_some())
         {
-            self.warnings.once("ignored-tex", || {
-                "normal, occlusion and emissive textures are ignored".into()
+            self.warnings.once("thickness-tex", || {
+                "KHR_materials_volume thickness textures are ignored".into()
             });
         }
         if !matches!(

@@ -126,6 +126,7 @@ pub fn load_slice_with(
         dropped_triangles: 0,
         skipped_primitives: 0,
         first_skip_reason: None,
+        needs_tangents: false,
     };
     loader.run(name)
 }
@@ -197,6 +198,8 @@ struct Loader<'a> {
     dropped_triangles: usize,
     skipped_primitives: usize,
     first_skip_reason: Option<String>,
+    /// Some material has a normal map: the mesh stores per-vertex tangents.
+    needs_tangents: bool,
 }
 
 impl Loader<'_> {
@@ -227,6 +230,7 @@ impl Loader<'_> {
             self.material_map.push(self.materials.len() as u32);
             self.materials.push(mat);
         }
+        self.needs_tangents = self.materials.iter().any(|m| m.normal_texture.is_some());
 
         let roots = self.scene_roots()?;
         self.check_instanced_triangles(&roots)?;
