@@ -53,6 +53,8 @@ enum Variant {
     NoUv,
     /// normalTexture.index out of range.
     BadIndex,
+    /// Plus the textures the renderer ignores (occlusion, emissive, transmission, thickness).
+    Ignored,
 }
 
 /// A 2 m quad in the plane y = 0 facing +Y, u along +X, v along +Z, material "bumpy" with
@@ -100,6 +102,14 @@ fn quad(v: Variant, scale: f32) -> Scene {
     if v != Variant::Plain {
         let index = if v == Variant::BadIndex { 5 } else { 0 };
         material["normalTexture"] = json!({"index": index, "scale": scale});
+    }
+    if v == Variant::Ignored {
+        material["occlusionTexture"] = json!({"index": 0});
+        material["emissiveTexture"] = json!({"index": 0});
+        material["extensions"] = json!({
+            "KHR_materials_transmission": {"transmissionFactor": 1.0, "transmissionTexture": {"index": 0}},
+            "KHR_materials_volume": {"thicknessFactor": 0.1, "thicknessTexture": {"index": 0}}
+        });
     }
     let doc = json!({
         "asset": {"version": "2.0"},
@@ -245,4 +255,29 @@ fn broken_normal_maps_are_warnings_naming_the_material() {
         s.warnings
     );
     assert!((shading_normal(&s, 0) - Vec3::Y).length() < 1e-6);
+}
+
+#[test]
+fn ignored_textures_are_named_warnings() {
+    let s = quad(Variant::Ignored, 1.0);
+    for needle in [
+        "occlusion textures are ignored: a path tracer computes occlusion itself",
+        "material 'bumpy': emissiveTexture is ignored",
+        "material 'bumpy': KHR_materials_transmission.transmissionTexture is ignored",
+        "material 'bumpy': KHR_materials_volume.thicknessTexture is ignored",
+        "normal maps are applied by the CPU renderer only",
+    ] {
+        assert!(
+            s.warnings.iter().any(|w| w.contains(needle)),
+            "no warning '{needle}' in {:?}",
+            s.warnings
+        );
+    }
+    // The plain quad has none of them.
+    assert!(
+        !quad(Variant::Plain, 1.0)
+            .warnings
+            .iter()
+            .any(|w| w.contains("ignored"))
+    );
 }

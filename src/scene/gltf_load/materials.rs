@@ -80,7 +80,7 @@ impl Loader<'_> {
         let specular_color = spec
             .map(|s| Vec3::from(s.specular_color_factor.0))
             .unwrap_or(Vec3::ONE);
-        self.warn_ignored_features(m, ext);
+        self.warn_ignored_features(m, ext, &name);
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
         let priority = self.priority(m, &name, i)?;
@@ -325,6 +325,7 @@ impl Loader<'_> {
         &mut self,
         m: &json::Material,
         ext: Option<&json::extensions::material::Material>,
+        name: &str,
     ) {
         let spec = ext.and_then(|e| e.specular.as_ref());
         if spec.is_some_and(|s| s.specular_texture.is_some() || s.specular_color_texture.is_some())
@@ -337,9 +338,10 @@ impl Loader<'_> {
             .and_then(|e| e.transmission.as_ref())
             .is_some_and(|t| t.transmission_texture.is_some())
         {
-            self.warnings.once("transmission-tex", || {
-                "transmission textures are ignored".into()
-            });
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_transmission.transmissionTexture is ignored \
+                 (transmissionFactor alone decides glass or opaque)"
+            ));
         }
         if m.occlusion_texture.is_some() {
             self.warnings.once("occlusion-tex", || {
@@ -347,17 +349,19 @@ impl Loader<'_> {
             });
         }
         if m.emissive_texture.is_some() {
-            self.warnings.once("emissive-tex", || {
-                "emissive textures are ignored (emissiveFactor alone sets the radiance)".into()
-            });
+            self.warnings.push(format!(
+                "material '{name}': emissiveTexture is ignored (emissiveFactor × \
+                 emissive_strength alone sets the radiance)"
+            ));
         }
         if ext
             .and_then(|e| e.volume.as_ref())
             .is_some_and(|v| v.thickness_texture.is_some())
         {
-            self.warnings.once("thickness-tex", || {
-                "KHR_materials_volume thickness textures are ignored".into()
-            });
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_volume.thicknessTexture is ignored \
+                 (thicknessFactor alone decides solid or thin-walled)"
+            ));
         }
         if !matches!(
             m.alpha_mode,
