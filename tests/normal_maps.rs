@@ -74,7 +74,7 @@ fn quad(v: Variant, scale: f32) -> Scene {
     let mut bytes: Vec<u8> = Vec::new();
     let mut views = vec![];
     let mut view = |raw: &[u8], bytes: &mut Vec<u8>| {
-        while bytes.len() % 4 != 0 {
+        while !bytes.len().is_multiple_of(4) {
             bytes.push(0);
         }
         views.push(json!({"buffer": 0, "byteOffset": bytes.len(), "byteLength": raw.len()}));
