@@ -16,7 +16,10 @@ use crate::scene::{Material, Scene};
 #[derive(Clone, Debug, PartialEq)]
 pub enum Edit {
     /// Material `index` becomes `material` (an invalid one is refused with a message).
-    Material { index: usize, material: Material },
+    Material {
+        index: usize,
+        material: Box<Material>,
+    },
     /// Light scale and colour, size and placement of the main area light, environment.
     Light(LightEdit),
     /// Full vertical field of view in degrees.
@@ -69,7 +72,7 @@ impl ViewerApp {
     /// Apply one edit and whatever it implies (see the module documentation).
     pub fn apply(&mut self, edit: Edit) {
         match edit {
-            Edit::Material { index, material } => self.apply_material(index, material),
+            Edit::Material { index, material } => self.apply_material(index, *material),
             Edit::Light(light) => {
                 self.settings.light = light;
                 self.lights_follow();

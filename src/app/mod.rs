@@ -230,7 +230,10 @@ impl ViewerApp {
 
     /// Apply a material edit now (headless callers; the panels push [`Edit::Material`]).
     pub fn set_material(&mut self, index: usize, material: Material) {
-        self.apply(Edit::Material { index, material });
+        self.apply(Edit::Material {
+            index,
+            material: Box::new(material),
+        });
     }
 
     /// `settings.render` was changed in place (headless callers): apply it now.

@@ -46,16 +46,20 @@ pub fn surface_with(scene: &Scene, hit: &crate::bvh::Hit, with_uv: bool) -> Surf
     let ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
     let mut ns = (mesh.normals[i0] * b0 + mesh.normals[i1] * hit.b1 + mesh.normals[i2] * hit.b2)
         .normalize_or_zero();
-    if ns == Vec3::ZERO || !ns.is_finite() {
-        ns = ng;
-    } else if ns.dot(ng) < 0.0 {
-        ns = -ns;
-    }
     let uv = if with_uv {
         mesh.uvs[i0] * b0 + mesh.uvs[i1] * hit.b1 + mesh.uvs[i2] * hit.b2
     } else {
         Vec2::ZERO
     };
+    if with_uv && !mesh.tangents.is_empty() && ns != Vec3::ZERO {
+        let w = [b0, hit.b1, hit.b2];
+        ns = normal_mapped(scene, mesh.tri_material[t], [i0, i1, i2], w, ns, uv);
+    }
+    if ns == Vec3::ZERO || !ns.is_finite() {
+        ns = ng;
+    } else if ns.dot(ng) < 0.0 {
+        ns = -ns;
+    }
     SurfaceHit {
         p,
         ng,
@@ -65,6 +69,32 @@ pub fn surface_with(scene: &Scene, hit: &crate::bvh::Hit, with_uv: bool) -> Surf
         material: mesh.tri_material[t],
         t: hit.t,
     }
+}
+
+/// The shading normal `n` (interpolated, unit) bent by the material's normal map at `uv`,
+/// with the tangent interpolated by the barycentrics `w` (`perturb_normal`); `n` itself
+/// when the material has none or the vertices no tangent frame.
+#[inline(never)]
+fn normal_mapped(scene: &Scene, m: u32, v: [usize; 3], w: [f32; 3], n: Vec3, uv: Vec2) -> Vec3 {
+    let Some(mat) = scene.materials.get(m as usize) else {
+        return n;
+    };
+    let (Some(r), Some(t)) = (
+        mat.normal_texture,
+        v.iter()
+            .zip(w)
+            .map(|(&i, w)| scene.mesh.tangents.get(i).map(|t| *t * w))
+            .sum::<Option<glam::Vec4>>(),
+    ) else {
+        return n;
+    };
+    // The bitangent sign is per vertex (±1); a triangle's corners share it (MikkTSpace).
+    let handed = scene.mesh.tangents.get(v[0]).map_or(1.0, |t| t.w);
+    let texel = crate::scene::material::sample_texture(&scene.textures, &r, uv).truncate();
+    crate::scene::material::perturb_normal(n, t.truncate().extend(handed), texel, mat.normal_scale)
+        // A map bending the normal below the interpolated surface is not a usable frame.
+        .filter(|p| p.dot(n) > 0.0)
+        .unwrap_or(n)
 }
 
 /// Orient the normals for shading: opaque double-sided materials shade both sides alike,

@@ -35,7 +35,7 @@ bitflags::bitflags! {
         /// Solid glass with a finite attenuation distance (Beer–Lambert).
         const ABSORPTION = 1 << 10;
         /// A BSDF reads a texture: any base-colour texture, or a metallic-roughness texture
-        /// on the metal-rough BRDF (the only one that reads it).
+        /// on the metal-rough BRDF (the only one that reads it), or a normal map.
         const TEXTURES = 1 << 11;
         /// A non-black uniform environment or an environment image.
         const ENVIRONMENT = 1 << 12;
@@ -52,6 +52,8 @@ bitflags::bitflags! {
         const SMOOTH_CONDUCTOR = 1 << 17;
         /// A rough tabulated metal with the exact conductor Fresnel term (`extras.conductor`).
         const ROUGH_FRESNEL_CONDUCTOR = 1 << 18;
+        /// A material with a tangent-space normal map (`normalTexture`).
+        const NORMAL_MAP = 1 << 19;
     }
 }
 
@@ -92,6 +94,10 @@ pub fn compute(scene: &Scene) -> Features {
         }
         if m.base_color_texture.is_some() {
             f |= Features::TEXTURES;
+        }
+        if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {
+            // Shading reads the normal texture at uv: surface hits must interpolate it.
+            f |= Features::NORMAL_MAP | Features::TEXTURES;
         }
         if m.is_emissive() {
             f |= Features::AREA_LIGHTS;

@@ -63,6 +63,9 @@ pub struct Material {
     /// Perceptual roughness; α = roughness².
     pub roughness: f32,
     pub metallic_roughness_texture: Option<TextureRef>,
+    /// Tangent-space normal map (glTF `normalTexture`, linear RGB) and its `scale`.
+    pub normal_texture: Option<TextureRef>,
+    pub normal_scale: f32,
     /// IOR of the inside (outside is 1.0): KHR_materials_ior, default 1.5.
     pub ior: f32,
     /// Abbe number V_d when KHR_materials_dispersion is present (V_d = 20 / dispersion).
@@ -99,6 +102,8 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 1.0,
             metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
             ior: 1.5,
             abbe: None,
             distribution: MicrofacetDistribution::Ggx,
@@ -321,6 +326,23 @@ impl Material {
             None => self.base_color,
         }
     }
+}
+
+/// The normal-mapped shading normal (glTF 2.0 §3.9.3 `normalTexture`): with the
+/// interpolated normal `n`, tangent `t` (xyz; w = handedness, B = w · n × t) and the texel
+/// c ∈ [0, 1]³, n' = normalize(T·x + B·y + N·z) where (x, y, z) = (2c − 1) · (s, s, 1) and
+/// T is t re-orthogonalised against n (Gram–Schmidt; Mikkelsen 2008, "Simulation of wrinkled
+/// surfaces revisited", §3). None when the frame or the result is degenerate.
+pub fn perturb_normal(n: Vec3, t: Vec4, texel: Vec3, scale: f32) -> Option<Vec3> {
+    let t3 = (t.truncate() - n * n.dot(t.truncate())).normalize_or_zero();
+    if t3 == Vec3::ZERO || !t3.is_finite() {
+        return None;
+    }
+    let handed = if t.w < 0.0 { -1.0 } else { 1.0 };
+    let b = n.cross(t3) * handed;
+    let m = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+    let out = (t3 * m.x + b * m.y + n * m.z).normalize_or_zero();
+    (out != Vec3::ZERO && out.is_finite()).then_some(out)
 }
 
 /// Look a texture up at `uv` (wrap mode, nearest or bilinear). Missing texture → white.

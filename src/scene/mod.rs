@@ -18,7 +18,7 @@ pub use camera::Camera;
 pub use features::Features;
 pub use material::{Material, MaterialKind, Texture, TextureRef, Wrap};
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use std::path::Path;
 
 /// Render settings from `scenes[0].extras.render` (all optional in the file).
@@ -56,6 +56,10 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Per-vertex TEXCOORD_0, same length as `positions` (zeros where absent).
     pub uvs: Vec<Vec2>,
+    /// Per-vertex tangents (xyz unit, w = bitangent sign ±1; glTF TANGENT or MikkTSpace),
+    /// same length as `positions` when some material has a normal map, else empty (zero
+    /// where a vertex's material has none or no frame could be built).
+    pub tangents: Vec<Vec4>,
     /// Counter-clockwise triangles (front face = CCW seen from the outside).
     pub indices: Vec<[u32; 3]>,
     /// Material index per triangle.

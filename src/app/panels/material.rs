@@ -105,7 +105,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if m != app.scene.materials[idx] {
         app.push(Edit::Material {
             index: idx,
-            material: m,
+            material: Box::new(m),
         });
     }
 }

@@ -80,7 +80,7 @@ impl Loader<'_> {
         let specular_color = spec
             .map(|s| Vec3::from(s.specular_color_factor.0))
             .unwrap_or(Vec3::ONE);
-        self.warn_ignored_features(m, ext);
+        self.warn_ignored_features(m, ext, &name);
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
         let priority = self.priority(m, &name, i)?;
@@ -94,6 +94,8 @@ impl Loader<'_> {
             Some(t) => self.texture_ref(t, false, &name)?,
             None => None,
         };
+
+        let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
 
         let kind = self.material_kind(
             &name,
@@ -110,6 +112,8 @@ impl Loader<'_> {
             metallic,
             roughness,
             metallic_roughness_texture,
+            normal_texture,
+            normal_scale,
             ior,
             abbe,
             distribution,
@@ -134,8 +138,45 @@ impl Loader<'_> {
             mat.base_color = Vec3::ZERO;
             mat.base_color_texture = None;
             mat.metallic_roughness_texture = None;
+            mat.normal_texture = None;
         }
         Ok(mat)
+    }
+
+    /// `normalTexture` (linear, not sRGB) and its `scale` (1 when absent; a non-finite scale
+    /// is replaced by 1 with a warning).
+    fn normal_texture(
+        &mut self,
+        m: &json::Material,
+        name: &str,
+    ) -> anyhow::Result<(Option<crate::scene::TextureRef>, f32)> {
+        let Some(nt) = &m.normal_texture else {
+            return Ok((None, 1.0));
+        };
+        let mut scale = nt.scale;
+        if !scale.is_finite() {
+            self.warnings.push(format!(
+                "material '{name}': normalTexture.scale {scale} is not finite; using 1"
+            ));
+            scale = 1.0;
+        }
+        // The normal texture's index, texCoord and KHR_texture_transform, as a texture info.
+        let info = json::texture::Info {
+            index: nt.index,
+            tex_coord: nt.tex_coord,
+            // gltf-json keeps a normal texture's extensions as raw JSON.
+            extensions: nt
+                .extensions
+                .as_ref()
+                .and_then(|e| e.others.get("KHR_texture_transform"))
+                .and_then(|v| serde_json::from_value(v.clone()).ok())
+                .map(|tt| json::extensions::texture::Info {
+                    texture_transform: Some(tt),
+                    others: Default::default(),
+                }),
+            extras: Default::default(),
+        };
+        Ok((self.texture_ref(&info, false, name)?, scale))
     }
 
     /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
@@ -284,6 +325,7 @@ impl Loader<'_> {
         &mut self,
         m: &json::Material,
         ext: Option<&json::extensions::material::Material>,
+        name: &str,
     ) {
         let spec = ext.and_then(|e| e.specular.as_ref());
         if spec.is_some_and(|s| s.specular_texture.is_some() || s.specular_color_texture.is_some())
@@ -296,17 +338,30 @@ impl Loader<'_> {
             .and_then(|e| e.transmission.as_ref())
             .is_some_and(|t| t.transmission_texture.is_some())
         {
-            self.warnings.once("transmission-tex", || {
-                "transmission textures are ignored".into()
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_transmission.transmissionTexture is ignored \
+                 (transmissionFactor alone decides glass or opaque)"
+            ));
+        }
+        if m.occlusion_texture.is_some() {
+            self.warnings.once("occlusion-tex", || {
+                "occlusion textures are ignored: a path tracer computes occlusion itself".into()
             });
         }
-        if m.normal_texture.is_some()
-            || m.occlusion_texture.is_some()
-            || m.emissive_texture.is_some()
+        if m.emissive_texture.is_some() {
+            self.warnings.push(format!(
+                "material '{name}': emissiveTexture is ignored (emissiveFactor × \
+                 emissive_strength alone sets the radiance)"
+            ));
+        }
+        if ext
+            .and_then(|e| e.volume.as_ref())
+            .is_some_and(|v| v.thickness_texture.is_some())
         {
-            self.warnings.once("ignored-tex", || {
-                "normal, occlusion and emissive textures are ignored".into()
-            });
+            self.warnings.push(format!(
+                "material '{name}': KHR_materials_volume.thicknessTexture is ignored \
+                 (thicknessFactor alone decides solid or thin-walled)"
+            ));
         }
         if !matches!(
             m.alpha_mode,

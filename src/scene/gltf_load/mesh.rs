@@ -3,9 +3,12 @@
 use super::Loader;
 use super::accessor::AccessorData;
 use crate::scene::Mesh;
-use glam::{Mat3, Mat4, Vec2, Vec3};
+mod tangents;
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::json;
 use gltf::json::validation::Checked;
+use tangents::Tangents;
 
 /// A triangle primitive's attributes (object space, flat arrays) and indices, checked: every
 /// index addresses a vertex and the attribute counts agree.
@@ -23,6 +26,7 @@ struct WorldVertices {
     normals: Option<Vec<Vec3>>,
     /// TEXCOORD_0 (zero where missing or non-finite).
     uvs: Vec<Vec2>,
+    tangents: Tangents,
     flip: bool,
 }
 
@@ -115,7 +119,8 @@ impl Loader<'_> {
         }
         let data = self.primitive_data(prim)?;
         let material = self.material_for(prim.material.map(|m| m.value()))?;
-        let verts = world_vertices(&data, world)?;
+        let mut verts = world_vertices(&data, world)?;
+        verts.tangents = self.tangents_for(prim, &data, &verts, material, world);
         self.append_triangles(&data.indices, &verts, material)
     }
 
@@ -187,18 +192,24 @@ impl Loader<'_> {
         material: u32,
     ) -> Result<(), String> {
         let mut remap = vec![u32::MAX; v.positions.len()];
+        let with_tangents = self.needs_tangents;
         let out = &mut self.mesh;
-        let push_vertex = |out: &mut Mesh, p: Vec3, n: Vec3, t: Vec2| -> Result<u32, String> {
+        let push_vertex = |out: &mut Mesh, p: Vec3, n: Vec3, t: Vec2, tan: Vec4| {
             let id =
                 u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
             out.positions.push(p);
             out.normals.push(n);
             out.uvs.push(t);
-            Ok(id)
+            if with_tangents {
+                out.tangents.push(tan);
+            }
+            Ok::<u32, String>(id)
         };
+        // Generated tangents belong to a triangle corner: such vertices are not shared.
+        let per_corner = matches!(v.tangents, Tangents::PerCorner(_));
         let wpos = &v.positions;
         let mut bad_normals = 0usize;
-        for tri in indices.chunks_exact(3) {
+        for (f, tri) in indices.chunks_exact(3).enumerate() {
             let mut t = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
             if v.flip {
                 t.swap(1, 2);
@@ -220,15 +231,17 @@ impl Loader<'_> {
             for k in 0..3 {
                 let i = t[k];
                 let n = v.normals.as_ref().map(|n| n[i]).unwrap_or(Vec3::ZERO);
-                if n == Vec3::ZERO {
+                let tan = v.tangents.get(i, 3 * f + k);
+                if n == Vec3::ZERO || per_corner {
                     // No normal (flat shading) or a broken one: the geometric normal.
-                    if v.normals.is_some() {
+                    if v.normals.is_some() && n == Vec3::ZERO {
                         bad_normals += 1;
                     }
-                    ids[k] = push_vertex(out, wpos[i], gn, v.uvs[i])?;
+                    let n = if n == Vec3::ZERO { gn } else { n };
+                    ids[k] = push_vertex(out, wpos[i], n, v.uvs[i], tan)?;
                 } else {
                     if remap[i] == u32::MAX {
-                        remap[i] = push_vertex(out, wpos[i], n, v.uvs[i])?;
+                        remap[i] = push_vertex(out, wpos[i], n, v.uvs[i], tan)?;
                     }
                     ids[k] = remap[i];
                 }
@@ -288,6 +301,7 @@ fn world_vertices(d: &PrimitiveData, world: Mat4) -> Result<WorldVertices, Strin
         positions: wpos,
         normals: wnrm,
         uvs: (0..nv).map(uv).collect(),
+        tangents: Tangents::None,
         flip: det < 0.0,
     })
 }

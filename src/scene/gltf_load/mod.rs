@@ -126,6 +126,7 @@ pub fn load_slice_with(
         dropped_triangles: 0,
         skipped_primitives: 0,
         first_skip_reason: None,
+        needs_tangents: false,
     };
     loader.run(name)
 }
@@ -197,6 +198,8 @@ struct Loader<'a> {
     dropped_triangles: usize,
     skipped_primitives: usize,
     first_skip_reason: Option<String>,
+    /// Some material has a normal map: the mesh stores per-vertex tangents.
+    needs_tangents: bool,
 }
 
 impl Loader<'_> {
@@ -226,6 +229,14 @@ impl Loader<'_> {
             let mat = self.convert_material(i, m)?;
             self.material_map.push(self.materials.len() as u32);
             self.materials.push(mat);
+        }
+        self.needs_tangents = self.materials.iter().any(|m| m.normal_texture.is_some());
+        if self.needs_tangents {
+            self.warnings.once("normal-map-gpu", || {
+                "normal maps are applied by the CPU renderer only: the GPU renderer shades with \
+                 the interpolated vertex normal"
+                    .into()
+            });
         }
 
         let roots = self.scene_roots()?;
