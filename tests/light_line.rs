@@ -180,3 +180,14 @@ fn bad_wavelengths_name_their_source() {
     }
     assert_eq!(spectrum::check_light_line(589.3, "x"), Ok(589.3));
 }
+
+/// (3) The GPU kernel has no light line yet: it refuses the scene with a clear error rather
+/// than rendering white light.
+#[test]
+fn gpu_refuses_a_light_line_clearly() {
+    let s = with_line(Scene::load("builtin:prism").unwrap(), Some(589.3));
+    let e = refract::gpu::upload::check_supported(&s).unwrap_err();
+    assert!(format!("{e:#}").contains("light line"), "{e:#}");
+    let white = Scene::load("builtin:prism").unwrap();
+    assert!(refract::gpu::upload::check_supported(&white).is_ok());
+}
