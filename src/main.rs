@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use refract::cpu::Renderer;
 use refract::film::{self, ToneMap};
+use refract::math::spectrum;
 use refract::render::settings::{DEFAULT_SCENE, ViewerSettings, abbreviate};
 use refract::render::{Device, Estimator, RenderOptions};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
@@ -151,6 +152,11 @@ struct ViewArgs {
     /// classes (the scene argument is then ignored).
     #[arg(long)]
     lecture: Option<String>,
+    /// Light every emitter with one spectral line at this wavelength in nm (360–830; e.g.
+    /// 589.3 sodium D, 632.8 He-Ne, 532 green laser, 405 violet laser) instead of white light:
+    /// spectral transport, dispersive glass refracts with n(λ). CPU renderer only.
+    #[arg(long, value_name = "NM", allow_hyphen_values = true)]
+    light_line: Option<f32>,
     #[command(flatten)]
     env: EnvArgs,
 }
@@ -232,6 +238,11 @@ struct RenderArgs {
     /// Renderer: cpu, gpu, or auto (a hardware GPU if there is one, else the CPU).
     #[arg(long, value_enum, ignore_case = true, default_value_t = Device::Auto)]
     device: Device,
+    /// Light every emitter with one spectral line at this wavelength in nm (360–830; e.g.
+    /// 589.3 sodium D, 632.8 He-Ne, 532 green laser, 405 violet laser) instead of white light:
+    /// spectral transport, dispersive glass refracts with n(λ). CPU renderer only.
+    #[arg(long, value_name = "NM", allow_hyphen_values = true)]
+    light_line: Option<f32>,
     #[command(flatten)]
     env: EnvArgs,
 }
@@ -365,6 +376,10 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     }
     if let Some(r) = args.rr_depth {
         scene.settings.rr_depth = r;
+    }
+    if let Some(nm) = args.light_line {
+        scene.settings.light_line_nm =
+            Some(spectrum::check_light_line(nm, "--light-line").map_err(anyhow::Error::msg)?);
     }
     let s = scene.settings;
     check_size(args, sidecar.as_ref(), &spec, &s)?;
@@ -722,6 +737,9 @@ fn view(args: ViewArgs) -> Result<()> {
             rotation: env.env_rotation,
         },
     );
+    if let Some(nm) = args.light_line {
+        spectrum::check_light_line(nm, "--light-line").map_err(anyhow::Error::msg)?;
+    }
     let lecture = args
         .lecture
         .as_deref()
@@ -737,6 +755,7 @@ fn view(args: ViewArgs) -> Result<()> {
         device: args.device,
         limits: args.load.limits(),
         view: args.view,
+        light_line: args.light_line,
     })
 }
 

@@ -289,3 +289,45 @@ fn bench_quick_reports_one_core_and_all_core_rates() {
         assert!(line.contains("threads"), "{line}");
     }
 }
+
+#[test]
+fn bad_light_line_is_an_error_naming_the_flag() {
+    for nm in ["0", "-3", "NaN", "900"] {
+        let (ok, _, err) = refract(&[
+            "render",
+            "--scene",
+            "builtin:prism",
+            "--light-line",
+            nm,
+            "--spp",
+            "1",
+            "--device",
+            "cpu",
+            "--out",
+            &tmp("line.png"),
+        ]);
+        assert!(!ok, "{nm} accepted");
+        assert!(
+            err.contains("--light-line") && err.contains("360"),
+            "{nm}: {err}"
+        );
+    }
+    let (ok, _, err) = refract(&[
+        "render",
+        "--scene",
+        "builtin:prism",
+        "--light-line",
+        "589.3",
+        "--spp",
+        "1",
+        "--width",
+        "32",
+        "--height",
+        "20",
+        "--device",
+        "cpu",
+        "--out",
+        &tmp("line.png"),
+    ]);
+    assert!(ok, "{err}");
+}

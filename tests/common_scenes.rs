@@ -92,6 +92,7 @@ pub fn scene(name: &str, mesh: Mesh, materials: Vec<Material>, camera: Camera, e
             max_depth: 64,
             rr_depth: 5,
             spp: 16,
+            light_line_nm: None,
         },
         warnings: vec![],
     }

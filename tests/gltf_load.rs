@@ -950,6 +950,21 @@ fn extras_render_and_environment() {
         format!("{e:#}").contains("extras.render.width is 0"),
         "{e:#}"
     );
+    let s = load(&one_triangle(
+        json!({"scenes": [{"nodes": [0], "extras": {"render": {"light_line_nm": 589.3}}}]}),
+    ))
+    .unwrap();
+    assert_eq!(s.settings.light_line_nm, Some(589.3));
+    for bad in [json!(0), json!(-1), json!(900), json!("sodium")] {
+        let e = load(&one_triangle(
+            json!({"scenes": [{"nodes": [0], "extras": {"render": {"light_line_nm": bad}}}]}),
+        ))
+        .unwrap_err();
+        assert!(
+            format!("{e:#}").contains("extras.render.light_line_nm"),
+            "{e:#}"
+        );
+    }
 }
 
 #[test]

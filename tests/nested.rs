@@ -42,7 +42,7 @@ struct Step {
 /// Follow the ray (o, d) through `scene` for up to `n` surfaces, choosing reflection or
 /// transmission with `uc` at every dielectric (the walks' own step, nothing re-implemented).
 fn follow(scene: &Scene, ray: (Vec3, Vec3), uc: f32, n: usize) -> Vec<Step> {
-    follow_spectral(scene, ray, uc, n, &Spectral { lambdas: None }).0
+    follow_spectral(scene, ray, uc, n, &Spectral::RGB).0
 }
 
 /// [`follow`] with the path's colour lanes `sp`; also whether each real vertex was dispersive.
@@ -186,6 +186,7 @@ fn sphere_in_water_refracts_with_relative_ior() {
 fn dispersion_takes_both_iors_at_the_hero_wavelength() {
     let sp = Spectral {
         lambdas: Some([450.0, 520.0, 590.0, 660.0]),
+        line: None,
     };
     let ray = (Vec3::new(0.21, 0.13, 3.0), -Vec3::Z);
     // Dispersive glass in plain water, then plain glass in dispersive water.

@@ -660,3 +660,35 @@ fn view_selector_switches_to_the_layer_views_and_back() {
     assert_eq!(again.len(), beauty.len());
     assert!(h.query_by_label("class LDE").is_none(), "legend left on");
 }
+
+#[test]
+fn light_line_choice_sets_the_spectrum_and_restarts_accumulation() {
+    use refract::scene::edits::LightSpectrum;
+    let mut h = harness(small_app());
+    step_until(&mut h, "a few samples", |a| a.backend().spp() >= 2);
+    let gen0 = h.state().backend().generation();
+    h.get_by_label("sodium D 589.3 nm").click();
+    h.step();
+    h.step();
+    assert_eq!(
+        h.state().settings.light.spectrum,
+        LightSpectrum::Line(589.3)
+    );
+    assert_eq!(h.state().scene.settings.light_line_nm, Some(589.3));
+    assert!(
+        h.state().backend().generation() > gen0,
+        "edit bumps the generation"
+    );
+    assert!(
+        h.state().backend().spp() <= 1,
+        "spp {} after choosing a line",
+        h.state().backend().spp()
+    );
+    h.get_by_label_contains("line 589.3 nm: RGB");
+    step_until(&mut h, "samples under the line", |a| a.backend().spp() >= 2);
+    h.get_by_label("white").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().settings.light.spectrum, LightSpectrum::White);
+    assert_eq!(h.state().scene.settings.light_line_nm, None);
+}

@@ -72,7 +72,7 @@ fn both_walks(r: &Renderer, opts: &RenderOptions, spp: u32) -> (Vec<[u32; 6]>, b
             let dir = camera_ray(cam, (x, y), (W, H), &mut a);
             let mut b = a;
             let va = integ.li(cam.position, dir, &mut a);
-            let sp = Spectral::new(integ.spectral, || b.next_1d());
+            let sp = integ.lanes(|| b.next_1d());
             lean &= integ.walk_features(&sp).lean();
             let ray = (cam.position, dir);
             let vb = integ.li_spec::<General, (), ()>(ray, &mut b, sp, &mut (), &());
@@ -128,8 +128,8 @@ fn scenes_needing_a_feature_run_the_general_walk() {
         let mut a = Sampler::new(pixel, 0, 5);
         let dir = camera_ray(cam, (pixel % W, pixel / W), (W, H), &mut a);
         let mut b = a;
-        let sp_a = Spectral::new(true, || a.next_1d());
-        let sp_b = Spectral::new(true, || b.next_1d());
+        let sp_a = Spectral::new(true, None, || a.next_1d());
+        let sp_b = Spectral::new(true, None, || b.next_1d());
         let ray = (cam.position, dir);
         let va = integ.li_spec::<Lean, (), ()>(ray, &mut a, sp_a, &mut (), &());
         let vb = integ.li_spec::<General, (), ()>(ray, &mut b, sp_b, &mut (), &());

@@ -56,6 +56,8 @@ pub struct ViewOptions {
     pub view: layer_view::ViewMode,
     /// `--lecture KEY`: open this demonstration with large type.
     pub lecture: Option<&'static str>,
+    /// `--light-line NM`: the scene opens lit by one spectral line (its "as loaded" light).
+    pub light_line: Option<f32>,
 }
 
 /// An environment image given on the command line.
@@ -657,6 +659,9 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
             e.rotation,
         )?;
         base.warnings.extend(warnings);
+    }
+    if let Some(nm) = opts.light_line {
+        base.settings.light_line_nm = Some(nm);
     }
     base.validate()?;
     for w in &base.warnings {

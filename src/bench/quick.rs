@@ -121,7 +121,7 @@ fn render_report() -> Result<String> {
         r.render_pass(&opts, film, 0, spp);
         samples / t.elapsed().as_secs_f64()
     };
-    let sp = crate::cpu::spectral::Spectral::new(r.spectral, || 0.5);
+    let sp = crate::cpu::spectral::Spectral::new(r.spectral, r.line, || 0.5);
     let walk = if r.integrator(&opts).walk_features(&sp).lean() {
         "lean"
     } else {

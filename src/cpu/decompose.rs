@@ -121,7 +121,7 @@ impl Decomposition {
             tables: &self.tables,
             states: [0; MAX_CLASSES],
             sums: [Color::ZERO; MAX_CLASSES + 1],
-            sp: Spectral { lambdas: None },
+            sp: Spectral::RGB,
             poisoned: false,
         }
     }
@@ -267,7 +267,7 @@ mod tests {
     fn first_match_wins() {
         let d = Decomposition::parse("LDE,L(D|S)*E").unwrap();
         let mut r = d.router();
-        r.start(Vec3::ZERO, Vec3::Z, &Spectral { lambdas: None });
+        r.start(Vec3::ZERO, Vec3::Z, &Spectral::RGB);
         // E, then a diffuse vertex: LDE is class 0 (also accepted by class 1).
         assert_eq!(r.class_of(Some(Symbol::D)), 0);
         // A specular then diffuse connection: LDSE is class 1 only.

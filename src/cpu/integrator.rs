@@ -14,7 +14,7 @@ use super::interaction::{
 use super::medium::medium_transmittance;
 use super::observer::{PathEnd, PathObserver};
 use super::path_state::{Interface, PathState};
-use super::spectral::Spectral;
+use super::spectral::{LightLine, Spectral};
 use super::walk_spec::{General, Lean, WalkFeatures, WalkSpec};
 use crate::bsdf::{BxDF, TransportMode};
 use crate::bvh::Bvh;
@@ -36,6 +36,8 @@ pub struct Integrator<'a> {
     pub filter: Option<&'a DfaTable>,
     /// Hero-wavelength spectral transport (only scenes with a dispersive material pay for it).
     pub spectral: bool,
+    /// The scene's light line, if any: every lane carries its wavelength.
+    pub line: Option<LightLine>,
     /// The scene's dielectric volumes nest or overlap (`Features::NESTED`): paths keep the
     /// medium stack and pass false hits.
     pub nested: bool,
@@ -77,6 +79,13 @@ impl<'a> Integrator<'a> {
     #[inline]
     pub fn surface(&self, hit: &crate::bvh::Hit) -> SurfaceHit {
         surface(self.scene, hit)
+    }
+
+    /// The colour lanes of a new path (camera or light): RGB, hero wavelengths drawn from `u`,
+    /// or the light line's wavelength.
+    #[inline]
+    pub fn lanes(&self, u: impl FnOnce() -> f32) -> Spectral {
+        Spectral::new(self.spectral, self.line, u)
     }
 
     /// What the camera path with lanes `sp` needs of the walk (`cpu::walk_spec`).
@@ -127,7 +136,7 @@ impl<'a> Integrator<'a> {
         sampler: &mut Sampler,
         obs: &mut O,
     ) -> Vec3 {
-        let sp = Spectral::new(self.spectral, || sampler.next_1d());
+        let sp = self.lanes(|| sampler.next_1d());
         self.li_walk(origin, dir, sampler, sp, obs, &())
     }
 

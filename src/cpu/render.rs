@@ -3,6 +3,7 @@
 
 use super::Integrator;
 use super::layers::{LayerFilm, LayerObserver};
+use super::spectral::LightLine;
 use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
@@ -35,6 +36,9 @@ pub struct Renderer {
     pub lights: LightSet,
     /// The scene has a dispersive material: paths carry hero wavelengths.
     pub spectral: bool,
+    /// The scene's light is one spectral line (`RenderSettings::light_line_nm`): every lane
+    /// carries its wavelength (spectral transport, whatever `spectral` says).
+    pub line: Option<LightLine>,
     /// The scene's dielectric volumes nest or overlap: paths keep a medium stack.
     pub nested: bool,
     /// A volume absorbs (Beer–Lambert along segments inside it).
@@ -54,6 +58,7 @@ impl Renderer {
             bvh,
             lights,
             spectral: false,
+            line: None,
             nested: false,
             absorption: false,
             textures: false,
@@ -67,6 +72,7 @@ impl Renderer {
     pub fn refresh_features(&mut self) {
         let features = self.scene.features();
         self.spectral = features.contains(Features::DISPERSION);
+        self.line = self.scene.settings.light_line_nm.map(LightLine::new);
         self.nested = features.contains(Features::NESTED);
         self.absorption = features.contains(Features::ABSORPTION);
         self.textures = features.contains(Features::TEXTURES);
@@ -81,6 +87,7 @@ impl Renderer {
             rr_depth: opts.rr_depth,
             filter: opts.filter.as_ref(),
             spectral: self.spectral,
+            line: self.line,
             nested: self.nested,
             absorption: self.absorption,
             textures: self.textures,

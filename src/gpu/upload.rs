@@ -200,6 +200,11 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
         !(f.intersects(conductors) && f.contains(Features::DISPERSION)),
         "the GPU renderer has no spectral (hero-wavelength) conductor yet: this scene has a tabulated metal (extras.conductor) and a dispersive material; render it on the CPU"
     );
+    ensure!(
+        scene.settings.light_line_nm.is_none(),
+        "the GPU renderer has no light line yet (light_line_nm = {} nm): render it on the CPU (--device cpu)",
+        scene.settings.light_line_nm.unwrap_or_default()
+    );
     for (i, t) in scene.textures.iter().enumerate() {
         ensure!(
             (t.width as u64) < (1 << 30) && (t.height as u64) < (1 << 30),

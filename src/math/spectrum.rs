@@ -178,3 +178,35 @@ pub fn rgb_to_spectrum4(rgb: Vec3, lambda: [f32; HERO_COUNT]) -> Vec4 {
         rgb_to_spectrum(rgb, lambda[3]),
     )
 }
+
+/// Shortest wavelength a scene-wide light line may have (nm): the sampled range.
+pub const LIGHT_LINE_MIN_NM: f32 = LAMBDA_MIN;
+/// Longest wavelength a scene-wide light line may have (nm).
+pub const LIGHT_LINE_MAX_NM: f32 = LAMBDA_MAX;
+
+/// The wavelength of a light line read from `source` (a CLI flag, a glTF field …), or an
+/// error naming it when it is not a finite number in [360, 830] nm.
+pub fn check_light_line(nm: f32, source: &str) -> Result<f32, String> {
+    if nm.is_finite() && (LIGHT_LINE_MIN_NM..=LIGHT_LINE_MAX_NM).contains(&nm) {
+        Ok(nm)
+    } else {
+        Err(format!(
+            "{source} is {nm}, but a light line must be a wavelength in {LIGHT_LINE_MIN_NM}..={LIGHT_LINE_MAX_NM} nm"
+        ))
+    }
+}
+
+/// The linear sRGB a unit lane value stands for when every emitter radiates one line at
+/// `lambda_nm`: the white-balanced matching functions r̄(λ₀) of [`rgb_matching`] with the
+/// negative part clipped (a monochromatic colour lies outside the sRGB gamut; clipping each
+/// channel at 0 is the simplest projection onto it, and keeps the hue's dominant
+/// channels), scaled so its luminance is 1, the luminance of RGB (1, 1, 1). A grey scene thus
+/// keeps its brightness when its white light becomes a line; only the hue changes.
+/// The estimator of such a line: L(λ) = L₀ δ(λ − λ₀), so sampling λ = λ₀ with probability 1
+/// makes L/p the line's power (PBR 4th ed. §4.6.5 for the tristimulus integral; a delta
+/// spectrum cannot be found by uniform wavelength sampling).
+pub fn light_line_rgb(lambda_nm: f32) -> Vec3 {
+    let c = rgb_matching(lambda_nm).max(Vec3::ZERO);
+    let y = crate::math::color::luminance(c);
+    if y > 0.0 { c / y } else { Vec3::ZERO }
+}

@@ -123,6 +123,21 @@ pub struct LightEdit {
     pub azimuth_deg: Option<f32>,
     /// Luminance of the uniform environment; None = as loaded.
     pub environment: Option<f32>,
+    /// White light or one spectral line for every emitter (`RenderSettings::light_line_nm`).
+    pub spectrum: LightSpectrum,
+}
+
+/// The scene-wide light spectrum the viewer (or a sidecar) asks for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightSpectrum {
+    /// As the scene file says (`extras.render.light_line_nm`, white when missing).
+    #[default]
+    AsLoaded,
+    /// White: every emitter's RGB uplifted over 360–830 nm.
+    White,
+    /// Every emitter radiates only at this wavelength (nm).
+    Line(f32),
 }
 
 impl Default for LightEdit {
@@ -135,6 +150,7 @@ impl Default for LightEdit {
             elevation_deg: None,
             azimuth_deg: None,
             environment: None,
+            spectrum: LightSpectrum::AsLoaded,
         }
     }
 }
@@ -173,6 +189,10 @@ impl LightEdit {
                 ensure!(v.is_finite(), "{key} {v} must be finite");
             }
         }
+        if let LightSpectrum::Line(nm) = self.spectrum {
+            crate::math::spectrum::check_light_line(nm, "spectrum.line")
+                .map_err(anyhow::Error::msg)?;
+        }
         Ok(())
     }
 
@@ -198,6 +218,16 @@ impl LightEdit {
     /// Write the light edits into `scene`, a copy of `base` (as loaded) with other edits.
     pub fn apply(&self, base: &Scene, scene: &mut Scene) {
         let l = self;
+        scene.settings.light_line_nm = match l.spectrum {
+            LightSpectrum::AsLoaded => base.settings.light_line_nm,
+            LightSpectrum::White => None,
+            // The viewer keeps sanitising: an impossible wavelength is clamped into range.
+            LightSpectrum::Line(nm) if nm.is_finite() => Some(nm.clamp(
+                crate::math::spectrum::LIGHT_LINE_MIN_NM,
+                crate::math::spectrum::LIGHT_LINE_MAX_NM,
+            )),
+            LightSpectrum::Line(_) => base.settings.light_line_nm,
+        };
         let tint = l.tint();
         for (m, b) in scene.materials.iter_mut().zip(&base.materials) {
             if b.is_emissive() {

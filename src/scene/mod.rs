@@ -31,6 +31,13 @@ pub struct RenderSettings {
     /// Russian roulette starts at this depth (Mitsuba's `rr_depth`).
     pub rr_depth: u32,
     pub spp: u32,
+    /// A scene-wide light spectrum: None = white (every emitter's RGB uplifted over
+    /// 360–830 nm), Some(λ₀) = every emitter — area, punctual, environment — radiates only
+    /// at λ₀ nm (a lecture tool for refraction by wavelength; one line for the whole scene).
+    /// Turns spectral transport on (`cpu::spectral::LightLine`). glTF
+    /// `extras.render.light_line_nm`, CLI `--light-line`.
+    #[serde(default)]
+    pub light_line_nm: Option<f32>,
 }
 
 impl Default for RenderSettings {
@@ -41,6 +48,7 @@ impl Default for RenderSettings {
             max_depth: 64,
             rr_depth: 5,
             spp: 64,
+            light_line_nm: None,
         }
     }
 }
@@ -206,6 +214,10 @@ impl Scene {
             s.height
         );
         ensure!(s.max_depth >= 1, "max_depth must be at least 1");
+        if let Some(nm) = s.light_line_nm {
+            crate::math::spectrum::check_light_line(nm, "the render setting light_line_nm")
+                .map_err(anyhow::Error::msg)?;
+        }
         let m = &self.mesh;
         ensure!(
             m.normals.len() == m.positions.len() && m.uvs.len() == m.positions.len(),

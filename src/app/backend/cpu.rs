@@ -447,6 +447,7 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
                     r.scene.punctual_lights = scene.punctual_lights;
                     r.scene.environment = scene.environment;
                     r.scene.env_map = scene.env_map;
+                    r.scene.settings.light_line_nm = scene.settings.light_line_nm;
                     r.refresh_features();
                     r.lights = crate::scene::light::LightSet::build(&r.scene);
                 }

@@ -3,7 +3,8 @@
 
 use crate::app::{Edit, ViewerApp};
 use crate::math::color::{blackbody_rgb, luminance};
-use crate::scene::edits::{LightEdit, MainLight};
+use crate::math::prism::SODIUM_D_NM;
+use crate::scene::edits::{LightEdit, LightSpectrum, MainLight};
 use eframe::egui::{self, Slider, SliderClamping};
 use glam::Vec3;
 
@@ -13,6 +14,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let l = &mut light;
     intensity_slider(ui, l);
     colour_controls(ui, l);
+    spectrum_controls(ui, l, app.base.settings.light_line_nm);
     match &main {
         Some(m) => main_light_controls(ui, l, m, &app.base.materials[m.material].name),
         None => {
@@ -139,5 +141,68 @@ fn environment_slider(ui: &mut egui::Ui, l: &mut LightEdit, scene_environment: V
         && env.is_finite()
     {
         l.environment = Some(env.max(0.0));
+    }
+}
+
+/// The line lights offered (name, wavelength in nm).
+const LINES: [(&str, f32); 4] = [
+    ("sodium D", SODIUM_D_NM),
+    ("He-Ne", 632.8),
+    ("green laser", 532.0),
+    ("violet laser", 405.0),
+];
+
+/// The slider range of a custom line (nm): the visible range.
+const CUSTOM_NM: std::ops::RangeInclusive<f32> = 380.0..=780.0;
+
+/// Light spectrum: white, or one spectral line for every emitter (`RenderSettings::
+/// light_line_nm`); `loaded` is the scene file's line, shown as the state when not edited.
+fn spectrum_controls(ui: &mut egui::Ui, l: &mut LightEdit, loaded: Option<f32>) {
+    let current = match l.spectrum {
+        LightSpectrum::AsLoaded => loaded,
+        LightSpectrum::White => None,
+        LightSpectrum::Line(nm) => Some(nm),
+    };
+    let preset = current.and_then(|nm| LINES.iter().find(|(_, v)| *v == nm));
+    ui.label("Spectrum").on_hover_text(
+        "White light, or one spectral line for every light of the scene (area, point, environment): paths carry that wavelength only, so a dispersive prism sends one sharp beam deviated by n(λ).",
+    );
+    ui.horizontal_wrapped(|ui| {
+        if ui.selectable_label(current.is_none(), "white").clicked() {
+            l.spectrum = LightSpectrum::White;
+        }
+        for (name, nm) in LINES {
+            if ui
+                .selectable_label(current == Some(nm), format!("{name} {nm} nm"))
+                .clicked()
+            {
+                l.spectrum = LightSpectrum::Line(nm);
+            }
+        }
+        let custom = current.is_some() && preset.is_none();
+        if ui.selectable_label(custom, "custom").clicked() && !custom {
+            l.spectrum = LightSpectrum::Line(550.0);
+        }
+    });
+    if let Some(nm) = current
+        && preset.is_none()
+    {
+        let mut v = nm;
+        ui.add(
+            Slider::new(&mut v, CUSTOM_NM)
+                .text("line nm")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("The wavelength every light emits at.");
+        if v != nm {
+            l.spectrum = LightSpectrum::Line(if v.is_finite() { v } else { 550.0 });
+        }
+    }
+    if let Some(nm) = current {
+        let c = crate::math::spectrum::light_line_rgb(nm);
+        ui.label(format!(
+            "line {nm:.1} nm: RGB ≈ ({:.2}, {:.2}, {:.2}) at luminance 1",
+            c.x, c.y, c.z
+        ));
     }
 }

@@ -162,7 +162,7 @@ impl<'a> Bdpt<'a> {
         light.clear();
         let j = sampler.next_2d();
         // Hero wavelengths shared by both subpaths (scenes with dispersion only).
-        let sp = &Spectral::new(self.pt.spectral, || sampler.next_1d());
+        let sp = &self.pt.lanes(|| sampler.next_1d());
         let mut l = self.camera_path(cam, (x, y, j), max_depth, sampler, sp);
         let mut ls = sampler.with_dim(1 << 16);
         self.light_path(light, max_depth.min(MAX_VERTS), &mut ls, sp);

@@ -43,7 +43,7 @@ fn subpaths<'a>(bd: &Bdpt<'a>, (x, y, i): (u32, u32, u32), scratch: &mut Scratch
     scratch.light.clear();
     let mut sampler = Sampler::new(y * bd.cam.width + x, i, 3);
     let j = sampler.next_2d();
-    let sp = Spectral::new(bd.pt.spectral, || sampler.next_1d());
+    let sp = bd.pt.lanes(|| sampler.next_1d());
     bd.camera_path(&mut scratch.cam, (x, y, j), max_depth, &mut sampler, &sp);
     let mut ls = sampler.with_dim(1 << 16);
     bd.light_path(&mut scratch.light, max_depth, &mut ls, &sp);

@@ -30,7 +30,7 @@ impl Recorder {
     pub fn new(extent: f32) -> Recorder {
         Recorder {
             extent,
-            sp: Spectral { lambdas: None },
+            sp: Spectral::RGB,
             dir: Vec3::ZERO,
             path: PathRecord {
                 heckbert: String::new(),

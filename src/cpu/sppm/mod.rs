@@ -138,7 +138,7 @@ pub fn render_iteration(
         seed,
     } = frame;
     // One set of hero wavelengths per iteration, shared by its photons and camera paths.
-    let sp = Spectral::new(pt.spectral, || Sampler::new(u32::MAX, s, seed).next_1d());
+    let sp = pt.lanes(|| Sampler::new(u32::MAX, s, seed).next_1d());
     let pass = photon_pass(pt, params, s, seed, &sp);
     let lookup = PhotonLookup {
         photons: &pass.photons,

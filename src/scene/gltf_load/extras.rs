@@ -38,7 +38,14 @@ fn get_u32(obj: &Value, key: &str) -> anyhow::Result<Option<u32>> {
 
 /// `scenes[0].extras.render` → settings (defaults for what is missing).
 /// The keys `extras.render` may have.
-const RENDER_KEYS: [&str; 5] = ["width", "height", "max_depth", "rr_depth", "spp"];
+const RENDER_KEYS: [&str; 6] = [
+    "width",
+    "height",
+    "max_depth",
+    "rr_depth",
+    "spp",
+    "light_line_nm",
+];
 
 /// Unknown keys of `extras.render` (a typo such as `sp` would otherwise silently keep the
 /// default) go to `warnings`.
@@ -82,7 +89,28 @@ pub(super) fn parse_render_settings(
             *field = v;
         }
     }
+    s.light_line_nm = parse_light_line(r)?;
     Ok(s)
+}
+
+/// `extras.render.light_line_nm`: one wavelength (nm) every emitter radiates at
+/// (`RenderSettings::light_line_nm`); null or missing = white light.
+fn parse_light_line(r: &Value) -> anyhow::Result<Option<f32>> {
+    const AT: &str = "/scenes/0/extras/render/light_line_nm (extras.render.light_line_nm)";
+    match r.get("light_line_nm") {
+        None | Some(Value::Null) => Ok(None),
+        Some(v) => {
+            let Some(nm) = v.as_f64() else {
+                bail!(
+                    "{AT} must be a wavelength in nm, got {}",
+                    abbreviate(&v.to_string())
+                );
+            };
+            crate::math::spectrum::check_light_line(nm as f32, AT)
+                .map(Some)
+                .map_err(anyhow::Error::msg)
+        }
+    }
 }
 
 /// At most 60 characters of `s`, for messages.
