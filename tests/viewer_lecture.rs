@@ -86,26 +86,49 @@ fn large_type_zooms_the_interface_and_back() {
     assert_eq!(h.ctx.zoom_factor(), 1.0);
 }
 
-#[test]
-fn the_tir_demo_inspects_paths_that_are_totally_reflected() {
-    let mut h = harness(app_on("builtin:furnace"));
+/// The paths the TIR demo's inspector traces, in a viewer that renders at `fit` (the
+/// viewport's portrait shape) or the scene's own 4:3.
+fn tir_demo_events(fit: bool) -> Vec<VertexEvent> {
+    let mut app = app_on("builtin:furnace");
+    app.settings.render.fit_viewport = fit;
+    app.options_changed();
+    let mut h = harness(app);
     let tir = DEMOS.iter().position(|d| d.key == "tir").unwrap();
     h.state_mut().start_demo(tir);
     let start = Instant::now();
-    while h.state().inspector.traced.is_none() {
-        assert!(start.elapsed() < Duration::from_secs(60), "no trace");
+    while h.state().inspector.traced.is_none() || h.state().inspector.is_tracing() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no trace (fit {fit}): film {:?} size {:?} viewport {:?}",
+            h.state().inspector.film,
+            h.state().settings.resolution(&h.state().scene),
+            h.state().settings.viewport
+        );
         std::thread::sleep(Duration::from_millis(20));
         h.step();
     }
+    let (w, hgt) = h.state().settings.resolution(&h.state().scene);
+    assert_eq!(fit, w * 3 != hgt * 4, "{w}x{hgt}");
     let traced = h.state().inspector.traced.clone().unwrap();
-    let events: Vec<VertexEvent> = traced
+    traced
         .trace
         .paths
         .iter()
         .flat_map(|p| p.vertices.iter().map(|v| v.event))
-        .collect();
-    assert!(events.contains(&VertexEvent::Tir), "{events:?}");
-    assert!(events.contains(&VertexEvent::Refract), "{events:?}");
+        .collect()
+}
+
+#[test]
+fn the_tir_demo_inspects_paths_that_are_totally_reflected() {
+    // The demo inspects a scene point, so a viewport of another shape sees the same paths.
+    for fit in [false, true] {
+        let events = tir_demo_events(fit);
+        assert!(events.contains(&VertexEvent::Tir), "fit {fit}: {events:?}");
+        assert!(
+            events.contains(&VertexEvent::Refract),
+            "fit {fit}: {events:?}"
+        );
+    }
 }
 
 #[test]

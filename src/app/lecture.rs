@@ -21,8 +21,9 @@ pub struct Demo {
     pub caption: &'static str,
     /// Heckbert filter to render with ("" = every path).
     pub filter: &'static str,
-    /// Inspect the paths through this pixel of the scene's own resolution.
-    pub inspect: Option<(u32, u32)>,
+    /// Inspect the paths through the pixel that sees this scene point (m), at whatever size
+    /// the viewer renders.
+    pub inspect: Option<[f32; 3]>,
     /// Select the material of this name (its Fresnel plot and dispersion panel show).
     pub select: Option<&'static str>,
     /// What the viewport shows (a heatmap needs the CPU backend; elsewhere: the image).
@@ -38,7 +39,7 @@ pub const DEMOS: [Demo; 6] = [
         caption: "Snell's law n₁ sin θ₁ = n₂ sin θ₂: entering the slab (n = 1.5) light bends \
                   towards the normal, leaving it bends away. Click a pixel to see its paths.",
         filter: "",
-        inspect: Some((280, 260)),
+        inspect: Some([-0.1688, 0.5048, 0.4028]), // refracts through the slab
         select: Some("glass"),
         view: ViewMode::Beauty,
     },
@@ -60,7 +61,7 @@ pub const DEMOS: [Demo; 6] = [
         caption: "Total internal reflection: beyond the critical angle asin(1/1.5) = 41.8° no \
                   light leaves the glass: the slab is a light pipe. White: every path was trapped at least once.",
         filter: "",
-        inspect: Some((420, 260)),
+        inspect: Some([0.4803, 0.3112, 0.1748]), // four TIR bounces
         select: Some("glass"),
         view: ViewMode::Tir,
     },
@@ -122,6 +123,10 @@ pub struct Lecture {
     pub large_type: bool,
     /// The zoom factor last given to egui (None = never set: leave the user's zoom alone).
     applied_zoom: Option<f32>,
+    /// The demo's inspected scene point, followed until the user inspects elsewhere.
+    pub inspect_point: Option<glam::Vec3>,
+    /// The image size the point was last projected at.
+    inspected_size: Option<(u32, u32)>,
 }
 
 impl Lecture {
@@ -149,10 +154,8 @@ impl ViewerApp {
         self.apply(Edit::PathFilter(demo.filter.to_owned()));
         self.inspector.clear();
         self.inspector.enabled = demo.inspect.is_some();
-        if let Some(px) = demo.inspect {
-            let size = (self.base.settings.width, self.base.settings.height);
-            self.inspector.request_pixel(px, size);
-        }
+        self.lecture.inspect_point = demo.inspect.map(glam::Vec3::from);
+        self.lecture.inspected_size = None;
         self.selected = demo
             .select
             .and_then(|name| self.scene.materials.iter().position(|m| m.name == name));
@@ -160,6 +163,27 @@ impl ViewerApp {
             self.set_view(demo.view);
         }
         self.lecture.active = Some(index);
+        self.lecture_follow();
+    }
+
+    /// Keep the demo's inspected scene point under the inspector when the image changes size
+    /// (Fit viewport: the inspector's own panel narrows the image when it opens).
+    pub fn lecture_follow(&mut self) {
+        let Some(p) = self.lecture.inspect_point else {
+            return;
+        };
+        if self.lecture_caption().is_none() {
+            self.lecture.inspect_point = None;
+            return;
+        }
+        let size = self.settings.resolution(&self.scene);
+        if self.lecture.inspected_size == Some(size) {
+            return;
+        }
+        self.lecture.inspected_size = Some(size);
+        if let Some(film) = self.scene.camera.to_film(p, size.0 as f32 / size.1 as f32) {
+            self.inspector.request(film);
+        }
     }
 
     /// The caption of the demo on screen, if its scene is still the open one.

@@ -389,6 +389,7 @@ impl ViewerApp {
                 egui::ScrollArea::vertical().show(ui, |ui| panels::side_panel(self, ui));
             });
         self.apply_queued();
+        self.lecture_follow();
         self.inspect_follow();
         panels::inspect::side(self, ui);
         egui::CentralPanel::no_frame().show(ui, |ui| {
@@ -407,6 +408,7 @@ impl ViewerApp {
             }
             if let Some((sx, sy)) = r.clicked {
                 if r.alt || self.inspector.enabled {
+                    self.lecture.inspect_point = None;
                     self.inspector.request((sx, sy));
                     ctx.request_repaint();
                 } else {
