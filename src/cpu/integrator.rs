@@ -195,13 +195,10 @@ impl<'a> Integrator<'a> {
         let mut q = step(filter, filter.map_or(0, |f| f.start()), Symbol::E);
         let why = loop {
             let Some(h) = self.bvh.intersect(o, d, f32::INFINITY) else {
-                // Escaped: the environment, MIS-weighted against NEE when it is light-sampled.
+                // Escaped: the environment, unless the gatherer already counted it.
                 let gathered = chain.is_some_and(|k| k >= 1) && gather.environment_emits();
                 if accepts_light(filter, q) && !gathered {
-                    let w = self.lights.env_weight(d, prev_pdf, prev_delta);
-                    let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
-                    obs.escaped(d, c);
-                    l += c;
+                    l += self.escaped_light(d, &st, (prev_pdf, prev_delta), &sp, obs);
                 }
                 break PathEnd::Escaped;
             };
@@ -247,16 +244,7 @@ impl<'a> Integrator<'a> {
             let u2 = sampler.next_2d();
             let ul = sampler.next_1d();
             let ul2 = sampler.next_2d();
-            if !it.bsdf.is_delta() && !self.lights.is_empty() {
-                let mask = ClassMask {
-                    d: accepts_light(filter, step(filter, q, Symbol::D)),
-                    g: accepts_light(filter, step(filter, q, Symbol::G)),
-                    media,
-                };
-                if mask.d || mask.g {
-                    l += self.sample_light(&it, &st, (ul, ul2), mask, &sp, obs);
-                }
-            }
+            l += self.next_event(&it, &st, (ul, ul2), (filter, q, media), &sp, obs);
             let (s, wi) = match it.sample(uc, u2, TransportMode::Radiance) {
                 Bounce::Continue { s, wi } => (s, wi),
                 Bounce::Absorbed => break PathEnd::Absorbed,
@@ -297,6 +285,50 @@ impl<'a> Integrator<'a> {
     #[inline]
     pub fn pass_through(&self, hit: &SurfaceHit, d: Vec3) -> Vec3 {
         offset_ray_origin_towards(hit.p, hit.ng, d.dot(hit.ng), self.bvh.offset_scale())
+    }
+
+    /// The environment seen along the escaping direction `d` (times the path throughput),
+    /// MIS-weighted against NEE when it is light-sampled, reported to `obs`.
+    #[inline(always)]
+    fn escaped_light<O: PathObserver>(
+        &self,
+        d: Vec3,
+        st: &PathState,
+        (prev_pdf, prev_delta): (f32, bool),
+        sp: &Spectral,
+        obs: &mut O,
+    ) -> Color {
+        let w = self.lights.env_weight(d, prev_pdf, prev_delta);
+        let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
+        obs.escaped(d, c);
+        c
+    }
+
+    /// Next-event estimation at a non-delta vertex whose D or G connection the path filter
+    /// (in state `q`) still accepts; zero elsewhere.
+    #[inline(always)]
+    fn next_event<O: PathObserver>(
+        &self,
+        it: &Interaction,
+        st: &PathState,
+        u: (f32, Vec2),
+        (filter, q, media): (Option<&DfaTable>, u32, bool),
+        sp: &Spectral,
+        obs: &mut O,
+    ) -> Color {
+        if it.bsdf.is_delta() || self.lights.is_empty() {
+            return Color::ZERO;
+        }
+        let mask = ClassMask {
+            d: accepts_light(filter, step(filter, q, Symbol::D)),
+            g: accepts_light(filter, step(filter, q, Symbol::G)),
+            media,
+        };
+        if mask.d || mask.g {
+            self.sample_light(it, st, u, mask, sp, obs)
+        } else {
+            Color::ZERO
+        }
     }
 
     /// One next-event estimate at `it` (times the path throughput), MIS-weighted, reported
