@@ -5,6 +5,7 @@
 
 mod kernel;
 mod offset;
+mod packet;
 #[cfg(target_arch = "aarch64")]
 mod simd_neon;
 #[cfg(target_arch = "x86_64")]
@@ -21,6 +22,7 @@ use crate::scene::Mesh;
 use glam::{Vec3, Vec3A};
 use kernel::QueryFn;
 use obvhs::{BvhBuildParams, triangle::Triangle};
+use packet::{LANES, PacketRay, TriPacket};
 use slab::SlabRay;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -42,9 +44,10 @@ pub struct Hit {
 /// The acceleration structure of one scene.
 pub struct Bvh {
     nodes: Vec<WideNode>,
-    /// Triangles in leaf order (leaf ranges index this).
-    leaf_tris: Vec<LeafTri>,
-    /// Scene triangle index of each leaf slot.
+    /// One packet of triangles per leaf (a leaf word's first index names its packet).
+    packets: Vec<TriPacket>,
+    /// Scene triangle index of each leaf slot (packet · `LANES` + lane; padding lanes
+    /// `u32::MAX`, never hit).
     leaf_to_tri: Vec<u32>,
     /// Levels of wide nodes.
     depth: u32,
@@ -74,7 +77,7 @@ impl Bvh {
                 }
             })
             .collect();
-        let (nodes, depth, leaf_to_tri) = if tris.is_empty() {
+        let (nodes, depth, order) = if tris.is_empty() {
             (Vec::new(), 0, Vec::new())
         } else {
             let params = BvhBuildParams {
@@ -86,22 +89,34 @@ impl Bvh {
             let (nodes, depth) = wide::collapse(&bvh2);
             (nodes, depth, bvh2.primitive_indices)
         };
-        let leaf_tris = leaf_to_tri
+        let mut nodes = nodes;
+        let leaves = wide::number_packets(&mut nodes);
+        let mut leaf_to_tri = vec![u32::MAX; leaves.len() * LANES];
+        let packets = leaves
             .iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                LeafTri {
-                    v0: t.v0,
-                    v1: t.v1,
-                    v2: t.v2,
-                }
+            .enumerate()
+            .map(|(k, &(first, count))| {
+                let ids = &order[first as usize..(first + count) as usize];
+                leaf_to_tri[k * LANES..k * LANES + ids.len()].copy_from_slice(ids);
+                let leaf: Vec<LeafTri> = ids
+                    .iter()
+                    .map(|&i| {
+                        let t = &tris[i as usize];
+                        LeafTri {
+                            v0: t.v0,
+                            v1: t.v1,
+                            v2: t.v2,
+                        }
+                    })
+                    .collect();
+                TriPacket::new(&leaf)
             })
             .collect();
         let kernel = Kernel::detect();
         let (closest, any) = kernel.queries().expect("detected kernels are supported");
         Bvh {
             nodes,
-            leaf_tris,
+            packets,
             leaf_to_tri,
             depth,
             kernel,
@@ -167,7 +182,7 @@ impl Bvh {
     fn tree(&self) -> Tree<'_> {
         Tree {
             nodes: &self.nodes,
-            tris: &self.leaf_tris,
+            packets: &self.packets,
         }
     }
 
@@ -179,13 +194,15 @@ impl Bvh {
             self.invalid_rays.fetch_add(1, Ordering::Relaxed);
             return None;
         }
-        if self.leaf_tris.is_empty() || tmax <= 0.0 {
+        if self.packets.is_empty() || tmax <= 0.0 {
             return None;
         }
         let (o, d): (Vec3A, Vec3A) = (origin.into(), dir.into());
+        let wt = WatertightRay::new(o, d);
         Some(Query {
             slab: SlabRay::new(origin.to_array(), dir.to_array()),
-            wt: WatertightRay::new(o, d),
+            packet: PacketRay::new(&wt),
+            wt,
             tmax,
         })
     }

@@ -3,8 +3,9 @@
 //! which stops at the first hit); stacked entries keep their entry distance so those beyond
 //! the closest hit so far are dropped when popped.
 
+use super::packet::{LANES, PacketRay, TriPacket};
 use super::slab::{BoxTest, SlabRay, TMAX_SCALE};
-use super::watertight::{LeafTri, WatertightRay};
+use super::watertight::WatertightRay;
 use super::wide::{Child, W, WideNode, decode};
 use std::mem::MaybeUninit;
 
@@ -65,7 +66,7 @@ impl Stack {
 #[derive(Clone, Copy)]
 pub struct Tree<'a> {
     pub nodes: &'a [WideNode],
-    pub tris: &'a [LeafTri],
+    pub packets: &'a [TriPacket],
 }
 
 /// One query: the ray in both forms and the far end of its segment.
@@ -73,10 +74,11 @@ pub struct Tree<'a> {
 pub struct Query {
     pub slab: SlabRay,
     pub wt: WatertightRay,
+    pub packet: PacketRay,
     pub tmax: f32,
 }
 
-/// A hit on leaf slot `slot` (leaf order).
+/// A hit on leaf slot `slot` (packet · `LANES` + lane).
 #[derive(Clone, Copy, Debug)]
 pub struct SlotHit {
     pub t: f32,
@@ -103,11 +105,26 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, q: &Query) -> Option<Sl
                     continue;
                 }
             }
-            Child::Leaf(first, count) => {
-                for slot in first..first + count {
-                    if let Some((t, b1, b2)) = q.wt.intersect(&tree.tris[slot as usize], tmax) {
+            Child::Leaf(packet, count) => {
+                // All lanes against the entry tmax, then taken in lane order with the running
+                // tmax: the hits a one-triangle-at-a-time loop would find.
+                let h = q
+                    .packet
+                    .intersect(&q.wt, &tree.packets[packet as usize], count, tmax);
+                let mut m = h.mask;
+                while m != 0 {
+                    let lane = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let t = h.t[lane];
+                    if t < tmax {
                         tmax = t;
-                        best = Some(SlotHit { t, slot, b1, b2 });
+                        let slot = packet * LANES as u32 + lane as u32;
+                        best = Some(SlotHit {
+                            t,
+                            slot,
+                            b1: h.b1[lane],
+                            b2: h.b2[lane],
+                        });
                         if ANY {
                             return best;
                         }

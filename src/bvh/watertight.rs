@@ -22,6 +22,9 @@ pub struct WatertightRay {
     mx: Vec3A,
     my: Vec3A,
     mz: Vec3A,
+    /// The permutation (kx, ky, kz) and the factors −sx, −sy, sz (`shear`).
+    k: [usize; 3],
+    s: [f32; 3],
 }
 
 impl WatertightRay {
@@ -49,12 +52,22 @@ impl WatertightRay {
         };
         let mut mz = [0.0f32; 3];
         mz[kz] = 1.0 / dir[kz];
+        let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
         WatertightRay {
             org,
-            mx: row(kx, dir[kx] / dir[kz]),
-            my: row(ky, dir[ky] / dir[kz]),
+            mx: row(kx, sx),
+            my: row(ky, sy),
             mz: Vec3A::from(mz),
+            k: [kx, ky, kz],
+            s: [-sx, -sy, mz[kz]],
         }
+    }
+
+    /// The origin, the axis permutation (kx, ky, kz) and the factors (−sx, −sy, sz) of §3:
+    /// A·mx = A[kx] + A[kz]·(−sx), A·my = A[ky] + A[kz]·(−sy), A·mz = A[kz]·sz.
+    #[inline(always)]
+    pub fn shear(&self) -> ([f32; 3], [usize; 3], [f32; 3]) {
+        (self.org.to_array(), self.k, self.s)
     }
 
     /// Returns (t, b1, b2) for a hit with 0 < t < tmax, or None. The algorithm of §3 (no

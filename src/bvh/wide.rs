@@ -68,6 +68,24 @@ pub fn decode(word: u32) -> Child {
     }
 }
 
+/// Give every leaf its own packet of `LANES` slots: the leaf word's first index becomes its
+/// packet's index (slot = packet · `LANES` + lane). Returns, for each packet, the leaf's
+/// first triangle in the BVH2's leaf order and its count.
+pub fn number_packets(nodes: &mut [WideNode]) -> Vec<(u32, u32)> {
+    let mut leaves = Vec::new();
+    for node in nodes.iter_mut() {
+        for word in node.child.iter_mut() {
+            if *word & LEAF_BIT != 0
+                && let Child::Leaf(first, count) = decode(*word)
+            {
+                *word = encode_leaf(leaves.len() as u32, count);
+                leaves.push((first, count));
+            }
+        }
+    }
+    leaves
+}
+
 fn encode_leaf(first: u32, count: u32) -> u32 {
     assert!(
         first <= FIRST_MASK && (1..=7).contains(&count),
