@@ -59,9 +59,10 @@ pub struct PacketHits {
 /// axis indices and splatted factors.
 #[derive(Clone, Copy)]
 pub struct PacketRay {
+    /// The origin's kx, ky and kz components.
     org: [Vec4; 3],
     k: [usize; 3],
-    /// −sx, −sy, sz of the paper (the rows of `WatertightRay`).
+    /// −sx, −sy, sz of the paper.
     neg_sx: Vec4,
     neg_sy: Vec4,
     sz: Vec4,
@@ -72,7 +73,7 @@ impl PacketRay {
     pub fn new(wt: &WatertightRay) -> PacketRay {
         let (org, k, s) = wt.shear();
         PacketRay {
-            org: [0, 1, 2].map(|a| Vec4::splat(org[a])),
+            org: k.map(|a| Vec4::splat(org[a])),
             k,
             neg_sx: Vec4::splat(s[0]),
             neg_sy: Vec4::splat(s[1]),
@@ -84,11 +85,10 @@ impl PacketRay {
     #[inline(always)]
     fn sheared(&self, p: &TriPacket, i: usize) -> (Vec4, Vec4, Vec4) {
         let [kx, ky, kz] = self.k;
-        let a = |axis: usize| p.v[i][axis] - self.org[axis];
-        let az = a(kz);
+        let az = p.v[i][kz] - self.org[2];
         (
-            a(kx) + az * self.neg_sx,
-            a(ky) + az * self.neg_sy,
+            (p.v[i][kx] - self.org[0]) + az * self.neg_sx,
+            (p.v[i][ky] - self.org[1]) + az * self.neg_sy,
             az * self.sz,
         )
     }

@@ -11,18 +11,13 @@ pub struct LeafTri {
     pub v2: Vec3A,
 }
 
-/// Per-ray constants of the watertight test: §3 of the paper (axis permutation kx, ky, kz and
-/// shear sx, sy, sz), kept as three row vectors so that the sheared coordinates of a vertex
-/// offset A are dot products: A·mx = A[kx] − sx·A[kz], A·my = A[ky] − sy·A[kz], A·mz =
-/// sz·A[kz]. The other terms are products with 0 (exact zeros), so each dot product rounds
-/// exactly like the paper's expression.
+/// Per-ray constants of the watertight test: §3 of the paper, the axis permutation (kx, ky, kz)
+/// and the shear factors kept as (−sx, −sy, sz), so that the sheared coordinates of a vertex
+/// offset A are A[kx] + A[kz]·(−sx), A[ky] + A[kz]·(−sy) and A[kz]·sz — the paper's
+/// expressions with the same roundings.
 #[derive(Clone, Copy)]
 pub struct WatertightRay {
     org: Vec3A,
-    mx: Vec3A,
-    my: Vec3A,
-    mz: Vec3A,
-    /// The permutation (kx, ky, kz) and the factors −sx, −sy, sz (`shear`).
     k: [usize; 3],
     s: [f32; 3],
 }
@@ -31,6 +26,7 @@ impl WatertightRay {
     /// `dir` must have a nonzero component.
     #[inline(always)]
     pub fn new(org: Vec3A, dir: Vec3A) -> Self {
+        let d = dir.to_array();
         let a = dir.abs();
         let kz = if a.x > a.y {
             if a.x > a.z { 0 } else { 2 }
@@ -39,35 +35,34 @@ impl WatertightRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if dir[kz] < 0.0 {
+        let (mut kx, mut ky) = ([1, 2, 0][kz], [2, 0, 1][kz]);
+        if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let row = |k: usize, s: f32| {
-            let mut m = [0.0f32; 3];
-            m[k] = 1.0;
-            m[kz] = -s;
-            Vec3A::from(m)
-        };
-        let mut mz = [0.0f32; 3];
-        mz[kz] = 1.0 / dir[kz];
-        let (sx, sy) = (dir[kx] / dir[kz], dir[ky] / dir[kz]);
         WatertightRay {
             org,
-            mx: row(kx, sx),
-            my: row(ky, sy),
-            mz: Vec3A::from(mz),
             k: [kx, ky, kz],
-            s: [-sx, -sy, mz[kz]],
+            s: [-(d[kx] / d[kz]), -(d[ky] / d[kz]), 1.0 / d[kz]],
         }
     }
 
-    /// The origin, the axis permutation (kx, ky, kz) and the factors (−sx, −sy, sz) of §3:
-    /// A·mx = A[kx] + A[kz]·(−sx), A·my = A[ky] + A[kz]·(−sy), A·mz = A[kz]·sz.
+    /// The origin, the axis permutation (kx, ky, kz) and the factors (−sx, −sy, sz).
     #[inline(always)]
-    pub fn shear(&self) -> ([f32; 3], [usize; 3], [f32; 3]) {
-        (self.org.to_array(), self.k, self.s)
+    pub fn shear(&self) -> (Vec3A, [usize; 3], [f32; 3]) {
+        (self.org, self.k, self.s)
+    }
+
+    /// Sheared x, y and scaled z of vertex `v` relative to the origin.
+    #[inline(always)]
+    fn sheared(&self, v: Vec3A) -> (f32, f32, f32) {
+        let a = (v - self.org).to_array();
+        let [kx, ky, kz] = self.k;
+        let az = a[kz];
+        (
+            a[kx] + az * self.s[0],
+            a[ky] + az * self.s[1],
+            az * self.s[2],
+        )
     }
 
     /// Returns (t, b1, b2) for a hit with 0 < t < tmax, or None. The algorithm of §3 (no
@@ -75,12 +70,9 @@ impl WatertightRay {
     /// (§3.3).
     #[inline(always)]
     pub fn intersect(&self, tri: &LeafTri, tmax: f32) -> Option<(f32, f32, f32)> {
-        let a = tri.v0 - self.org;
-        let b = tri.v1 - self.org;
-        let c = tri.v2 - self.org;
-        let (ax, ay) = (a.dot(self.mx), a.dot(self.my));
-        let (bx, by) = (b.dot(self.mx), b.dot(self.my));
-        let (cx, cy) = (c.dot(self.mx), c.dot(self.my));
+        let (ax, ay, az) = self.sheared(tri.v0);
+        let (bx, by, bz) = self.sheared(tri.v1);
+        let (cx, cy, cz) = self.sheared(tri.v2);
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
@@ -96,7 +88,6 @@ impl WatertightRay {
         if det == 0.0 {
             return None;
         }
-        let (az, bz, cz) = (a.dot(self.mz), b.dot(self.mz), c.dot(self.mz));
         let t_scaled = u * az + v * bz + w * cz;
         let inv = 1.0 / det;
         let t = t_scaled * inv;
