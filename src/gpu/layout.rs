@@ -155,12 +155,18 @@ gpu_struct! {
         pub offset_scale: f32,
         /// First image row of this submission (a dispatch may cover a band of rows).
         pub tile_y0: u32,
+        /// First image row the accumulation film holds (an image larger than one binding
+        /// renders in tiles of rows; 0 otherwise).
+        pub film_y0: u32,
         /// `sppm`: this iteration's photon radius r (world units).
         pub photon_radius: f32,
         /// `sppm`: 1 / (photon paths · π r²).
         pub photon_norm: f32,
         /// `sppm`: photon-grid buckets − 1 (a power of two minus one).
         pub grid_mask: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

@@ -107,6 +107,11 @@ pub struct GpuRenderer {
     clear_pending: bool,
     /// Submissions [`GpuRenderer::render_with`] keeps queued (2: the next waits while one runs).
     batches_in_flight: usize,
+    /// An image larger than one binding (`film_rows`): the whole running mean, kept on the
+    /// CPU while the film holds one tile of rows at a time (`tiles`).
+    tiled: Option<Vec<[f32; 4]>>,
+    /// First image row the film holds (0 unless tiled).
+    film_y0: u32,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -121,6 +126,17 @@ struct Queued {
     samples: u64,
     /// The spp accumulated once it finishes, where it completes a pass.
     completes: Option<u64>,
+}
+
+/// Rows of the image the accumulation film holds: all of them when they fit one binding of
+/// `cap` bytes (or when `whole_image` submissions are needed: the caller then refuses the
+/// size), else the most whole workgroup rows (8) that fit — the image is rendered in tiles.
+fn film_rows(opts: &RenderOptions, cap: u64, whole_image: bool) -> u32 {
+    let row = u64::from(opts.width) * 16;
+    if whole_image || row * u64::from(opts.height) <= cap {
+        return opts.height;
+    }
+    ((cap / row.max(1)) as u32 / 8 * 8).clamp(8, opts.height)
 }
 
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
@@ -266,7 +282,10 @@ impl GpuRenderer {
             background_compile,
             clear_pending: false,
             batches_in_flight: BATCHES_IN_FLIGHT,
+            tiled: None,
+            film_y0: 0,
         };
+        r.fit_tiles();
         r.photon_r0 = r.sppm_radius0();
         r.write_filter_table();
         Ok(r)
@@ -299,10 +318,13 @@ impl GpuRenderer {
         let env_offset = upload::pack_environment(light_set, &mut texels);
         let mats = upload::pack_materials(scene, &tex_slots);
         let (lights, light_count) = upload::pack_lights(bvh, light_set, env_offset);
-        let pixels = opts.width as u64 * opts.height as u64;
-        let accum_bytes = pixels * 16;
-        let splat_bytes = splat_film_bytes(light_tracing_for(opts, scene), opts);
+        let light_tracing = light_tracing_for(opts, scene);
+        let splat_bytes = splat_film_bytes(light_tracing, opts);
         let cap = ctx.max_binding_bytes();
+        // Path tracing renders an image larger than one binding in tiles of rows (`tiles`);
+        // light tracing and photons need the whole image in every submission.
+        let whole = light_tracing || sppm_for(opts, scene);
+        let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
         ensure!(
             accum_bytes.max(splat_bytes) <= cap,
             "image {}x{} too large for this GPU: its {} film needs {} MiB, the device binds at \
@@ -503,6 +525,9 @@ impl GpuRenderer {
         self.spp = 0;
         self.elapsed = Duration::ZERO;
         self.photon_r0 = self.sppm_radius0();
+        if let Some(mean) = &mut self.tiled {
+            mean.fill([0.0; 4]);
+        }
     }
 
     /// Zero the film, the counters, the splats and the photon grid.
@@ -542,10 +567,14 @@ impl GpuRenderer {
             debug_pixel: self.debug_pixel,
             offset_scale: self.bvh.offset_scale,
             tile_y0: 0,
+            film_y0: self.film_y0,
             photon_radius: r,
             photon_norm: (1.0 / (paths * std::f64::consts::PI * f64::from(r) * f64::from(r)))
                 as f32,
             grid_mask: self.buffers.photon_store.buckets - 1,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
         }
     }
 
@@ -570,7 +599,7 @@ impl GpuRenderer {
 
     /// Queue one dispatch adding `k` samples per pixel to the whole image (does not wait).
     pub fn dispatch(&mut self, k: u32) {
-        if k == 0 {
+        if k == 0 || self.refuse_tiled() {
             return;
         }
         self.submit(k, 0, self.opts.height);
@@ -583,7 +612,7 @@ impl GpuRenderer {
     /// whole-image passes, nor with sppm, whose iterations are whole-image submissions (the
     /// band is ignored there; [`GpuRenderer::needs_whole_image`]).
     pub fn dispatch_band(&mut self, k: u32, y0: u32, rows: u32) {
-        if k > 0 && rows > 0 && y0 < self.opts.height {
+        if k > 0 && rows > 0 && y0 < self.opts.height && !self.refuse_tiled() {
             self.submit(k, y0, rows.min(self.opts.height - y0));
         }
     }
@@ -712,6 +741,9 @@ impl GpuRenderer {
         budget: Option<Duration>,
         mut progress: impl FnMut(u64),
     ) -> Result<GpuImage> {
+        if self.tiled.is_some() {
+            return self.render_tiled(spp, budget, progress);
+        }
         self.pipelines.compile(self.spec)?;
         let start = Instant::now();
         let mut queued = std::collections::VecDeque::new();
@@ -787,9 +819,14 @@ impl GpuRenderer {
 
     /// Read the accumulated image back.
     pub fn image(&self) -> Result<GpuImage> {
-        let pixels = self.opts.width as u64 * self.opts.height as u64;
-        let bytes = self.ctx.read_buffer(&self.buffers.accum, pixels * 16)?;
-        let px: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let px: Vec<[f32; 4]> = match &self.tiled {
+            Some(mean) => mean.clone(),
+            None => {
+                let pixels = self.opts.width as u64 * self.opts.height as u64;
+                let bytes = self.ctx.read_buffer(&self.buffers.accum, pixels * 16)?;
+                bytemuck::pod_collect_to_vec(&bytes)
+            }
+        };
         let (stats, _) = self.read_stats()?;
         Ok(GpuImage {
             width: self.opts.width,
@@ -987,6 +1024,26 @@ impl GpuRenderer {
     /// compiles its pipelines on first use; accumulation restarts.
     pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
         gpu_estimator(estimator, &self.scene)?;
+        let whole = light_tracing_for(
+            &RenderOptions {
+                estimator,
+                ..self.opts
+            },
+            &self.scene,
+        ) || sppm_for(
+            &RenderOptions {
+                estimator,
+                ..self.opts
+            },
+            &self.scene,
+        );
+        ensure!(
+            !(whole && self.tiled.is_some()),
+            "image {}x{} is larger than one GPU binding and renders in tiles, which only path \
+             tracing does (light tracing and photons need the whole image at once)",
+            self.opts.width,
+            self.opts.height
+        );
         self.opts.estimator = estimator;
         self.respecialize();
         self.fit_splat_film()?;
@@ -1069,6 +1126,7 @@ impl GpuRenderer {
             self.tex_slots = slots;
             self.write_filter_table();
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+            self.fit_tiles();
         }
         self.reset();
         Ok(())
@@ -1107,6 +1165,7 @@ impl GpuRenderer {
         self.features = self.scene.features();
         self.write_filter_table();
         self.respecialize();
+        self.fit_tiles();
         self.reset();
         Ok(())
     }
@@ -1163,3 +1222,5 @@ impl GpuRenderer {
 
     // ---- END viewer accessors ---------------------------------------------------------------
 }
+
+mod tiles;

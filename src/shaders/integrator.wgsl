@@ -39,10 +39,15 @@ struct Params {
     offset_scale: f32,
     // first image row of this submission (a dispatch may cover a band of rows)
     tile_y0: u32,
+    // first image row the accumulation film holds (tiles of an image larger than a binding)
+    film_y0: u32,
     // sppm (photon.wgsl): this iteration's radius r, 1 / (photon paths · π r²), buckets − 1
     photon_radius: f32,
     photon_norm: f32,
     grid_mask: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 struct Stats {
@@ -634,7 +639,8 @@ fn render_pixel(x: u32, y: u32) -> u32 {
         }
     }
     // Fold the batch into the running mean without drift: mean·n/(n+k) + Σ/(n+k).
-    let old = accum[pixel];
-    accum[pixel] = vec4<f32>(old.xyz * params.w_old + sum * params.w_new, 1.0);
+    let slot = pixel - params.film_y0 * w;
+    let old = accum[slot];
+    accum[slot] = vec4<f32>(old.xyz * params.w_old + sum * params.w_new, 1.0);
     return dropped;
 }
