@@ -298,3 +298,52 @@ fn gpu_sppm_studio_agrees_with_cpu_path() {
         &path,
     );
 }
+
+/// A measurement, run by hand (`cargo test --release --test gpu_sppm -- --ignored --nocapture
+/// directional_caustic_relmse`): relMSE (`bench::rel_mse`) of GPU and CPU sppm at equal spp on
+/// the directional caustic at 96×72 against CPU sppm at 2048 spp (another seed); writes
+/// `photons-directional-{gpu,cpu}-256spp.png` to the temporary folder.
+#[test]
+#[ignore]
+fn directional_caustic_relmse() {
+    use refract::film::{Film, ToneMap, save_image};
+    let Some(ctx) = gpu_context("directional_caustic_relmse") else {
+        return;
+    };
+    let (w, h) = (96, 72);
+    let mut scene = ball_directional();
+    (scene.settings.width, scene.settings.height) = (w, h);
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.estimator = Estimator::Sppm;
+    let cpu = Renderer::new(scene.clone()).expect("valid");
+    let cpu_opts = opts;
+    let cpu_render = |spp: u32, seed: u32| {
+        let mut o = cpu_opts;
+        o.seed = seed;
+        let mut film = Film::new(w, h);
+        let t = std::time::Instant::now();
+        cpu.render_pass(&o, &mut film, 0, spp);
+        (film.image(), t.elapsed().as_secs_f64())
+    };
+    let (reference, t_ref) = cpu_render(2048, 7);
+    eprintln!("reference: CPU sppm 2048 spp in {t_ref:.1} s");
+    let mut g = GpuRenderer::with_context(ctx, scene, opts).expect("GPU renderer");
+    let dir = std::env::temp_dir();
+    for spp in [64, 256] {
+        opts.seed = 1;
+        g.set_options(opts).expect("options");
+        let t = std::time::Instant::now();
+        let gpu = g.render(spp).expect("render").mean;
+        let t_gpu = t.elapsed().as_secs_f64();
+        let (cpu_img, t_cpu) = cpu_render(spp, 2);
+        eprintln!(
+            "{spp} spp: relMSE GPU sppm {:.4} ({t_gpu:.1} s), CPU sppm {:.4} ({t_cpu:.1} s)",
+            refract::bench::rel_mse(&gpu, &reference),
+            refract::bench::rel_mse(&cpu_img, &reference)
+        );
+        for (img, who) in [(&gpu, "gpu"), (&cpu_img, "cpu")] {
+            let path = dir.join(format!("photons-directional-{who}-{spp}spp.png"));
+            save_image(&path, w, h, img, 1.0, ToneMap::default()).expect("png");
+        }
+    }
+}
