@@ -117,6 +117,8 @@ gpu_struct! {
 
 gpu_struct! {
     /// One entry of the light distribution (area triangle or punctual light) with its CDF.
+    /// Lights at infinity (directional, environments) carry the scene's bounding sphere, the
+    /// disk their light subpaths start from: centre in `position`, radius in `radius`.
     pub struct Light {
         pub position: [f32; 3],
         pub kind: u32,
@@ -127,7 +129,8 @@ gpu_struct! {
         pub cos_inner: f32,
         pub cdf: f32,
         pub cos_outer: f32,
-        pub _pad0: u32,
+        /// Bounding-sphere radius of a light at infinity (`DirectionalLight::radius`).
+        pub radius: f32,
         pub _pad1: u32,
     }
 }
@@ -271,6 +274,8 @@ gpu_struct! {
     /// reads of the integrator's [`Params`], plus the environment radiance.
     pub struct LightProbeParams {
         pub environment: [f32; 4],
+        /// The uniform environment's bounding sphere (centre, radius).
+        pub sphere: [f32; 4],
         pub light_count: u32,
         pub _pad0: u32,
         pub _pad1: u32,

@@ -7,7 +7,7 @@ use super::layout::{GpuLayout, LightProbeCase, LightProbeOut, LightProbeParams};
 use super::pipeline::{create_module, dispatch_once, light_probe_source};
 use super::{GpuContext, upload};
 use crate::scene::Scene;
-use crate::scene::light::LightSet;
+use crate::scene::light::{Light, LightSet};
 use anyhow::Result;
 use wgpu::util::DeviceExt;
 
@@ -27,8 +27,14 @@ pub fn run_light_probe(
     let materials = upload::pack_materials(scene, &tex_slots);
     let (lights, light_count) = upload::pack_lights(&bvh, &set, env_offset);
     let e = scene.environment;
+    // The uniform environment's bounding sphere (the probe's `light_environment`).
+    let sphere = match &set.environment {
+        Light::Environment(u) => u.center.extend(u.radius).to_array(),
+        _ => [0.0; 4],
+    };
     let params = LightProbeParams {
         environment: [e.x, e.y, e.z, 0.0],
+        sphere,
         light_count,
         ..Default::default()
     };

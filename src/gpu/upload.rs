@@ -399,6 +399,7 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
                     g.kind = layout::LIGHT_DIRECTIONAL;
                     g.direction = d.direction.to_array();
                     g.intensity = d.irradiance.to_array();
+                    (g.position, g.radius) = (d.center.to_array(), d.radius);
                 }
                 // Not in the distribution: escaping rays read the environment uniform.
                 SceneLight::Environment(_) => {}
@@ -412,6 +413,7 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
                         e.sin_rot,
                         if e.image.importance { 1.0 } else { 0.0 },
                     ];
+                    (g.position, g.radius) = (e.center.to_array(), e.radius);
                 }
             }
             g

@@ -204,8 +204,9 @@ fn bsdf_eval_masked(bsdf: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mask: ClassMask, m
 fn integrator_light_mis(pick: LightPick, ls: LightLiSample, hit: SurfaceHit, wo: vec3<f32>, wi: vec3<f32>, bsdf: Bsdf, lt: LtMis) -> f32 {
     if HAS_LT {
         var r_t = 0.0;
-        if lt.ok {
-            // Light-side solid-angle density of emitting towards hit.p (0 for directional lights).
+        // No light subpath starts at a light at infinity (light_tracing.wgsl `lt_path`).
+        if lt.ok && !ls.infinite {
+            // Light-side solid-angle density of emitting towards hit.p.
             let emit_pdf = light_pdf_le(pick.light, pick.prob, ls.n_light, -ls.wi).pdf_dir;
             if emit_pdf > 0.0 {
                 let to = ls.p_light - hit.p;
@@ -358,11 +359,15 @@ fn lt_mis_arrive(ps: ptr<function, PathState>, hit: SurfaceHit) {
 }
 
 // The ray escaped: the environment image, MIS-weighted against next-event estimation (the
-// only other strategy that reaches it: no light subpath starts at infinity on the GPU); else
+// only other strategy that reaches it: lt+pt starts no light subpath at infinity); else
 // the uniform environment (not light-sampled, so MIS weight 1). Twin of the escape in
-// `Integrator::li` (`LightSet::env_weight`).
+// `Integrator::li` (`LightSet::env_weight`). With sppm the image emits photons, so light
+// reached from a gather vertex through specular vertices only is theirs (`environment_emits`).
 fn integrator_add_escaped(ps: ptr<function, PathState>) {
     let env = light_set_environment();
+    if env.prob > 0.0 && sppm_leaves_out(ps.chain) {
+        return;
+    }
     if env.prob > 0.0 && integrator_accepts_light(ps.q) {
         let le = light_le(env.light, vec3<f32>(0.0), -ps.d);
         var w = 1.0;

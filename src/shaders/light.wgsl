@@ -18,9 +18,11 @@
 // from its block in `texels` (`upload::pack_environment`); escaped rays weight it by MIS.
 //
 // Differences from the Rust twin (tests/light_twin.rs asserts them): `light_sample_le` draws
-// a double-sided emitter's side from its sampler (Rust `sample_le` takes `u_side`), reports
-// the emitting side as `n`, and is invalid for lights at infinity (directional, environment:
-// no light subpaths start there on the GPU; their `light_pdf_le` is (0, 0)).
+// a double-sided emitter's side from its sampler (Rust `sample_le` takes `u_side`) and reports
+// the emitting side as `n`. Lights at infinity (directional, environments) emit from a disk
+// covering the scene's bounding sphere, which their `Light` entry carries (`position`,
+// `radius`), as on the CPU: photons (photon.wgsl) start there; lt+pt does not
+// (light_tracing.wgsl).
 //
 // Adding a light type: the Rust file and `Light` variant in src/scene/light/ (see its module
 // docs), a LIGHT_* kind in gpu::layout packed by `upload::pack_lights`, a `case LIGHT_*` in
@@ -421,8 +423,9 @@ fn light_le(light: Light, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
 
 // The start of a light subpath (pbrt-v4 `LightLeSample`): origin point `p` with normal `n`
 // (the emitting side; 0 for point lights), direction `dir`, emitted radiance / intensity `l`,
-// the position density `pdf_pos` (pick / area, or pick for a delta position) and the
-// solid-angle density `pdf_dir`. `cos_n` = |n·dir| in the emitter's frame (1 for punctual).
+// the position density `pdf_pos` (pick / area, pick for a delta position, pick / (π r²) for
+// the bounding disk of a light at infinity, whose `n` is `dir`) and the solid-angle density
+// `pdf_dir`. `cos_n` = |n·dir| in the emitter's frame (1 for punctual lights and at infinity).
 struct LightLeSample {
     valid: bool,
     p: vec3<f32>,
@@ -437,8 +440,8 @@ struct LightLeSample {
 
 // Sample an emitted ray of `light` (picked with probability `pick`): u_pos picks the point,
 // u_dir the direction; a double-sided area light draws its side from `sampler` (one dimension,
-// as `bdpt::light_path`). Directional lights and the environment are reached by next-event
-// estimation only (valid = false). PBR 4th ed. §12.1–12.5 (`Light::SampleLe`).
+// as `bdpt::light_path`). Lights at infinity emit from their bounding disk.
+// PBR 4th ed. §12.1–12.5 (`Light::SampleLe`).
 fn light_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, sampler: ptr<function, Sampler>, pick: f32) -> LightLeSample {
     var s: LightLeSample;
     switch light.kind {
@@ -450,6 +453,19 @@ fn light_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, sampler: pt
         case LIGHT_POINT, LIGHT_SPOT: {
             if HAS_PUNCTUAL {
                 s = light_punctual_sample_le(light, u_dir, pick);
+            }
+        }
+        case LIGHT_DIRECTIONAL: {
+            if HAS_PUNCTUAL {
+                s = light_directional_sample_le(light, u_pos, pick);
+            }
+        }
+        case LIGHT_ENVIRONMENT: {
+            s = light_environment_sample_le(light, u_pos, u_dir, pick);
+        }
+        case LIGHT_IMAGE: {
+            if HAS_ENV_IMAGE {
+                s = light_image_sample_le(light, u_pos, u_dir, pick);
             }
         }
         default: {}
@@ -497,10 +513,73 @@ fn light_punctual_sample_le(light: Light, u_dir: vec2<f32>, pick: f32) -> LightL
     return LightLeSample(true, v3(light.position), vec3<f32>(0.0), dir, intensity, pick, pdf_dir, 1.0, true);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Lights at infinity: rays from the disk of radius r perpendicular to the emission direction
+// that covers the scene's bounding sphere (centre light.position, radius light.radius),
+// placed behind the scene. PBR 4th ed. §12.4 (`DistantLight::SampleLe`), §12.5.
+
+// The light is at infinity (directional, environments). Twin of `Light::is_infinite`.
+fn light_is_infinite(light: Light) -> bool {
+    return light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_ENVIRONMENT || light.kind == LIGHT_IMAGE;
+}
+
+// The disk point for u_pos behind the scene, for rays along `dir`: c − r·dir + r·disk(u_pos)
+// in dir's frame (the expression of the Rust `sample_le`s; PBR 4th ed. §12.4).
+fn light_infinite_disk_point(light: Light, dir: vec3<f32>, u_pos: vec2<f32>) -> vec3<f32> {
+    let frame = frame_from_normal(dir);
+    let d = concentric_disk(u_pos) * light.radius;
+    return v3(light.position) - light.radius * dir + frame_to_world(frame, vec3<f32>(d, 0.0));
+}
+
+// Area density of the disk point with the selection probability, pick / (π r²)
+// (`UniformEnvironment::pdf_le`, `ImageEnvironment::pdf_le`).
+fn light_infinite_pdf_pos(light: Light, pick: f32) -> f32 {
+    return pick / (PI * light.radius * light.radius);
+}
+
+// Area density of the bounding disk, 1/(πr²). Twin of `DirectionalLight::pdf_pos`.
+fn light_directional_pdf_pos(light: Light) -> f32 {
+    return 1.0 / (PI * light.radius * light.radius);
+}
+
+// A ray along `direction` through a uniform point of the disk that covers the scene's
+// bounding sphere, placed behind it; irradiance E, pdf_dir = 1 (a delta direction). Twin of
+// `DirectionalLight::sample_le` (PBR 4th ed. §12.4 `DistantLight::SampleLe`).
+fn light_directional_sample_le(light: Light, u_pos: vec2<f32>, pick: f32) -> LightLeSample {
+    let dir = v3(light.direction);
+    let p = light_infinite_disk_point(light, dir, u_pos);
+    return LightLeSample(true, p, dir, dir, v3(light.intensity), pick * light_directional_pdf_pos(light), 1.0, 1.0, false);
+}
+
+// A uniform direction and a point on the disk perpendicular to it that covers the bounding
+// sphere, behind the scene. Twin of `UniformEnvironment::sample_le` (PBR 4th ed. §12.5.1
+// `UniformInfiniteLight::SampleLe`).
+fn light_environment_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, pick: f32) -> LightLeSample {
+    let dir = -uniform_sphere(u_dir);
+    let p = light_infinite_disk_point(light, dir, u_pos);
+    return LightLeSample(true, p, dir, dir, v3(light.intensity), light_infinite_pdf_pos(light, pick), UNIFORM_SPHERE_PDF, 1.0, false);
+}
+
+// A direction importance-sampled from the environment image (`light_image_sample_dir`) and a
+// point on the disk perpendicular to it that covers the bounding sphere, behind the scene;
+// invalid where the map's density is 0. Twin of `ImageEnvironment::sample_le` (PBR 4th ed.
+// §12.5.2 `ImageInfiniteLight::SampleLe`).
+fn light_image_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, pick: f32) -> LightLeSample {
+    var s: LightLeSample;
+    let d = light_image_sample_dir(light, u_dir);
+    if !(d.w > 0.0) {
+        return s;
+    }
+    let dir = -d.xyz;
+    let p = light_infinite_disk_point(light, dir, u_pos);
+    return LightLeSample(true, p, dir, dir, light_image_radiance(light, d.xyz), light_infinite_pdf_pos(light, pick), d.w, 1.0, false);
+}
+
 // Origin of the first ray of a light subpath: pushed off an area light's emitting side
-// (Wächter & Binder 2019, `offset_ray_origin`), the light's position for point-like lights.
-fn light_le_sample_origin(s: LightLeSample) -> vec3<f32> {
-    if s.delta_pos {
+// (Wächter & Binder 2019, `offset_ray_origin`); the sampled point itself for point-like lights
+// and the bounding disk of lights at infinity (as `sppm::photon::trace_photon`).
+fn light_le_sample_origin(light: Light, s: LightLeSample) -> vec3<f32> {
+    if s.delta_pos || light_is_infinite(light) {
         return s.p;
     }
     return offset_ray_origin(s.p, s.n);
@@ -515,8 +594,9 @@ struct LightLePdf {
 // Densities with which `light_sample_le` of `light` (selection probability `pick`) emits from
 // a point with normal `n_light` towards `w`: area lights pdf_pos = pick / area (the mesh area),
 // pdf_dir cosine-weighted; a delta position reports pdf_pos = pick, as `light_sample_le` does
-// (the walks read pdf_dir only). Lights at infinity emit no subpaths here: (0, 0).
-// PBR 4th ed. §12.1, §12.5.1 (`PDF_Le`).
+// (the walks read pdf_dir only); lights at infinity the bounding disk's pick / (π r²) and the
+// direction's density (0 for a delta direction, Veach 1997 §10.3.5).
+// PBR 4th ed. §12.1, §12.4, §12.5 (`PDF_Le`).
 fn light_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> LightLePdf {
     switch light.kind {
         case LIGHT_TRIANGLE: {
@@ -537,6 +617,18 @@ fn light_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> Li
                 pdf_dir = light_punctual_pdf_dir(light);
             }
             return LightLePdf(pick, pdf_dir);
+        }
+        case LIGHT_DIRECTIONAL: {
+            return LightLePdf(pick * light_directional_pdf_pos(light), 0.0);
+        }
+        case LIGHT_ENVIRONMENT: {
+            return LightLePdf(light_infinite_pdf_pos(light, pick), UNIFORM_SPHERE_PDF);
+        }
+        case LIGHT_IMAGE: {
+            if HAS_ENV_IMAGE {
+                return LightLePdf(light_infinite_pdf_pos(light, pick), light_image_pdf_dir(light, -w));
+            }
+            return LightLePdf(0.0, 0.0);
         }
         default: {
             return LightLePdf(0.0, 0.0);

@@ -6,6 +6,8 @@
 // The integrator's `params` as far as light.wgsl reads it, plus the environment radiance.
 struct LightProbeParams {
     environment: vec4<f32>,
+    // The uniform environment's bounding sphere (centre, radius).
+    sphere: vec4<f32>,
     light_count: u32,
     _pad0: u32,
     _pad1: u32,
@@ -92,6 +94,8 @@ fn light_probe(
     }
     let c = light_cases[i];
     var light = light_environment(params.environment.xyz);
+    light.position = la3(params.sphere.xyz);
+    light.radius = params.sphere.w;
     if c.light < params.light_count {
         light = lights[c.light];
     }

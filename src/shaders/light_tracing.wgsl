@@ -188,9 +188,10 @@ struct LightWalk {
     t_pass: f32,
 }
 
-// The light subpath leaving the emitted ray `le`: β1 = Le cosθ / (p_light p_dir) (area
-// lights), I / (p_light p_dir) (punctual). Veach 1997 §10.2; PBR 3rd ed. §16.3.1 (`GenerateLightSubpath`).
-fn light_walk_new(le: LightLeSample, sp: Spectral) -> LightWalk {
+// The light subpath leaving the emitted ray `le` of `light`: β1 = Le cosθ / (p_light p_dir)
+// (area lights; cosθ = 1 on the bounding disk of a light at infinity), I / (p_light p_dir)
+// (punctual). Veach 1997 §10.2; PBR 3rd ed. §16.3.1 (`GenerateLightSubpath`).
+fn light_walk_new(light: Light, le: LightLeSample, sp: Spectral) -> LightWalk {
     var lw: LightWalk;
     lw.collapsed = false;
     lw.m = 0u;
@@ -208,7 +209,7 @@ fn light_walk_new(le: LightLeSample, sp: Spectral) -> LightWalk {
     } else {
         lw.beta = spectral_c(sp, le.l) * (le.cos_n / (lw.p_light * le.pdf_dir));
     }
-    lw.o = light_le_sample_origin(le);
+    lw.o = light_le_sample_origin(light, le);
     lw.d = le.dir;
     lw.prev_pdf = le.pdf_dir;
     lw.prev_delta = false;
@@ -382,7 +383,11 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
     let pick = light_set_pick(sampler_next_1d(sampler));
     let u_pos = sampler_next_2d(sampler);
     let u_dir = sampler_next_2d(sampler);
-    if pick.prob <= 0.0 {
+    // No light subpath starts at a light at infinity: lt+pt's strategies are those of the CPU
+    // bdpt it stands for, where such a light is only connected to by next-event estimation
+    // (`bdpt::light_path`, `Bdpt::infinite_weight`), so its paths keep the path tracer's
+    // two-strategy weights (integrator_light_mis, integrator_add_escaped).
+    if pick.prob <= 0.0 || light_is_infinite(pick.light) {
         return 0u;
     }
     let sp = spectral_new(sampler);
@@ -390,7 +395,7 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
     if !le.valid {
         return 0u;
     }
-    var lw = light_walk_new(le, sp);
+    var lw = light_walk_new(pick.light, le, sp);
     if !(max_element4(lw.beta) > 0.0) {
         return 0u;
     }

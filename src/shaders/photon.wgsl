@@ -91,10 +91,11 @@ fn photon_store(p: vec3<f32>, wi: vec3<f32>, ng: vec3<f32>, beta: vec4<f32>, k: 
 }
 
 // Trace one photon path (twin of `sppm::photon::trace_photon` and its `walk`): emitted as a
-// light subpath (β = Le cosθ / (p_pos p_dir), light_tracing.wgsl's `light_walk_new`),
-// scattered by the adjoint BSDF at specular vertices only, stored at the first Lambert surface
-// after k ≥ 1 of them when k + 2 segments fit in max_depth. Lights that emit no rays on the GPU
-// (directional, the environment) store nothing.
+// light subpath (β = Le cosθ / (p_pos p_dir), light_tracing.wgsl's `light_walk_new`) from any
+// light of the distribution — lights at infinity (directional, the environment image) from
+// the disk covering the scene's bounding sphere (light.wgsl) — scattered by the adjoint BSDF
+// at specular vertices only, stored at the first Lambert surface after k ≥ 1 of them when
+// k + 2 segments fit in max_depth.
 fn photon_path(sampler: ptr<function, Sampler>, sp: Spectral) {
     if params.light_count == 0u {
         return;
@@ -109,7 +110,7 @@ fn photon_path(sampler: ptr<function, Sampler>, sp: Spectral) {
     if !le.valid || !(le.pdf_dir > 0.0) || !(le.pdf_pos > 0.0) || !(max_element3(le.l) > 0.0) {
         return;
     }
-    var lw = light_walk_new(le, sp);
+    var lw = light_walk_new(pick.light, le, sp);
     var k = 0u;
     loop {
         let h = bvh_intersect(lw.o, lw.d, F32_MAX);

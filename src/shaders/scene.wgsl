@@ -82,7 +82,8 @@ struct Light {
     // Inclusive CDF (LightSet::cdf).
     cdf: f32,
     cos_outer: f32,
-    _pad0: u32,
+    // Lights at infinity: the scene's bounding sphere is (position, radius).
+    radius: f32,
     _pad1: u32,
 }
 

@@ -12,10 +12,10 @@
 //! the order of operations the walks used before the interface existed (so images stayed
 //! bit-identical).
 //!
-//! The WGSL twin differs in two documented ways (tests/light_twin.rs asserts both):
+//! The WGSL twin differs in one documented way (tests/light_twin.rs asserts it):
 //! `light_sample_le` draws a two-sided emitter's side from the sampler it is given, where
-//! `sample_le` takes it as `u_side` (the CPU walks always draw it); and the GPU starts no
-//! light subpaths at lights at infinity (`light_sample_le` invalid, `light_pdf_le` (0, 0)).
+//! `sample_le` takes it as `u_side` (the CPU walks always draw it). Lights at infinity emit
+//! from the scene's bounding disk on both (the GPU `Light` entry carries the sphere).
 //!
 //! The environment image (`ImageEnvironment`) is the one light at infinity in the selection
 //! distribution: next-event estimation samples it and an escaping ray weights it by MIS
