@@ -53,7 +53,8 @@ enum Variant {
     NoUv,
     /// normalTexture.index out of range.
     BadIndex,
-    /// Plus the textures the renderer ignores (occlusion, emissive, transmission, thickness).
+    /// Plus the textures the renderer ignores (occlusion, transmission, thickness) and an
+    /// emissive texture without an emissive factor (it emits nothing).
     Ignored,
 }
 
@@ -262,7 +263,7 @@ fn ignored_textures_are_named_warnings() {
     let s = quad(Variant::Ignored, 1.0);
     for needle in [
         "occlusion textures are ignored: a path tracer computes occlusion itself",
-        "material 'bumpy': emissiveTexture is ignored",
+        "material 'bumpy': emissiveTexture with emissiveFactor 0 emits nothing",
         "material 'bumpy': KHR_materials_transmission.transmissionTexture is ignored",
         "material 'bumpy': KHR_materials_volume.thicknessTexture is ignored",
         "normal maps are applied by the CPU renderer only",

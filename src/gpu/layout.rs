@@ -111,7 +111,8 @@ gpu_struct! {
         pub cond_eta: [f32; 3],
         pub metal: u32,
         pub cond_k: [f32; 3],
-        pub _pad_cond: u32,
+        /// Emissive texture slot ([`NO_TEXTURE`] = none): emission × texture(uv).rgb.
+        pub emit_tex: u32,
     }
 }
 

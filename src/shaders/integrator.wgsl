@@ -359,7 +359,7 @@ fn lt_mis_arrive(ps: ptr<function, PathState>, hit: SurfaceHit) {
 fn integrator_add_escaped(ps: ptr<function, PathState>) {
     let env = light_set_environment();
     if env.prob > 0.0 && integrator_accepts_light(ps.q) {
-        let le = light_le(env.light, vec3<f32>(0.0), -ps.d);
+        let le = light_le(env.light, vec3<f32>(0.0), vec3<f32>(0.0), -ps.d);
         var w = 1.0;
         if !ps.prev_delta {
             let p_light = light_pdf_li(env.light, env.prob, 1.0, vec3<f32>(0.0), ps.d);
@@ -369,7 +369,7 @@ fn integrator_add_escaped(ps: ptr<function, PathState>) {
         return;
     }
     if HAS_ENVIRONMENT && integrator_accepts_light(ps.q) {
-        let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), ps.d);
+        let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), vec3<f32>(0.0), ps.d);
         ps.l += ps.beta * spectral_c(ps.sp, le);
     }
 }
@@ -385,7 +385,7 @@ fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Ma
     }
     let d = ps.d;
     let area = light_set_area(hit.slot);
-    let le = light_le(area.light, hit.ng, -d);
+    let le = light_le(area.light, hit.p, hit.ng, -d);
     if all(le == vec3<f32>(0.0)) {
         return; // one-sided emitter seen from behind
     }

@@ -67,7 +67,8 @@ struct Material {
     cond_eta: array<f32, 3>,
     metal: u32,
     cond_k: array<f32, 3>,
-    _pad_cond: u32,
+    // Emissive texture slot (NO_TEXTURE = none): emission × texture(uv).rgb.
+    emit_tex: u32,
 }
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.

@@ -96,6 +96,7 @@ impl Loader<'_> {
         };
 
         let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
+        let emissive_texture = self.emissive_texture(m, emission, &name)?;
 
         let kind = self.material_kind(
             &name,
@@ -118,6 +119,7 @@ impl Loader<'_> {
             abbe,
             distribution,
             emission,
+            emissive_texture,
             double_sided: m.double_sided,
             attenuation_color: volume.attenuation_color,
             attenuation_distance: volume.attenuation_distance,
@@ -177,6 +179,28 @@ impl Loader<'_> {
             extras: Default::default(),
         };
         Ok((self.texture_ref(&info, false, name)?, scale))
+    }
+
+    /// `emissiveTexture` (sRGB, like base colour), loaded only when the material emits: glTF
+    /// multiplies it by `emissiveFactor` (default 0), so a texture without a factor emits
+    /// nothing (a warning says so).
+    fn emissive_texture(
+        &mut self,
+        m: &json::Material,
+        emission: Vec3,
+        name: &str,
+    ) -> anyhow::Result<Option<crate::scene::TextureRef>> {
+        let Some(info) = &m.emissive_texture else {
+            return Ok(None);
+        };
+        if emission.max_element() <= 0.0 {
+            self.warnings.push(format!(
+                "material '{name}': emissiveTexture with emissiveFactor 0 emits nothing \
+                 (glTF multiplies the two)"
+            ));
+            return Ok(None);
+        }
+        self.texture_ref(info, true, name)
     }
 
     /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
@@ -347,12 +371,6 @@ impl Loader<'_> {
             self.warnings.once("occlusion-tex", || {
                 "occlusion textures are ignored: a path tracer computes occlusion itself".into()
             });
-        }
-        if m.emissive_texture.is_some() {
-            self.warnings.push(format!(
-                "material '{name}': emissiveTexture is ignored (emissiveFactor × \
-                 emissive_strength alone sets the radiance)"
-            ));
         }
         if ext
             .and_then(|e| e.volume.as_ref())
