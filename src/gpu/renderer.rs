@@ -882,6 +882,7 @@ impl GpuRenderer {
             a.base_color_texture != b.base_color_texture
                 || a.metallic_roughness_texture != b.metallic_roughness_texture
                 || a.emissive_texture != b.emissive_texture
+                || a.normal_texture != b.normal_texture
                 || a.kind != b.kind
         };
         if textures_changed {

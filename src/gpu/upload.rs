@@ -146,18 +146,23 @@ pub fn pack_triangles(scene: &Scene, bvh: &GpuBvh, lights: &LightSet) -> Vec<Tri
     out
 }
 
-/// Per-vertex normals and uvs.
+/// Per-vertex normals, uvs and tangents (zero when the mesh has none).
 pub fn pack_vertices(scene: &Scene) -> Vec<Vertex> {
     let m = &scene.mesh;
     let mut out: Vec<Vertex> = m
         .normals
         .iter()
         .zip(&m.uvs)
-        .map(|(n, uv)| Vertex {
-            normal: n.to_array(),
-            u: uv.x,
-            v: uv.y,
-            _pad: 0,
+        .enumerate()
+        .map(|(i, (n, uv))| {
+            let t = m.tangents.get(i).copied().unwrap_or_default();
+            Vertex {
+                normal: n.to_array(),
+                u: uv.x,
+                v: uv.y,
+                tangent_w: t.w,
+                tangent: t.truncate().to_array(),
+            }
         })
         .collect();
     if out.is_empty() {
@@ -241,7 +246,18 @@ pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<TexSlots>) {
             layout::NO_TEXTURE
         };
         let emit = slot_of(&m.emissive_texture.filter(|_| m.is_emissive()));
-        slots.push(TexSlots { base: b, mr, emit });
+        // Normal maps need the mesh's tangents (`Features::NORMAL_MAP`).
+        let normal = if scene.mesh.tangents.is_empty() {
+            layout::NO_TEXTURE
+        } else {
+            slot_of(&m.normal_texture)
+        };
+        slots.push(TexSlots {
+            base: b,
+            mr,
+            emit,
+            normal,
+        });
     }
     let header = 3 * refs.len();
     let mut offsets = Vec::with_capacity(scene.textures.len());
@@ -308,6 +324,8 @@ pub struct TexSlots {
     pub mr: u32,
     /// Emissive (emitting materials only).
     pub emit: u32,
+    /// Tangent-space normal map (when the mesh has tangents).
+    pub normal: u32,
 }
 
 /// One GPU material (`tex` = its texture reference slots from [`pack_textures`]).
@@ -360,6 +378,8 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: TexSlots) -
             .map_or(layout::METAL_NONE, |c| c.index() as u32 + 1),
         cond_k: cond.1.to_array(),
         emit_tex: tex.emit,
+        normal_tex: tex.normal,
+        normal_scale: m.normal_scale,
     }
 }
 

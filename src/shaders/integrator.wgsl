@@ -156,12 +156,15 @@ fn integrator_surface(h: Hit) -> SurfaceHit {
     let vb = vertices[tri.i1];
     let vc = vertices[tri.i2];
     var ns = normalize_or_zero3(v3(va.normal) * b0 + v3(vb.normal) * h.b1 + v3(vc.normal) * h.b2);
+    let uv = vec2<f32>(va.u, va.v) * b0 + vec2<f32>(vb.u, vb.v) * h.b1 + vec2<f32>(vc.u, vc.v) * h.b2;
+    if HAS_NORMAL_MAP && any(ns != vec3<f32>(0.0)) {
+        ns = normal_mapped(tri.material, va, vb, vc, vec3<f32>(b0, h.b1, h.b2), ns, uv);
+    }
     if all(ns == vec3<f32>(0.0)) || !is_finite_v3(ns) {
         ns = ng;
     } else if dot3(ns, ng) < 0.0 {
         ns = -ns;
     }
-    let uv = vec2<f32>(va.u, va.v) * b0 + vec2<f32>(vb.u, vb.v) * h.b1 + vec2<f32>(vc.u, vc.v) * h.b2;
     return SurfaceHit(p, ng, ns, uv, h.slot, tri.scene_tri, tri.material, h.t);
 }
 
