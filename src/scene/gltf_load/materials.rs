@@ -364,7 +364,8 @@ impl Loader<'_> {
         {
             self.warnings.push(format!(
                 "material '{name}': KHR_materials_transmission.transmissionTexture is ignored \
-                 (transmissionFactor alone decides glass or opaque)"
+                 (transmissionFactor alone decides glass or opaque; a per-texel mix of glass \
+                 and the diffuse base is not implemented)"
             ));
         }
         if m.occlusion_texture.is_some() {
@@ -377,8 +378,9 @@ impl Loader<'_> {
             .is_some_and(|v| v.thickness_texture.is_some())
         {
             self.warnings.push(format!(
-                "material '{name}': KHR_materials_volume.thicknessTexture is ignored \
-                 (thicknessFactor alone decides solid or thin-walled)"
+                "material '{name}': KHR_materials_volume.thicknessTexture is ignored: a path \
+                 tracer measures thickness from the geometry, so only thicknessFactor > 0 \
+                 (solid) or 0 (thin-walled) is used"
             ));
         }
         if !matches!(

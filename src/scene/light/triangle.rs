@@ -76,7 +76,8 @@ impl TriangleLight {
         let (d00, d01, d11) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
         let (d20, d21) = (d.dot(e1), d.dot(e2));
         let den = d00 * d11 - d01 * d01;
-        if !(den > 0.0) {
+        // Degenerate (or NaN) triangle: any point is vertex 0.
+        if den.is_nan() || den <= 0.0 {
             return Vec2::ZERO;
         }
         let b1 = ((d11 * d20 - d01 * d21) / den).clamp(0.0, 1.0);
