@@ -329,6 +329,18 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
+    // The sidecar's environment image, then `--env*` flags over it.
+    if let (Some(s), Some(file)) = (&sidecar, &args.settings)
+        && let Some(e) = &s.environment
+    {
+        let dir = file.parent().unwrap_or(std::path::Path::new("."));
+        for w in e
+            .apply(&mut scene, dir)
+            .with_context(|| format!("settings '{}'", sidecar_file(args)))?
+        {
+            eprintln!("warning: {w}");
+        }
+    }
     args.env.apply(&mut scene)?;
     let mut sidecar_spp = None;
     if let Some(s) = &sidecar {

@@ -107,8 +107,15 @@ fn one_bright_texel_lights_from_the_threejs_direction() {
             );
         }
         // `le` takes the direction light travels: from the texel towards the scene.
-        assert!(env.le(Vec3::ZERO, -expect).x > 500.0, "rotation {rotation}");
-        assert_eq!(env.le(Vec3::ZERO, expect).x, 0.0, "rotation {rotation}");
+        assert!(
+            env.le(Vec3::ZERO, Vec3::ZERO, -expect).x > 500.0,
+            "rotation {rotation}"
+        );
+        assert_eq!(
+            env.le(Vec3::ZERO, Vec3::ZERO, expect).x,
+            0.0,
+            "rotation {rotation}"
+        );
     }
 }
 

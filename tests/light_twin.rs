@@ -1,6 +1,7 @@
 //! Light twin test: the WGSL lights (src/shaders/light.wgsl, run through
 //! src/shaders/light_probe.wgsl) against the Rust `scene::light::Light` methods, on one scene
-//! with every light type — a one-sided and a two-sided area light, a point light, a spot light
+//! with every light type — a one-sided area light with an emissive texture (a bilinear ramp
+//! under a `KHR_texture_transform` scale) and a two-sided one, a point light, a spot light
 //! (reference points and directions inside the inner cone, in the falloff ramp and outside
 //! the outer cone), a directional light and the uniform environment.
 //!
@@ -37,6 +38,7 @@ use refract::gpu::layout::{LightProbeCase, LightProbeOut, LightProbeParams, chec
 use refract::gpu::light_probe::run_light_probe;
 use refract::gpu::pipeline::light_probe_source;
 use refract::scene::light::{Light, LightSet};
+use refract::scene::material::{Texture, TextureRef, Wrap};
 use refract::scene::{Camera, Material, Mesh, PunctualLight, Scene};
 
 /// Relative tolerance of every compared value.
@@ -62,11 +64,20 @@ fn all_lights_scene() -> Scene {
         Vec3::Z * -10.0,
         0,
     );
-    // Normal X × Z = −Y (facing the floor).
+    // Normal X × Z = −Y (facing the floor); an emissive texture over uv (0, 0)–(1, 1).
     quad(&mut m, Vec3::new(-1.5, 3.0, -0.5), Vec3::X, Vec3::Z, 1);
+    let n = m.uvs.len();
+    m.uvs[n - 4..].copy_from_slice(&[Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
     // Normal Y × Z = +X; emits on both faces.
     quad(&mut m, Vec3::new(2.0, 1.0, -0.5), Vec3::Y, Vec3::Z, 2);
-    let one_sided = Material::emitter("one-sided", Vec3::new(4.0, 3.0, 2.0));
+    let one_sided = Material {
+        emissive_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+            transform: glam::Affine2::from_scale(Vec2::new(1.5, 1.0)),
+        }),
+        ..Material::emitter("one-sided", Vec3::new(4.0, 3.0, 2.0))
+    };
     let two_sided = Material {
         double_sided: true,
         ..Material::emitter("two-sided", Vec3::new(1.0, 2.0, 3.0))
@@ -75,6 +86,24 @@ fn all_lights_scene() -> Scene {
     let floor = Material::diffuse("floor", Vec3::splat(0.5));
     let mut s = scene("all lights", m, vec![floor, one_sided, two_sided], cam, 0.0);
     s.environment = Vec3::new(0.2, 0.3, 0.4);
+    // A bilinear ramp (repeating, so the transform wraps it once across the quad).
+    s.textures = vec![Texture {
+        width: 4,
+        height: 3,
+        texels: (0..12)
+            .map(|i| {
+                glam::Vec4::new(
+                    0.1 + 0.3 * (i % 4) as f32,
+                    1.0 - 0.4 * (i / 4) as f32,
+                    0.6,
+                    1.0,
+                )
+            })
+            .collect(),
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        linear: true,
+    }];
     s.punctual_lights = vec![
         PunctualLight::Point {
             position: Vec3::new(0.0, 2.5, 1.0),
@@ -355,7 +384,13 @@ fn compare_le(t: &mut Track, light: &Light, c: &LightProbeCase, o: &LightProbeOu
     } else {
         REL
     };
-    t.vec(o.emitted, light.le(n, w), "le", l_tol, i);
+    t.vec(
+        o.emitted,
+        light.le(Vec3::from_array(c.p), n, w),
+        "le",
+        l_tol,
+        i,
+    );
     let (pdf_pos, pdf_dir) = light.pdf_le(c.pick, n, w);
     let tol = if matches!(light, Light::Image(_)) {
         IMAGE_REL

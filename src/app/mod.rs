@@ -586,6 +586,7 @@ impl eframe::App for ViewerApp {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         let mut s = self.settings.clone();
         s.capture = None;
+        s.environment = None;
         eframe::set_value(storage, STORAGE_KEY, &s);
     }
 }
@@ -686,6 +687,7 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
                 cc.storage.and_then(|s| eframe::get_value(s, STORAGE_KEY));
             let mut settings = persisted.unwrap_or_else(|| ViewerSettings::for_scene(&spec));
             settings.capture = None;
+            settings.environment = None;
             if settings.scene != spec {
                 // Keep render/display preferences; edits belong to the other scene.
                 settings.scene = spec.clone();

@@ -4,7 +4,7 @@
 
 use super::ViewerApp;
 use crate::film;
-use crate::render::settings::CaptureInfo;
+use crate::render::settings::{CaptureInfo, EnvironmentSetting};
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
@@ -102,6 +102,7 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
     )?;
     film::save_image(&exr, acc.width, acc.height, &acc.pixels, 0.0, d.tone_map)?;
     let mut sidecar = app.settings.clone();
+    sidecar.environment = EnvironmentSetting::of(&app.base);
     sidecar.capture = Some(CaptureInfo {
         width: acc.width,
         height: acc.height,

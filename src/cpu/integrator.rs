@@ -109,7 +109,7 @@ impl<'a> Integrator<'a> {
         prev_delta: bool,
     ) -> Option<(Vec3, f32)> {
         let (light, pick) = self.lights.area_light(hit.tri)?;
-        let le = light.le(hit.ng, -d);
+        let le = light.le(hit.p, hit.ng, -d);
         if le.max_element() <= 0.0 {
             return None;
         }
@@ -299,7 +299,7 @@ impl<'a> Integrator<'a> {
         obs: &mut O,
     ) -> Color {
         let w = self.lights.env_weight(d, prev_pdf, prev_delta);
-        let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, -d)) * w;
+        let c = st.weight() * sp.c(self.lights.environment.le(Vec3::ZERO, Vec3::ZERO, -d)) * w;
         obs.escaped(d, c);
         c
     }

@@ -70,7 +70,10 @@ gpu_struct! {
         pub normal: [f32; 3],
         pub u: f32,
         pub v: f32,
-        pub _pad: u32,
+        /// Bitangent sign of the tangent (±1; `Mesh::tangents` w), 0 without one.
+        pub tangent_w: f32,
+        /// Tangent xyz (`Mesh::tangents`; zero when the scene has no normal map).
+        pub tangent: [f32; 3],
     }
 }
 
@@ -111,7 +114,11 @@ gpu_struct! {
         pub cond_eta: [f32; 3],
         pub metal: u32,
         pub cond_k: [f32; 3],
-        pub _pad_cond: u32,
+        /// Emissive texture slot ([`NO_TEXTURE`] = none): emission × texture(uv).rgb.
+        pub emit_tex: u32,
+        /// Normal texture slot ([`NO_TEXTURE`] = none) and its `scale`.
+        pub normal_tex: u32,
+        pub normal_scale: f32,
     }
 }
 

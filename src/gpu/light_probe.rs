@@ -58,6 +58,15 @@ pub fn run_light_probe(
         upload::checked_bytes("triangles", &triangles, ctx.max_binding_bytes())?,
         storage,
     );
+    let vertices = init(
+        "vertices",
+        upload::checked_bytes(
+            "vertices",
+            &upload::pack_vertices(scene),
+            ctx.max_binding_bytes(),
+        )?,
+        storage,
+    );
     let materials = init(
         "materials",
         upload::checked_bytes("materials", &materials, ctx.max_binding_bytes())?,
@@ -81,8 +90,8 @@ pub fn run_light_probe(
         usage: storage | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    // Binding numbers of scene.wgsl (triangles 2, materials 4, lights 5, texels 8) and
-    // light_probe.wgsl.
+    // Binding numbers of scene.wgsl (triangles 2, vertices 3 (emissive textures' uv),
+    // materials 4, lights 5, texels 8) and light_probe.wgsl.
     dispatch_once(
         ctx,
         &module,
@@ -90,6 +99,7 @@ pub fn run_light_probe(
         &[
             (0, &params),
             (2, &triangles),
+            (3, &vertices),
             (4, &materials),
             (5, &lights),
             (6, &input),

@@ -150,6 +150,8 @@ pub struct Specialization {
     pub absorption: bool,
     /// Some BSDF reads a texture.
     pub textures: bool,
+    /// A material has a tangent-space normal map (the mesh carries tangents).
+    pub normal_map: bool,
     /// A Heckbert path filter is set (the table itself is a uniform: edits do not recompile).
     pub filter: bool,
     /// Hero-wavelength spectral transport (a dispersive material exists).
@@ -181,6 +183,7 @@ impl Specialization {
             env_image: f.contains(Features::ENV_IMAGE),
             absorption: f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS),
             textures: f.contains(Features::TEXTURES),
+            normal_map: f.contains(Features::NORMAL_MAP),
             filter: false,
             spectral: f.contains(Features::DISPERSION),
             light_tracing: false,
@@ -208,6 +211,7 @@ impl Specialization {
             punctual_lights: true,
             absorption: true,
             textures: true,
+            normal_map: true,
             filter: true,
             spectral: true,
             light_tracing: true,
@@ -246,6 +250,7 @@ impl Specialization {
             ("HAS_ENV_IMAGE", b(self.env_image)),
             ("HAS_ABSORPTION", b(self.absorption)),
             ("HAS_TEXTURES", b(self.textures)),
+            ("HAS_NORMAL_MAP", b(self.normal_map)),
             ("HAS_FILTER", b(self.filter)),
             ("HAS_SPECTRAL", b(self.spectral)),
             ("HAS_LT", b(self.light_tracing)),

@@ -94,7 +94,7 @@ pub struct GpuRenderer {
     submissions: Submissions,
     debug_pixel: u32,
     /// Texture reference slots of each material (`upload::pack_textures`).
-    tex_slots: Vec<(u32, u32)>,
+    tex_slots: Vec<upload::TexSlots>,
     /// The scene's features (the specialisation without filter and estimator).
     features: Features,
     /// `sppm`: the first iteration's photon radius r₁ (`photons::radius0`).
@@ -186,7 +186,7 @@ fn splat_film(ctx: &GpuContext, bytes: u64) -> wgpu::Buffer {
 }
 
 /// Buffers, light count and the texture reference slots of each material.
-type BuiltBuffers = (Buffers, u32, Vec<(u32, u32)>);
+type BuiltBuffers = (Buffers, u32, Vec<upload::TexSlots>);
 
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
 
@@ -918,6 +918,8 @@ impl GpuRenderer {
             let (a, b) = (&old, &self.scene.materials[index]);
             a.base_color_texture != b.base_color_texture
                 || a.metallic_roughness_texture != b.metallic_roughness_texture
+                || a.emissive_texture != b.emissive_texture
+                || a.normal_texture != b.normal_texture
                 || a.kind != b.kind
         };
         if textures_changed {

@@ -146,18 +146,23 @@ pub fn pack_triangles(scene: &Scene, bvh: &GpuBvh, lights: &LightSet) -> Vec<Tri
     out
 }
 
-/// Per-vertex normals and uvs.
+/// Per-vertex normals, uvs and tangents (zero when the mesh has none).
 pub fn pack_vertices(scene: &Scene) -> Vec<Vertex> {
     let m = &scene.mesh;
     let mut out: Vec<Vertex> = m
         .normals
         .iter()
         .zip(&m.uvs)
-        .map(|(n, uv)| Vertex {
-            normal: n.to_array(),
-            u: uv.x,
-            v: uv.y,
-            _pad: 0,
+        .enumerate()
+        .map(|(i, (n, uv))| {
+            let t = m.tangents.get(i).copied().unwrap_or_default();
+            Vertex {
+                normal: n.to_array(),
+                u: uv.x,
+                v: uv.y,
+                tangent_w: t.w,
+                tangent: t.truncate().to_array(),
+            }
         })
         .collect();
     if out.is_empty() {
@@ -219,9 +224,8 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
 /// Texture references and texels in one `vec4<f32>` array (scene.wgsl `texels`): reference
 /// slot r is 3 vec4s at 3r (header `[offset, width, height, flags]` as u32 bits, the
 /// `KHR_texture_transform` matrix columns, the translation), then the texels of every
-/// texture (row-major, linear RGBA). Returns (array, slot of each material's base-colour and
-/// metallic-roughness reference).
-pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<(u32, u32)>) {
+/// texture (row-major, linear RGBA). Returns (array, each material's reference slots).
+pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<TexSlots>) {
     let mut refs: Vec<crate::scene::material::TextureRef> = Vec::new();
     let mut slots = Vec::with_capacity(scene.materials.len());
     let mut slot_of = |r: &Option<crate::scene::material::TextureRef>| -> u32 {
@@ -241,7 +245,19 @@ pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<(u32, u32)>) {
         } else {
             layout::NO_TEXTURE
         };
-        slots.push((b, mr));
+        let emit = slot_of(&m.emissive_texture.filter(|_| m.is_emissive()));
+        // Normal maps need the mesh's tangents (`Features::NORMAL_MAP`).
+        let normal = if scene.mesh.tangents.is_empty() {
+            layout::NO_TEXTURE
+        } else {
+            slot_of(&m.normal_texture)
+        };
+        slots.push(TexSlots {
+            base: b,
+            mr,
+            emit,
+            normal,
+        });
     }
     let header = 3 * refs.len();
     let mut offsets = Vec::with_capacity(scene.textures.len());
@@ -299,8 +315,21 @@ pub fn pack_textures(scene: &Scene) -> (Vec<[f32; 4]>, Vec<(u32, u32)>) {
     (out, slots)
 }
 
+/// The texture reference slots of one material ([`layout::NO_TEXTURE`] = none).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TexSlots {
+    /// Base colour.
+    pub base: u32,
+    /// Metallic-roughness (metal-rough materials only).
+    pub mr: u32,
+    /// Emissive (emitting materials only).
+    pub emit: u32,
+    /// Tangent-space normal map (when the mesh has tangents).
+    pub normal: u32,
+}
+
 /// One GPU material (`tex` = its texture reference slots from [`pack_textures`]).
-pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32)) -> Material {
+pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: TexSlots) -> Material {
     let (bsdf, color) = bsdf_kind(scene, m);
     let sigma_a = m.sigma_a();
     let mut flags = 0;
@@ -340,19 +369,21 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: (u32, u32))
         roughness: m.roughness,
         dist: dist_code(m.distribution),
         abbe: m.abbe.filter(|v| *v > 0.0).unwrap_or(0.0),
-        base_tex: tex.0,
-        mr_tex: tex.1,
+        base_tex: tex.base,
+        mr_tex: tex.mr,
         priority: m.priority,
         cond_eta: cond.0.to_array(),
         metal: m
             .conductor
             .map_or(layout::METAL_NONE, |c| c.index() as u32 + 1),
         cond_k: cond.1.to_array(),
-        _pad_cond: 0,
+        emit_tex: tex.emit,
+        normal_tex: tex.normal,
+        normal_scale: m.normal_scale,
     }
 }
 
-pub fn pack_materials(scene: &Scene, tex: &[(u32, u32)]) -> Vec<Material> {
+pub fn pack_materials(scene: &Scene, tex: &[TexSlots]) -> Vec<Material> {
     let mut out: Vec<Material> = scene
         .materials
         .iter()

@@ -41,6 +41,10 @@ pub struct ViewerSettings {
     /// Only in a screenshot sidecar: what was captured.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub capture: Option<CaptureInfo>,
+    /// Only in a screenshot sidecar: the environment image that lit the capture (the viewer
+    /// keeps it in its loaded scene), so `render --settings` lights the scene the same way.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub environment: Option<EnvironmentSetting>,
     /// The viewer's image area in physical pixels, once it has been laid out (never saved:
     /// a sidecar records the captured size instead).
     #[serde(skip)]
@@ -106,6 +110,51 @@ impl Default for DisplaySettings {
     }
 }
 
+/// The environment image of a screenshot (sidecar only): `--env FILE --env-strength S
+/// --env-rotation R` of `render`, recorded.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EnvironmentSetting {
+    /// The `.hdr`/`.exr` file (absolute, or relative to the sidecar's folder); None: the
+    /// scene's own image (its `extras.environment` or a built-in's generated sky).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub uri: Option<String>,
+    /// Radiance multiplier.
+    pub strength: f32,
+    /// Rotation about +Y in degrees.
+    pub rotation: f32,
+}
+
+impl EnvironmentSetting {
+    /// The setting of `scene`'s environment image (None without one); the file is recorded
+    /// when the image was read from one (its absolute path).
+    pub fn of(scene: &Scene) -> Option<EnvironmentSetting> {
+        let img = scene.env_map.as_ref()?;
+        let file = Path::new(&img.map.name);
+        let uri = file
+            .is_file()
+            .then(|| std::fs::canonicalize(file).unwrap_or_else(|_| file.to_owned()))
+            .map(|p| p.display().to_string());
+        Some(EnvironmentSetting {
+            uri,
+            strength: img.strength,
+            rotation: img.rotation,
+        })
+    }
+
+    /// Light `scene` with this image: load `uri` (relative to `dir`, the sidecar's folder)
+    /// and set strength and rotation (errors name the file or the value).
+    pub fn apply(&self, scene: &mut Scene, dir: &Path) -> anyhow::Result<Vec<String>> {
+        let file = self.uri.as_ref().map(|u| dir.join(u));
+        crate::scene::env_map::override_environment(
+            scene,
+            file.as_deref(),
+            Some(self.strength),
+            Some(self.rotation),
+        )
+        .context("environment")
+    }
+}
+
 /// What a screenshot captured (sidecar only).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CaptureInfo {
@@ -136,6 +185,7 @@ impl ViewerSettings {
             render: RenderEdit::default(),
             display: DisplaySettings::default(),
             capture: None,
+            environment: None,
             viewport: None,
         }
     }

@@ -92,7 +92,7 @@ pub fn compute(scene: &Scene) -> Features {
         if m.is_transmissive() && m.abbe.is_some() {
             f |= Features::DISPERSION;
         }
-        if m.base_color_texture.is_some() {
+        if m.base_color_texture.is_some() || (m.is_emissive() && m.emissive_texture.is_some()) {
             f |= Features::TEXTURES;
         }
         if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {

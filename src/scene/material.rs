@@ -74,6 +74,9 @@ pub struct Material {
     pub distribution: MicrofacetDistribution,
     /// Emitted radiance (emissiveFactor × emissive_strength); zero = not a light.
     pub emission: Vec3,
+    /// glTF `emissiveTexture` (sRGB-decoded like base colour): the radiance at a point is
+    /// `emission` × texture(uv).rgb (glTF 2.0 §3.9.2, "emissive").
+    pub emissive_texture: Option<TextureRef>,
     pub double_sided: bool,
     /// Beer–Lambert absorption inside a solid: colour reached after `attenuation_distance`.
     pub attenuation_color: Vec3,
@@ -108,6 +111,7 @@ impl Default for Material {
             abbe: None,
             distribution: MicrofacetDistribution::Ggx,
             emission: Vec3::ZERO,
+            emissive_texture: None,
             double_sided: false,
             attenuation_color: Vec3::ONE,
             attenuation_distance: f32::INFINITY,
@@ -347,13 +351,20 @@ pub fn perturb_normal(n: Vec3, t: Vec4, texel: Vec3, scale: f32) -> Option<Vec3>
 
 /// Look a texture up at `uv` (wrap mode, nearest or bilinear). Missing texture → white.
 pub fn sample_texture(textures: &[Texture], r: &TextureRef, uv: Vec2) -> Vec4 {
-    let Some(t) = textures.get(r.texture as usize) else {
-        return Vec4::ONE;
-    };
+    match textures.get(r.texture as usize) {
+        Some(t) => sample_one(t, r.transform, uv),
+        None => Vec4::ONE,
+    }
+}
+
+/// Look `t` up at `uv` mapped by `transform` (`KHR_texture_transform`); an empty texture
+/// reads white. The lookup of [`sample_texture`] for a texture held outside the scene's
+/// list (emissive textures of area lights).
+pub fn sample_one(t: &Texture, transform: Affine2, uv: Vec2) -> Vec4 {
     if t.width == 0 || t.height == 0 || t.texels.len() < (t.width * t.height) as usize {
         return Vec4::ONE;
     }
-    let uv = r.transform.transform_point2(uv);
+    let uv = transform.transform_point2(uv);
     let fx = uv.x * t.width as f32 - 0.5;
     let fy = uv.y * t.height as f32 - 0.5;
     let texel = |x: i64, y: i64| -> Vec4 {

@@ -161,12 +161,15 @@ fn integrator_surface(h: Hit) -> SurfaceHit {
     let vb = vertices[tri.i1];
     let vc = vertices[tri.i2];
     var ns = normalize_or_zero3(v3(va.normal) * b0 + v3(vb.normal) * h.b1 + v3(vc.normal) * h.b2);
+    let uv = vec2<f32>(va.u, va.v) * b0 + vec2<f32>(vb.u, vb.v) * h.b1 + vec2<f32>(vc.u, vc.v) * h.b2;
+    if HAS_NORMAL_MAP && any(ns != vec3<f32>(0.0)) {
+        ns = normal_mapped(tri.material, va, vb, vc, vec3<f32>(b0, h.b1, h.b2), ns, uv);
+    }
     if all(ns == vec3<f32>(0.0)) || !is_finite_v3(ns) {
         ns = ng;
     } else if dot3(ns, ng) < 0.0 {
         ns = -ns;
     }
-    let uv = vec2<f32>(va.u, va.v) * b0 + vec2<f32>(vb.u, vb.v) * h.b1 + vec2<f32>(vc.u, vc.v) * h.b2;
     return SurfaceHit(p, ng, ns, uv, h.slot, tri.scene_tri, tri.material, h.t);
 }
 
@@ -369,7 +372,7 @@ fn integrator_add_escaped(ps: ptr<function, PathState>) {
         return;
     }
     if env.prob > 0.0 && integrator_accepts_light(ps.q) {
-        let le = light_le(env.light, vec3<f32>(0.0), -ps.d);
+        let le = light_le(env.light, vec3<f32>(0.0), vec3<f32>(0.0), -ps.d);
         var w = 1.0;
         if !ps.prev_delta {
             let p_light = light_pdf_li(env.light, env.prob, 1.0, vec3<f32>(0.0), ps.d);
@@ -379,7 +382,7 @@ fn integrator_add_escaped(ps: ptr<function, PathState>) {
         return;
     }
     if HAS_ENVIRONMENT && integrator_accepts_light(ps.q) {
-        let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), ps.d);
+        let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), vec3<f32>(0.0), ps.d);
         ps.l += ps.beta * spectral_c(ps.sp, le);
     }
 }
@@ -395,7 +398,7 @@ fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Ma
     }
     let d = ps.d;
     let area = light_set_area(hit.slot);
-    let le = light_le(area.light, hit.ng, -d);
+    let le = light_le(area.light, hit.p, hit.ng, -d);
     if all(le == vec3<f32>(0.0)) {
         return; // one-sided emitter seen from behind
     }

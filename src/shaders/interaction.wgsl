@@ -5,9 +5,30 @@
 
 // Absorption inside solid glass (a slider on it, so keyed by the kind).
 override HAS_ABSORPTION: bool = true;
+// A material has a tangent-space normal map (the vertices carry tangents).
+override HAS_NORMAL_MAP: bool = true;
 
 // No absorbing medium around the ray (the medium is a material index otherwise).
 const NO_MEDIUM: u32 = 0xffffffffu;
+
+// The shading normal n (interpolated, unit) bent by material `m`'s normal map at uv, with the
+// tangent interpolated by the barycentrics w (`perturb_normal`); n itself when the material has
+// none or the vertices no tangent frame, or when the map bends it below the interpolated
+// surface. Twin of `cpu::interaction::normal_mapped`.
+fn normal_mapped(m: u32, va: Vertex, vb: Vertex, vc: Vertex, w: vec3<f32>, n: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let mat = materials[m];
+    if !HAS_NORMAL_MAP || mat.normal_tex == NO_TEXTURE {
+        return n;
+    }
+    let t = vec4<f32>(v3(va.tangent), va.tangent_w) * w.x + vec4<f32>(v3(vb.tangent), vb.tangent_w) * w.y + vec4<f32>(v3(vc.tangent), vc.tangent_w) * w.z;
+    // The bitangent sign is per vertex (±1); a triangle's corners share it (MikkTSpace).
+    let texel = sample_texture(mat.normal_tex, uv).xyz;
+    let p = perturb_normal(n, vec4<f32>(t.xyz, va.tangent_w), texel, mat.normal_scale);
+    if p.w > 0.0 && dot3(p.xyz, n) > 0.0 {
+        return p.xyz;
+    }
+    return n;
+}
 
 struct Oriented {
     ok: bool,

@@ -221,15 +221,16 @@ fn spot_falloff(cos_theta: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     return a * a;
 }
 
-// A point on an area light: position, unit geometric normal (the triangle's winding) and
-// the triangle's area. Twin of `TriangleLight::sample_point` with the normal and area of
-// `TriangleLight::new` (PBR 4th ed. §6.5.4).
+// A point on an area light: position, unit geometric normal (the triangle's winding), the
+// triangle's area and the point's barycentrics (b1, b2). Twin of `TriangleLight::sample_point`
+// with the normal and area of `TriangleLight::new` (PBR 4th ed. §6.5.4).
 struct TrianglePoint {
     p: vec3<f32>,
     n: vec3<f32>,
     area: f32,
     // The triangle has a positive area.
     ok: bool,
+    bc: vec2<f32>,
 }
 
 fn light_triangle_point(slot: u32, u: vec2<f32>) -> TrianglePoint {
@@ -241,7 +242,43 @@ fn light_triangle_point(slot: u32, u: vec2<f32>) -> TrianglePoint {
     let p = a * (1.0 - bc.x - bc.y) + b * bc.x + c * bc.y;
     let nn = cross3(b - a, c - a);
     let len = sqrt(dot3(nn, nn));
-    return TrianglePoint(p, nn / len, 0.5 * len, len > 0.0);
+    return TrianglePoint(p, nn / len, 0.5 * len, len > 0.0, bc);
+}
+
+// Barycentrics (b1, b2) of a point p on the triangle in leaf slot `slot`, clamped into it.
+// Twin of `TriangleLight::barycentric` (Ericson 2005, "Real-Time Collision Detection" §3.4).
+fn light_triangle_barycentric(slot: u32, p: vec3<f32>) -> vec2<f32> {
+    let tri = triangles[slot];
+    let a = v3(tri.p0);
+    let e1 = v3(tri.p1) - a;
+    let e2 = v3(tri.p2) - a;
+    let d = p - a;
+    let d00 = dot3(e1, e1);
+    let d01 = dot3(e1, e2);
+    let d11 = dot3(e2, e2);
+    let d20 = dot3(d, e1);
+    let d21 = dot3(d, e2);
+    let den = d00 * d11 - d01 * d01;
+    if !(den > 0.0) {
+        return vec2<f32>(0.0);
+    }
+    let b1 = clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+    let b2 = clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - b1);
+    return vec2<f32>(b1, b2);
+}
+
+// Emitted radiance of the area light at barycentrics bc: emission × the emissive texture at
+// the interpolated TEXCOORD_0 (glTF 2.0 §3.9.2). Twin of `TriangleLight::emission_at`.
+fn light_triangle_emission(light: Light, m: Material, bc: vec2<f32>) -> vec3<f32> {
+    if !HAS_TEXTURES || m.emit_tex == NO_TEXTURE {
+        return v3(m.emission);
+    }
+    let tri = triangles[light.index];
+    let v0 = vertices[tri.i0];
+    let v1 = vertices[tri.i1];
+    let v2 = vertices[tri.i2];
+    let uv = vec2<f32>(v0.u, v0.v) * (1.0 - bc.x - bc.y) + vec2<f32>(v1.u, v1.v) * bc.x + vec2<f32>(v2.u, v2.v) * bc.y;
+    return v3(m.emission) * max(sample_texture(m.emit_tex, uv).xyz, vec3<f32>(0.0));
 }
 
 // The material of an area light (its emission and sidedness).
@@ -330,7 +367,8 @@ fn light_triangle_sample_li(light: Light, p_ref: vec3<f32>, u: vec2<f32>, pick: 
     if cos_l <= 0.0 {
         return s;
     }
-    return LightLiSample(true, v3(m.emission), wi, pick / tp.area * dist2 / cos_l, tp.p, tp.n, false, false);
+    let l = light_triangle_emission(light, m, tp.bc);
+    return LightLiSample(true, l, wi, pick / tp.area * dist2 / cos_l, tp.p, tp.n, false, false);
 }
 
 // Point and spot lights: intensity / d², times the spot falloff. KHR_lights_punctual spec
@@ -390,15 +428,19 @@ fn light_pdf_li(light: Light, pick: f32, dist: f32, n_light: vec3<f32>, wi: vec3
 }
 
 // Radiance (area, environment) or intensity (punctual, with the spot falloff) emitted
-// towards `w` from a point with geometric normal `n_light`; area lights are one-sided
+// towards `w` from the point `p` with geometric normal `n_light` (an area light's emissive
+// texture is read at p; lights at infinity ignore p and n); area lights are one-sided
 // unless double-sided (glTF `doubleSided`). PBR 4th ed. §12.5.1 (`DiffuseAreaLight::L`),
 // §12.1 (`SpotLight::I`, KHR_lights_punctual falloff).
-fn light_le(light: Light, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
+fn light_le(light: Light, p: vec3<f32>, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
     switch light.kind {
         case LIGHT_TRIANGLE: {
             let m = light_material(light);
             let emits = (m.flags & MAT_EMISSIVE) != 0u;
             if emits && (dot3(w, n_light) > 0.0 || (m.flags & MAT_DOUBLE_SIDED) != 0u) {
+                if HAS_TEXTURES && m.emit_tex != NO_TEXTURE {
+                    return light_triangle_emission(light, m, light_triangle_barycentric(light.index, p));
+                }
                 return v3(m.emission);
             }
         }
@@ -494,7 +536,8 @@ fn light_triangle_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, sa
     local.z = max(local.z, 1e-7);
     let dir = frame_to_world(frame_from_normal(side), local);
     let pdf_dir = light_area_pdf_dir(m, local.z);
-    return LightLeSample(true, tp.p, side, dir, v3(m.emission), pick / tp.area, pdf_dir, local.z, false);
+    let l = light_triangle_emission(light, m, tp.bc);
+    return LightLeSample(true, tp.p, side, dir, l, pick / tp.area, pdf_dir, local.z, false);
 }
 
 // Point light: uniform sphere; spot light: uniform cone inside the outer angle, intensity ×

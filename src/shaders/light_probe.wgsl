@@ -126,7 +126,7 @@ fn light_probe(
     o.le_l = la3(le.l);
     let n = v3(c.n);
     let w = v3(c.w);
-    o.emitted = la3(light_le(light, n, w));
+    o.emitted = la3(light_le(light, p, n, w));
     let pe = light_pdf_le(light, c.pick, n, w);
     o.pdf_pos = pe.pdf_pos;
     o.pdf_dir = pe.pdf_dir;

@@ -14,6 +14,31 @@ fn material_is_dispersive(m: Material, sp: Spectral) -> bool {
     return HAS_SPECTRAL && sp.on && m.abbe > 0.0 && (m.flags & MAT_TRANSMISSIVE) != 0u;
 }
 
+// The normal-mapped shading normal (glTF 2.0 §3.9.3 `normalTexture`): with the interpolated
+// normal n, tangent t (xyz; w = handedness, B = w · n × t) and the texel c ∈ [0, 1]³,
+// n' = normalize(T·x + B·y + N·z) where (x, y, z) = (2c − 1) · (s, s, 1) and T is t
+// re-orthogonalised against n (Gram–Schmidt; Mikkelsen 2008, "Simulation of wrinkled surfaces
+// revisited", §3). Returns (n', 1), or w = 0 when the frame or the result is degenerate.
+// Twin of `scene::material::perturb_normal`.
+fn perturb_normal(n: vec3<f32>, t: vec4<f32>, texel: vec3<f32>, scale: f32) -> vec4<f32> {
+    let none = vec4<f32>(0.0);
+    let t3 = normalize_or_zero3(t.xyz - n * dot3(n, t.xyz));
+    if all(t3 == vec3<f32>(0.0)) || !is_finite_v3(t3) {
+        return none;
+    }
+    var handed = 1.0;
+    if t.w < 0.0 {
+        handed = -1.0;
+    }
+    let b = cross3(n, t3) * handed;
+    let m = (texel * 2.0 - vec3<f32>(1.0)) * vec3<f32>(scale, scale, 1.0);
+    let out = normalize_or_zero3(t3 * m.x + b * m.y + n * m.z);
+    if all(out == vec3<f32>(0.0)) || !is_finite_v3(out) {
+        return none;
+    }
+    return vec4<f32>(out, 1.0);
+}
+
 // The BSDF at a hit: base colour × texture, metal-rough metallic/roughness × texture,
 // `eta` already chosen for the path's wavelength, colours mapped to the path's lanes.
 // Twin of `scene::Material::bsdf` (+ `metal_rough_at`, `base_color_at`) and `Bsdf::map_colors`.

@@ -31,7 +31,9 @@ struct Vertex {
     normal: array<f32, 3>,
     u: f32,
     v: f32,
-    _pad: u32,
+    // Tangent (Mesh::tangents): bitangent sign w, then xyz; zero without a normal map.
+    tangent_w: f32,
+    tangent: array<f32, 3>,
 }
 
 struct Material {
@@ -67,7 +69,11 @@ struct Material {
     cond_eta: array<f32, 3>,
     metal: u32,
     cond_k: array<f32, 3>,
-    _pad_cond: u32,
+    // Emissive texture slot (NO_TEXTURE = none): emission × texture(uv).rgb.
+    emit_tex: u32,
+    // Normal texture slot (NO_TEXTURE = none) and its scale (glTF normalTexture).
+    normal_tex: u32,
+    normal_scale: f32,
 }
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.

@@ -26,7 +26,7 @@ impl Bdpt<'_> {
     /// `ey` is y's evaluated end (s ≥ 2).
     fn light_end(y: &Vertex, s: usize, w: Vec3, sp: &Spectral, ey: Option<&End>) -> Classes {
         if s == 1 {
-            let le = y.light().map_or(Vec3::ZERO, |(l, _)| l.le(y.ng, w));
+            let le = y.light().map_or(Vec3::ZERO, |(l, _)| l.le(y.p, y.ng, w));
             [(None, sp.c(le)), (None, Color::ZERO)]
         } else {
             let f = lobes_of(ey, y, w, TransportMode::Importance);
@@ -127,7 +127,7 @@ impl Bdpt<'_> {
         let Some((light, _)) = self.pt.lights.area_light(z.tri) else {
             return Color::ZERO;
         };
-        let le = sp.c(light.le(z.ng, z.w_prev));
+        let le = sp.c(light.le(z.p, z.ng, z.w_prev));
         // The emitter vertex itself is the L: feed the camera classes before it.
         if le.max_element() <= 0.0 || !self.accepted(&[], None, None, &cam[..t - 1]) {
             return Color::ZERO;

@@ -134,7 +134,7 @@ impl<'a> Bdpt<'a> {
         let Some((b, collapsed, d)) = escaped else {
             return Color::ZERO;
         };
-        let env = self.pt.lights.environment.le(Vec3::ZERO, -d);
+        let env = self.pt.lights.environment.le(Vec3::ZERO, Vec3::ZERO, -d);
         if self.mode == BdptMode::Full
             && env.max_element() > 0.0
             && cam.len() <= max_depth

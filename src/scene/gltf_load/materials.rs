@@ -96,6 +96,7 @@ impl Loader<'_> {
         };
 
         let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
+        let emissive_texture = self.emissive_texture(m, emission, &name)?;
 
         let kind = self.material_kind(
             &name,
@@ -118,6 +119,7 @@ impl Loader<'_> {
             abbe,
             distribution,
             emission,
+            emissive_texture,
             double_sided: m.double_sided,
             attenuation_color: volume.attenuation_color,
             attenuation_distance: volume.attenuation_distance,
@@ -177,6 +179,28 @@ impl Loader<'_> {
             extras: Default::default(),
         };
         Ok((self.texture_ref(&info, false, name)?, scale))
+    }
+
+    /// `emissiveTexture` (sRGB, like base colour), loaded only when the material emits: glTF
+    /// multiplies it by `emissiveFactor` (default 0), so a texture without a factor emits
+    /// nothing (a warning says so).
+    fn emissive_texture(
+        &mut self,
+        m: &json::Material,
+        emission: Vec3,
+        name: &str,
+    ) -> anyhow::Result<Option<crate::scene::TextureRef>> {
+        let Some(info) = &m.emissive_texture else {
+            return Ok(None);
+        };
+        if emission.max_element() <= 0.0 {
+            self.warnings.push(format!(
+                "material '{name}': emissiveTexture with emissiveFactor 0 emits nothing \
+                 (glTF multiplies the two)"
+            ));
+            return Ok(None);
+        }
+        self.texture_ref(info, true, name)
     }
 
     /// Base colour, metallic and roughness factors (invalid ones replaced, with a warning).
@@ -340,7 +364,8 @@ impl Loader<'_> {
         {
             self.warnings.push(format!(
                 "material '{name}': KHR_materials_transmission.transmissionTexture is ignored \
-                 (transmissionFactor alone decides glass or opaque)"
+                 (transmissionFactor alone decides glass or opaque; a per-texel mix of glass \
+                 and the diffuse base is not implemented)"
             ));
         }
         if m.occlusion_texture.is_some() {
@@ -348,19 +373,14 @@ impl Loader<'_> {
                 "occlusion textures are ignored: a path tracer computes occlusion itself".into()
             });
         }
-        if m.emissive_texture.is_some() {
-            self.warnings.push(format!(
-                "material '{name}': emissiveTexture is ignored (emissiveFactor × \
-                 emissive_strength alone sets the radiance)"
-            ));
-        }
         if ext
             .and_then(|e| e.volume.as_ref())
             .is_some_and(|v| v.thickness_texture.is_some())
         {
             self.warnings.push(format!(
-                "material '{name}': KHR_materials_volume.thicknessTexture is ignored \
-                 (thicknessFactor alone decides solid or thin-walled)"
+                "material '{name}': KHR_materials_volume.thicknessTexture is ignored: a path \
+                 tracer measures thickness from the geometry, so only thicknessFactor > 0 \
+                 (solid) or 0 (thin-walled) is used"
             ));
         }
         if !matches!(

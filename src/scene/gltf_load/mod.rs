@@ -231,13 +231,6 @@ impl Loader<'_> {
             self.materials.push(mat);
         }
         self.needs_tangents = self.materials.iter().any(|m| m.normal_texture.is_some());
-        if self.needs_tangents {
-            self.warnings.once("normal-map-gpu", || {
-                "normal maps are applied by the CPU renderer only: the GPU renderer shades with \
-                 the interpolated vertex normal"
-                    .into()
-            });
-        }
 
         let roots = self.scene_roots()?;
         self.check_instanced_triangles(&roots)?;

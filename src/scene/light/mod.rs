@@ -36,6 +36,7 @@
 //!    methods to f32 tolerance.
 
 mod directional;
+mod emissive_texture;
 mod environment;
 mod image_environment;
 mod point;
@@ -48,6 +49,7 @@ mod tests;
 
 pub use crate::math::color::luminance;
 pub use directional::DirectionalLight;
+pub use emissive_texture::EmissiveTexture;
 pub use environment::UniformEnvironment;
 pub use image_environment::ImageEnvironment;
 pub use point::PointLight;
@@ -169,14 +171,15 @@ impl Light {
         }
     }
 
-    /// Radiance leaving the light along `w` (unit, pointing away from the light) from a point
-    /// with raw geometric normal `n`. For infinite lights `w` is the direction light travels
-    /// (minus the escaping ray's direction) and `n` is ignored. Delta lights return their
-    /// intensity (point, spot with falloff) or irradiance (directional).
+    /// Radiance leaving the light along `w` (unit, pointing away from the light) from the
+    /// point `p` with raw geometric normal `n` (an area light's emissive texture is read at
+    /// `p`). For infinite lights `w` is the direction light travels (minus the escaping ray's
+    /// direction) and `p`, `n` are ignored. Delta lights return their intensity (point, spot
+    /// with falloff) or irradiance (directional).
     #[inline]
-    pub fn le(&self, n: Vec3, w: Vec3) -> Vec3 {
+    pub fn le(&self, p: Vec3, n: Vec3, w: Vec3) -> Vec3 {
         match self {
-            Light::Triangle(l) => l.le(n, w),
+            Light::Triangle(l) => l.le(p, n, w),
             Light::Point(l) => l.intensity,
             Light::Spot(l) => l.le(w),
             Light::Directional(l) => l.irradiance,

@@ -2,11 +2,13 @@
 //! pick them from: proportional to (approximate) emitted power (pbrt-v4 `PowerLightSampler`).
 
 use super::{
-    DirectionalLight, ImageEnvironment, Light, PointLight, SpotLight, TriangleLight,
-    UniformEnvironment,
+    DirectionalLight, EmissiveTexture, ImageEnvironment, Light, PointLight, SpotLight,
+    TriangleLight, UniformEnvironment,
 };
-use crate::scene::{PunctualLight, Scene};
+use crate::scene::{PunctualLight, Scene, Texture};
 use glam::Vec3;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// The lights of a scene with their selection CDF.
 #[derive(Clone, Debug)]
@@ -47,17 +49,29 @@ impl Default for LightSet {
 /// The scene's lights: emissive triangles first, then `KHR_lights_punctual` lights.
 fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
     let mut lights = Vec::new();
+    // Each emissive texture is shared by the triangles that read it (one copy of its texels).
+    let mut shared: HashMap<u32, Arc<Texture>> = HashMap::new();
     for t in scene.emissive_triangles() {
         let mi = scene.mesh.tri_material[t as usize];
         let m = &scene.materials[mi as usize];
         let v = scene.mesh.tri(t as usize);
-        lights.push(Light::Triangle(TriangleLight::new(
-            t,
-            mi,
-            v,
-            m.emission,
-            m.double_sided,
-        )));
+        let mut light = TriangleLight::new(t, mi, v, m.emission, m.double_sided);
+        if let Some(r) = m.emissive_texture
+            && let Some(tex) = scene.textures.get(r.texture as usize)
+        {
+            let texture = shared
+                .entry(r.texture)
+                .or_insert_with(|| Arc::new(tex.clone()))
+                .clone();
+            let uv = scene.mesh.indices[t as usize]
+                .map(|i| scene.mesh.uvs.get(i as usize).copied().unwrap_or_default());
+            light = light.with_texture(EmissiveTexture {
+                texture,
+                transform: r.transform,
+                uv,
+            });
+        }
+        lights.push(Light::Triangle(light));
     }
     for l in &scene.punctual_lights {
         lights.push(match *l {
@@ -104,7 +118,7 @@ fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
 
 impl LightSet {
     /// Build the lights and their distribution: area lights by power π·L·A (two-sided:
-    /// 2π·L·A), point lights by 4π·I, spots by their cone solid angle, directional by
+    /// 2π·L·A; L averaged over the triangle when textured), point lights by 4π·I, spots by their cone solid angle, directional by
     /// irradiance × the scene's bounding-disk area.
     pub fn build(scene: &Scene) -> LightSet {
         let (lo, hi) = scene.bounds();

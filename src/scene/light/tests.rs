@@ -31,6 +31,35 @@ pub(crate) fn image_light(rotation: f32, importance: bool) -> ImageEnvironment {
     ImageEnvironment::new(img, Vec3::new(0.0, 1.0, 0.0), 1.5)
 }
 
+/// A 4 × 3 bilinear texture whose red and green ramp across it (blue constant): smooth, so
+/// the 8 × 8-point mean behind `power` is within the power test's 1%.
+pub(crate) fn ramp_texture() -> Arc<crate::scene::Texture> {
+    let (w, h) = (4u32, 3u32);
+    let texels = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32, (i / w) as f32);
+            glam::Vec4::new(0.2 + 0.25 * x, 1.0 - 0.3 * y, 0.5, 1.0)
+        })
+        .collect();
+    Arc::new(crate::scene::Texture {
+        width: w,
+        height: h,
+        texels,
+        wrap_s: crate::scene::Wrap::ClampToEdge,
+        wrap_t: crate::scene::Wrap::ClampToEdge,
+        linear: true,
+    })
+}
+
+/// A triangle light with the ramp texture over uv (0, 0), (1, 0), (0, 1).
+pub(crate) fn textured_triangle(v: [Vec3; 3], two_sided: bool) -> TriangleLight {
+    TriangleLight::new(2, 0, v, Vec3::new(2.0, 3.0, 4.0), two_sided).with_texture(EmissiveTexture {
+        texture: ramp_texture(),
+        transform: glam::Affine2::IDENTITY,
+        uv: [glam::Vec2::ZERO, glam::Vec2::X, glam::Vec2::Y],
+    })
+}
+
 fn lights() -> Vec<Light> {
     let v = [
         Vec3::new(-0.5, 2.0, -0.4),
@@ -40,6 +69,8 @@ fn lights() -> Vec<Light> {
     vec![
         Light::Triangle(TriangleLight::new(0, 0, v, Vec3::new(3.0, 2.0, 1.0), false)),
         Light::Triangle(TriangleLight::new(1, 0, v, Vec3::new(1.0, 2.0, 3.0), true)),
+        Light::Triangle(textured_triangle(v, false)),
+        Light::Triangle(textured_triangle(v, true)),
         Light::Point(PointLight {
             position: Vec3::new(0.2, 1.5, 0.1),
             intensity: Vec3::new(5.0, 4.0, 3.0),
@@ -134,7 +165,7 @@ fn pdf_le_matches_sample_le() {
                 );
             }
             // (The spot's falloff ramp is steep: allow for cosθ rounded differently.)
-            let le = l.le(s.n, s.dir);
+            let le = l.le(s.p, s.n, s.dir);
             assert!(
                 le.abs_diff_eq(s.l, 1e-4 * s.l.max_element().max(1.0)),
                 "{l:?}: le {le} vs sampled {}",
@@ -286,4 +317,45 @@ fn image_environment_samples_follow_pdf_li() {
         "χ² = {chi2:.1} over {dof} dof (limit {limit:.1})"
     );
     assert_eq!(counts[5], 0, "the black texel is never sampled");
+}
+
+/// An emissive texture is read at the point: `sample_li`, `sample_le` and `le` agree on the
+/// radiance of the sampled point, and it equals emission × the texel the point's uv falls on
+/// (computed here from the barycentrics by hand).
+#[test]
+fn textured_triangle_reads_the_texture_at_the_point() {
+    use crate::scene::material::sample_one;
+    let v = [
+        Vec3::new(-0.5, 2.0, -0.4),
+        Vec3::new(0.6, 2.1, -0.3),
+        Vec3::new(0.1, 1.9, 0.7),
+    ];
+    let t = textured_triangle(v, false);
+    let light = Light::Triangle(t.clone());
+    let tex = ramp_texture();
+    let mut rng = Sampler::new(5, 0, 1);
+    let mut spread = (f32::MAX, 0.0f32);
+    for _ in 0..256 {
+        let s = light
+            .sample_li(Vec3::ZERO, rng.next_2d(), 1.0)
+            .expect("the front face is visible from the origin");
+        // uv = (b1, b2): solve p = a + b1 (b − a) + b2 (c − a) in the triangle's plane.
+        let (e1, e2, d) = (v[1] - v[0], v[2] - v[0], s.p_light - v[0]);
+        let m = glam::Mat3::from_cols(e1, e2, t.n);
+        let bc = m.inverse() * d;
+        let want = t.emission * sample_one(&tex, glam::Affine2::IDENTITY, bc.truncate()).truncate();
+        assert!(s.l.abs_diff_eq(want, 1e-4), "sample_li {} vs {want}", s.l);
+        let le = light.le(s.p_light, s.n_light, -s.wi);
+        assert!(le.abs_diff_eq(s.l, 1e-4), "le {le} vs sample_li {}", s.l);
+        spread = (spread.0.min(s.l.x), spread.1.max(s.l.x));
+        let e = light
+            .sample_le(rng.next_2d(), rng.next_2d(), 0.7, 1.0)
+            .expect("sample_le");
+        let le = light.le(e.p, e.n, e.dir);
+        assert!(le.abs_diff_eq(e.l, 1e-4), "le {le} vs sample_le {}", e.l);
+    }
+    // The radiance varies over the triangle (red ramps 0.2 … 0.95 across u).
+    assert!(spread.1 > 1.5 * spread.0, "red spans {spread:?}");
+    // The power uses the mean over the triangle, not the factor.
+    assert!(t.mean_emission.x < t.emission.x && t.mean_emission.x > 0.2 * t.emission.x);
 }

@@ -1,12 +1,14 @@
 //! Diffuse area light on one emissive triangle (PBR 4th ed. §12.5 `DiffuseAreaLight`):
-//! constant radiance on the front face, both faces when the material is double-sided.
+//! radiance on the front face, both faces when the material is double-sided; constant, or
+//! the emission factor × an emissive texture at the point's uv (pbrt-v4 `DiffuseAreaLight`
+//! with an `image`, §12.5.1).
 
-use super::{LeSample, LiSample};
+use super::{EmissiveTexture, LeSample, LiSample};
 use crate::math::{Frame, sampling};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TriangleLight {
     /// Scene triangle index.
     pub tri: u32,
@@ -17,9 +19,13 @@ pub struct TriangleLight {
     /// Unit geometric normal of the front face.
     pub n: Vec3,
     pub area: f32,
-    /// Emitted radiance (linear RGB).
+    /// Emitted radiance (linear RGB); the factor of the texture when there is one.
     pub emission: Vec3,
     pub two_sided: bool,
+    /// Emissive texture: radiance = `emission` × texture(uv).rgb.
+    pub texture: Option<EmissiveTexture>,
+    /// Radiance averaged over the triangle (= `emission` untextured): the power estimate.
+    pub mean_emission: Vec3,
 }
 
 impl TriangleLight {
@@ -35,22 +41,74 @@ impl TriangleLight {
             area: 0.5 * len,
             emission,
             two_sided,
+            texture: None,
+            mean_emission: emission,
         }
+    }
+
+    /// The light with an emissive texture (its power from the texture's mean over the
+    /// triangle, `EmissiveTexture::mean`).
+    pub fn with_texture(mut self, texture: EmissiveTexture) -> Self {
+        self.mean_emission = self.emission * texture.mean();
+        self.texture = Some(texture);
+        self
     }
 
     /// A point sampled uniformly on the triangle (PBR 4th ed. §6.5.4).
     #[inline]
     pub fn sample_point(&self, u: Vec2) -> Vec3 {
+        self.point_at(sampling::uniform_triangle(u))
+    }
+
+    /// The point at barycentrics `bc` = (b1, b2) (weights of vertices 1 and 2).
+    #[inline]
+    fn point_at(&self, bc: Vec2) -> Vec3 {
         let [a, b, c] = self.v;
-        let bc = sampling::uniform_triangle(u);
         a * (1.0 - bc.x - bc.y) + b * bc.x + c * bc.y
+    }
+
+    /// Barycentrics (b1, b2) of a point `p` on the triangle, clamped into it (Ericson 2005,
+    /// "Real-Time Collision Detection" §3.4, Cramer's rule on the edge Gram matrix).
+    #[inline]
+    pub fn barycentric(&self, p: Vec3) -> Vec2 {
+        let [a, b, c] = self.v;
+        let (e1, e2, d) = (b - a, c - a, p - a);
+        let (d00, d01, d11) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (d20, d21) = (d.dot(e1), d.dot(e2));
+        let den = d00 * d11 - d01 * d01;
+        // Degenerate (or NaN) triangle: any point is vertex 0.
+        if den.is_nan() || den <= 0.0 {
+            return Vec2::ZERO;
+        }
+        let b1 = ((d11 * d20 - d01 * d21) / den).clamp(0.0, 1.0);
+        let b2 = ((d00 * d21 - d01 * d20) / den).clamp(0.0, 1.0 - b1);
+        Vec2::new(b1, b2)
+    }
+
+    /// Emitted radiance at barycentrics `bc`: `emission` × texture (glTF 2.0 §3.9.2).
+    #[inline]
+    pub fn emission_at(&self, bc: Vec2) -> Vec3 {
+        match &self.texture {
+            Some(t) => self.emission * t.rgb(bc).max(Vec3::ZERO),
+            None => self.emission,
+        }
+    }
+
+    /// Emitted radiance at the point `p` of the triangle.
+    #[inline]
+    pub fn emission_at_point(&self, p: Vec3) -> Vec3 {
+        match &self.texture {
+            Some(_) => self.emission_at(self.barycentric(p)),
+            None => self.emission,
+        }
     }
 
     /// Area sampling converted to solid angle: pdf = p_pick/A · d²/|cosθ_l| (PBR 4th ed.
     /// eq. 12.3).
     #[inline]
     pub fn sample_li(&self, p: Vec3, u: Vec2, pick: f32) -> Option<LiSample> {
-        let pl = self.sample_point(u);
+        let bc = sampling::uniform_triangle(u);
+        let pl = self.point_at(bc);
         let nl = self.n;
         let to = pl - p;
         let dist2 = to.length_squared();
@@ -67,7 +125,7 @@ impl TriangleLight {
             return None;
         }
         Some(LiSample {
-            l: self.emission,
+            l: self.emission_at(bc),
             wi,
             pdf: pick / self.area * dist2 / cos_l,
             p_light: pl,
@@ -87,12 +145,12 @@ impl TriangleLight {
         pick / self.area * dist * dist / cos_light
     }
 
-    /// Emitted radiance towards `w` from a point with raw normal `n`: one-sided unless
+    /// Emitted radiance towards `w` from the point `p` with raw normal `n`: one-sided unless
     /// double-sided (glTF `doubleSided`).
     #[inline]
-    pub fn le(&self, n: Vec3, w: Vec3) -> Vec3 {
+    pub fn le(&self, p: Vec3, n: Vec3, w: Vec3) -> Vec3 {
         if n.dot(w) > 0.0 || self.two_sided {
-            self.emission
+            self.emission_at_point(p)
         } else {
             Vec3::ZERO
         }
@@ -104,7 +162,8 @@ impl TriangleLight {
     /// still serves as a light vertex).
     #[inline]
     pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, u_side: f32, pick: f32) -> Option<LeSample> {
-        let p = self.sample_point(u_pos);
+        let bc = sampling::uniform_triangle(u_pos);
+        let p = self.point_at(bc);
         let n = self.n;
         let mut local = sampling::cosine_hemisphere(u_dir);
         let side = if self.two_sided && u_side < 0.5 {
@@ -119,7 +178,7 @@ impl TriangleLight {
             p,
             n,
             dir: Frame::from_normal(side).to_world(local),
-            l: self.emission,
+            l: self.emission_at(bc),
             pdf_pos: pick / self.area,
             pdf_dir: if ok { two * local.z * FRAC_1_PI } else { 0.0 },
             delta_pos: false,
@@ -147,9 +206,9 @@ impl TriangleLight {
         (pdf_pos, pdf_dir)
     }
 
-    /// Power π·L·A per emitting face (luminance).
+    /// Power π·L·A per emitting face (luminance; L averaged over a textured triangle).
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        sides * PI * super::luminance(self.emission).max(1e-6) * self.area
+        sides * PI * super::luminance(self.mean_emission).max(1e-6) * self.area
     }
 }
