@@ -225,7 +225,8 @@ impl GpuRenderer {
 
     /// Prepare `scene` on an existing device, compiling its pipelines, and those of every
     /// later specialisation, on a worker thread: see [`GpuRenderer::pipelines_ready`].
-    /// Dispatching before they are ready waits for them.
+    /// Dispatching before they are ready waits for them. The viewer's renderer: an image larger
+    /// than one binding is an error here (no tiles; its display reads the whole film).
     pub fn with_context_in_background(
         ctx: GpuContext,
         scene: Scene,
@@ -257,7 +258,7 @@ impl GpuRenderer {
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
-            Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts)?;
+            Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, !background_compile)?;
         let bind_group = ctx.scoped("cannot bind the GPU buffers", || {
             Self::bind(&ctx, &pipelines, &buffers)
         })?;
@@ -299,18 +300,22 @@ impl GpuRenderer {
         bvh: &GpuBvh,
         light_set: &LightSet,
         opts: &RenderOptions,
+        tiles: bool,
     ) -> Result<BuiltBuffers> {
         ctx.scoped("cannot create the GPU buffers", || {
-            Self::build_buffers(ctx, scene, bvh, light_set, opts)
+            Self::build_buffers(ctx, scene, bvh, light_set, opts, tiles)
         })?
     }
 
+    /// The scene's buffers and a film for `opts`; `tiles`: an image larger than one binding
+    /// may render in tiles (headless renders), else it is refused (the viewer).
     fn build_buffers(
         ctx: &GpuContext,
         scene: &Scene,
         bvh: &GpuBvh,
         light_set: &LightSet,
         opts: &RenderOptions,
+        tiles: bool,
     ) -> Result<BuiltBuffers> {
         let tris = upload::pack_triangles(scene, bvh, light_set);
         let verts = upload::pack_vertices(scene);
@@ -323,7 +328,7 @@ impl GpuRenderer {
         let cap = ctx.max_binding_bytes();
         // Path tracing renders an image larger than one binding in tiles of rows (`tiles`);
         // light tracing and photons need the whole image in every submission.
-        let whole = light_tracing || sppm_for(opts, scene);
+        let whole = !tiles || light_tracing || sppm_for(opts, scene);
         let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
         ensure!(
             accum_bytes.max(splat_bytes) <= cap,
@@ -1121,8 +1126,14 @@ impl GpuRenderer {
         let resized = (opts.width, opts.height) != (self.opts.width, self.opts.height);
         self.opts = opts;
         if resized {
-            let (buffers, count, slots) =
-                Self::create_buffers(&self.ctx, &self.scene, &self.bvh, &self.light_set, &opts)?;
+            let (buffers, count, slots) = Self::create_buffers(
+                &self.ctx,
+                &self.scene,
+                &self.bvh,
+                &self.light_set,
+                &opts,
+                self.tiles_allowed(),
+            )?;
             self.buffers = buffers;
             self.light_count = count;
             self.tex_slots = slots;
@@ -1154,8 +1165,14 @@ impl GpuRenderer {
         let opts = self.keep_filter_and_estimator(opts);
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
-        let (buffers, count, slots) =
-            Self::create_buffers(&self.ctx, &scene, &bvh, &light_set, &opts)?;
+        let (buffers, count, slots) = Self::create_buffers(
+            &self.ctx,
+            &scene,
+            &bvh,
+            &light_set,
+            &opts,
+            self.tiles_allowed(),
+        )?;
         self.tex_slots = slots;
         self.scene = scene;
         self.opts = opts;

@@ -18,6 +18,14 @@ impl GpuRenderer {
         (self.buffers.accum.size() / row.max(1)) as u32
     }
 
+    /// Whether an image larger than one binding may render in tiles: for headless renders
+    /// (`with_context`), not for the viewer's progressive renderer
+    /// (`with_context_in_background`), whose display reads the whole film and which falls
+    /// back to the CPU instead.
+    pub(super) fn tiles_allowed(&self) -> bool {
+        !self.background_compile
+    }
+
     /// Start or stop tiling after the film was (re)allocated: a CPU copy of the whole image
     /// when the film holds fewer rows than it.
     pub(super) fn fit_tiles(&mut self) {
