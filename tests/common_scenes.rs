@@ -293,3 +293,32 @@ pub fn worst_part_sum_error(parts: &[Vec<Vec3>], whole: &[Vec3]) -> f32 {
     }
     worst
 }
+
+/// Standard base64 (RFC 4648 §4, with padding), for `data:` URIs in glTF built by tests.
+pub fn base64(data: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in data.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            s.push(if k <= c.len() {
+                T[(n >> (18 - 6 * k) & 63) as usize] as char
+            } else {
+                '='
+            });
+        }
+    }
+    s
+}
+
+/// A `w` × `h` RGB PNG of grey levels `px` (row-major), as bytes.
+pub fn grey_png(w: u32, h: u32, px: &[u8]) -> Vec<u8> {
+    let rgb: Vec<u8> = px.iter().flat_map(|&g| [g, g, g]).collect();
+    let img = image::RgbImage::from_raw(w, h, rgb).expect("w·h grey levels");
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png)
+        .expect("PNG encodes");
+    out.into_inner()
+}

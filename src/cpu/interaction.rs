@@ -99,10 +99,16 @@ fn normal_mapped(scene: &Scene, m: u32, v: [usize; 3], w: [f32; 3], n: Vec3, uv:
 
 /// Orient the normals for shading: opaque double-sided materials shade both sides alike,
 /// one-sided opaque back faces are black (`None`), dielectrics keep the outward normal (the
-/// eta convention of DESIGN.md). `front`: the ray arrived on the side `hit.ng` points to.
+/// eta convention of DESIGN.md). `front`: the ray arrived on the side `hit.ng` points to;
+/// `transmits`: the material transmits at this point (`Material::transmits_at`).
 #[inline]
-pub fn orient_normals(mat: &Material, hit: &SurfaceHit, front: bool) -> Option<(Vec3, Vec3)> {
-    if mat.is_transmissive() || front {
+pub fn orient_normals(
+    mat: &Material,
+    transmits: bool,
+    hit: &SurfaceHit,
+    front: bool,
+) -> Option<(Vec3, Vec3)> {
+    if transmits || front {
         Some((hit.ng, hit.ns))
     } else if mat.double_sided {
         Some((-hit.ng, -hit.ns))
@@ -172,11 +178,11 @@ impl Interaction {
     ) -> Option<Interaction> {
         let mat = &scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
-        let (ng, ns) = orient_normals(mat, hit, front)?;
+        let transmissive = mat.transmits_at(&scene.textures, hit.uv);
+        let (ng, ns) = orient_normals(mat, transmissive, hit, front)?;
         if mat.is_emissive() && mat.base_color == Vec3::ZERO {
             return None;
         }
-        let transmissive = mat.is_transmissive();
         let outer = enclosing.filter(|_| transmissive);
         let outer_dispersive = outer.is_some_and(|e| scene.materials[e as usize].abbe.is_some());
         let dispersive =

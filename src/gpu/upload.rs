@@ -210,6 +210,16 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
         "the GPU renderer has no light line yet (light_line_nm = {} nm): render it on the CPU (--device cpu)",
         scene.settings.light_line_nm.unwrap_or_default()
     );
+    if let Some(m) = scene
+        .materials
+        .iter()
+        .find(|m| m.is_transmissive() && m.transmission_texture.is_some())
+    {
+        bail!(
+            "the GPU renderer has no transmission texture yet (material '{}'): render it on the CPU (--device cpu)",
+            m.name
+        );
+    }
     for (i, t) in scene.textures.iter().enumerate() {
         ensure!(
             (t.width as u64) < (1 << 30) && (t.height as u64) < (1 << 30),

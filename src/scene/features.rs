@@ -86,6 +86,10 @@ pub fn compute(scene: &Scene) -> Features {
                 k
             }
         };
+        if m.is_transmissive() && m.transmission_texture.is_some() {
+            // Masked texels shade with the metal-rough base, read at uv.
+            f |= Features::METAL_ROUGH | Features::GGX | Features::TEXTURES;
+        }
         if m.kind == MaterialKind::Glass && m.has_absorption() {
             f |= Features::ABSORPTION;
         }

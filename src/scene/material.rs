@@ -82,6 +82,12 @@ pub struct Material {
     pub attenuation_color: Vec3,
     /// Infinity = no absorption.
     pub attenuation_distance: f32,
+    /// KHR_materials_transmission: the factor and its texture (linear, red channel). The
+    /// contract's kind follows the factor (≥ `GLASS_TRANSMISSION_THRESHOLD`: glass); with a
+    /// texture, each point is glass where factor × texel ≥ that threshold and the opaque
+    /// metal-rough base elsewhere ([`Material::transmits_at`]).
+    pub transmission_factor: f32,
+    pub transmission_texture: Option<TextureRef>,
     /// KHR_materials_specular factor and colour (metal-rough only).
     pub specular_factor: f32,
     pub specular_color: Vec3,
@@ -115,6 +121,8 @@ impl Default for Material {
             double_sided: false,
             attenuation_color: Vec3::ONE,
             attenuation_distance: f32::INFINITY,
+            transmission_factor: 0.0,
+            transmission_texture: None,
             specular_factor: 1.0,
             specular_color: Vec3::ONE,
             priority: 0,
@@ -172,6 +180,18 @@ impl Material {
     #[inline]
     pub fn is_transmissive(&self) -> bool {
         matches!(self.kind, MaterialKind::Glass | MaterialKind::ThinGlass)
+    }
+
+    /// Does the surface transmit at `uv`? Transmissive kinds do, except where a transmission
+    /// texture masks them: factor × texel.r below the glass threshold is the opaque base — the
+    /// loader's rule for the factor (`GLASS_TRANSMISSION_THRESHOLD`), applied per texel.
+    #[inline]
+    pub fn transmits_at(&self, textures: &[Texture], uv: Vec2) -> bool {
+        self.is_transmissive()
+            && self.transmission_texture.is_none_or(|r| {
+                self.transmission_factor * sample_texture(textures, &r, uv).x
+                    >= crate::scene::gltf_load::GLASS_TRANSMISSION_THRESHOLD
+            })
     }
 
     /// Index of refraction at wavelength `lambda_nm` (Abbe-number dispersion model of
@@ -232,6 +252,10 @@ impl Material {
     /// `spectral` converts RGB parameters to the path's wavelengths when set.
     pub fn bsdf(&self, textures: &[Texture], uv: Vec2, eta: f32) -> Bsdf {
         let base = self.base_color_at(textures, uv);
+        if self.transmission_texture.is_some() && !self.transmits_at(textures, uv) {
+            // A texel masked out of a transmissive material: its opaque metal-rough base.
+            return Bsdf::MetalRough(self.metal_rough_at(textures, uv, base));
+        }
         if let Some(metal) = self.conductor.filter(|_| self.is_metal_kind()) {
             return self.conductor_bsdf(metal, base);
         }

@@ -97,6 +97,7 @@ impl Loader<'_> {
 
         let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
         let emissive_texture = self.emissive_texture(m, emission, &name)?;
+        let transmission_texture = self.transmission_texture(ext, transmission, &name)?;
 
         let kind = self.material_kind(
             &name,
@@ -123,6 +124,8 @@ impl Loader<'_> {
             double_sided: m.double_sided,
             attenuation_color: volume.attenuation_color,
             attenuation_distance: volume.attenuation_distance,
+            transmission_factor: transmission,
+            transmission_texture,
             specular_factor,
             specular_color,
             priority,
@@ -141,8 +144,51 @@ impl Loader<'_> {
             mat.base_color_texture = None;
             mat.metallic_roughness_texture = None;
             mat.normal_texture = None;
+            mat.transmission_texture = None;
         }
         Ok(mat)
+    }
+
+    /// `KHR_materials_transmission.transmissionTexture` (linear, red channel): per texel,
+    /// factor × texel at or above the glass threshold is glass, below it the opaque base
+    /// (`Material::transmits_at`). A factor below the threshold leaves nothing to mask (a
+    /// warning); texels strictly between 0 and 1 are thresholded like the factor (a warning:
+    /// glTF would mix glass and base there).
+    fn transmission_texture(
+        &mut self,
+        ext: Option<&json::extensions::material::Material>,
+        factor: f32,
+        name: &str,
+    ) -> anyhow::Result<Option<crate::scene::TextureRef>> {
+        let Some(info) = ext
+            .and_then(|e| e.transmission.as_ref())
+            .and_then(|t| t.transmission_texture.as_ref())
+        else {
+            return Ok(None);
+        };
+        if factor < GLASS_TRANSMISSION_THRESHOLD {
+            self.warnings.push(format!(
+                "material '{name}': transmissionTexture has no effect: transmissionFactor \
+                 {factor} < {GLASS_TRANSMISSION_THRESHOLD} makes the surface opaque everywhere \
+                 (factor × texel decides glass per texel)"
+            ));
+            return Ok(None);
+        }
+        let r = self.texture_ref(info, false, name)?;
+        if let Some(r) = r {
+            let partial = self.textures[r.texture as usize].texels.iter().any(|t| {
+                let v = factor * t.x;
+                v > 0.02 && v < 0.98
+            });
+            if partial {
+                self.warnings.push(format!(
+                    "material '{name}': transmissionTexture has texels between 0 and 1; each \
+                     point is glass where factor × texel ≥ {GLASS_TRANSMISSION_THRESHOLD}, the \
+                     opaque base elsewhere (a partial mix of the two is not rendered)"
+                ));
+            }
+        }
+        Ok(r)
     }
 
     /// `normalTexture` (linear, not sRGB) and its `scale` (1 when absent; a non-finite scale
@@ -357,16 +403,6 @@ impl Loader<'_> {
             self.warnings.once("specular-tex", || {
                 "KHR_materials_specular textures are ignored".into()
             });
-        }
-        if ext
-            .and_then(|e| e.transmission.as_ref())
-            .is_some_and(|t| t.transmission_texture.is_some())
-        {
-            self.warnings.push(format!(
-                "material '{name}': KHR_materials_transmission.transmissionTexture is ignored \
-                 (transmissionFactor alone decides glass or opaque; a per-texel mix of glass \
-                 and the diffuse base is not implemented)"
-            ));
         }
         if m.occlusion_texture.is_some() {
             self.warnings.once("occlusion-tex", || {
