@@ -112,6 +112,9 @@ pub struct GpuRenderer {
     tiled: Option<Vec<[f32; 4]>>,
     /// First image row the film holds (0 unless tiled).
     film_y0: u32,
+    /// Whether an image larger than one binding may render in tiles (headless renders; not
+    /// the viewer, whose display reads the whole film and which falls back to the CPU).
+    tiles: bool,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -220,7 +223,17 @@ impl GpuRenderer {
 
     /// Prepare `scene` on an existing device (its pipelines compiled before this returns).
     pub fn with_context(ctx: GpuContext, scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
-        Self::build(ctx, scene, opts, false)
+        Self::build(ctx, scene, opts, false, true)
+    }
+
+    /// [`GpuRenderer::with_context`] for the viewer's progressive display where pipelines must
+    /// compile in the call (GL): an image larger than one binding is an error (no tiles).
+    pub fn with_context_untiled(
+        ctx: GpuContext,
+        scene: Scene,
+        opts: RenderOptions,
+    ) -> Result<GpuRenderer> {
+        Self::build(ctx, scene, opts, false, false)
     }
 
     /// Prepare `scene` on an existing device, compiling its pipelines, and those of every
@@ -232,7 +245,7 @@ impl GpuRenderer {
         scene: Scene,
         opts: RenderOptions,
     ) -> Result<GpuRenderer> {
-        Self::build(ctx, scene, opts, true)
+        Self::build(ctx, scene, opts, true, false)
     }
 
     fn build(
@@ -240,6 +253,7 @@ impl GpuRenderer {
         scene: Scene,
         opts: RenderOptions,
         background_compile: bool,
+        tiles: bool,
     ) -> Result<GpuRenderer> {
         scene.validate()?;
         upload::check_supported(&scene)?;
@@ -258,7 +272,7 @@ impl GpuRenderer {
         let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
-            Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, !background_compile)?;
+            Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, tiles)?;
         let bind_group = ctx.scoped("cannot bind the GPU buffers", || {
             Self::bind(&ctx, &pipelines, &buffers)
         })?;
@@ -285,6 +299,7 @@ impl GpuRenderer {
             batches_in_flight: BATCHES_IN_FLIGHT,
             tiled: None,
             film_y0: 0,
+            tiles,
         };
         r.fit_tiles();
         r.photon_r0 = r.sppm_radius0();

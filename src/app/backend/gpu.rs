@@ -367,7 +367,7 @@ impl GpuBackend {
                 // waiting 1 s for it): there the pipelines compile in the edit, as before.
                 let ctx = self.ctx.clone();
                 self.renderer = Some(if self.ctx.info.backend == wgpu::Backend::Gl {
-                    GpuRenderer::with_context(ctx, scene, gopts)?
+                    GpuRenderer::with_context_untiled(ctx, scene, gopts)?
                 } else {
                     GpuRenderer::with_context_in_background(ctx, scene, gopts)?
                 });

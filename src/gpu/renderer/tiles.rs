@@ -20,10 +20,10 @@ impl GpuRenderer {
 
     /// Whether an image larger than one binding may render in tiles: for headless renders
     /// (`with_context`), not for the viewer's progressive renderer
-    /// (`with_context_in_background`), whose display reads the whole film and which falls
-    /// back to the CPU instead.
+    /// (`with_context_in_background`, `with_context_untiled`), whose display reads the whole
+    /// film and which falls back to the CPU instead.
     pub(super) fn tiles_allowed(&self) -> bool {
-        !self.background_compile
+        self.tiles
     }
 
     /// Start or stop tiling after the film was (re)allocated: a CPU copy of the whole image
