@@ -128,7 +128,8 @@ impl EnvArgs {
 struct ViewArgs {
     /// Scene: a .gltf/.glb path or builtin:NAME (default builtin:cornell-glass).
     scene: Option<String>,
-    /// Close the window after this many frames (CI, screenshots).
+    /// Close the window after this many frames (CI, screenshots); with --exit-after, not
+    /// before the image has its first sample.
     #[arg(long)]
     frames: Option<u64>,
     #[command(flatten)]

@@ -559,8 +559,13 @@ impl ViewerApp {
         )
     }
 
+    /// `--frames N`: after N frames — and, when `--exit-after` bounds the wait, not before the
+    /// image has its first sample (a GPU pipeline still compiling in the background would
+    /// otherwise leave a black window for the screenshot). `--exit-after`: after that time.
     fn should_exit(&self) -> bool {
-        self.exit_frames.is_some_and(|n| self.stats.frames >= n)
+        let sampled = self.exit_after.is_none() || self.backend.spp() >= 1;
+        self.exit_frames
+            .is_some_and(|n| self.stats.frames >= n && sampled)
             || self
                 .exit_after
                 .is_some_and(|d| self.stats.started.elapsed() >= d)
