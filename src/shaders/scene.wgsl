@@ -306,6 +306,16 @@ fn bvh_occluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
 
 override HAS_TEXTURES: bool = true;
 
+// i mod n in [0, n) (n > 0) with only non-negative operands of `%`: GLSL leaves `%` of a
+// negative operand undefined (llvmpipe's GL returned 0 for −1 % 3, so a bilinear lookup at a
+// texture's edge read the wrong row), and naga's GLSL output keeps WGSL's `%` as it is.
+fn mod_floor(i: i32, n: i32) -> i32 {
+    if i >= 0 {
+        return i % n;
+    }
+    return n - 1 - (-(i + 1)) % n;
+}
+
 // `wrap_index` of scene::material (i64 there; i32 here: |uv · size| < 2³¹).
 fn wrap_index(i: i32, n: u32, w: u32) -> u32 {
     let nn = i32(n);
@@ -314,20 +324,14 @@ fn wrap_index(i: i32, n: u32, w: u32) -> u32 {
         r = clamp(i, 0, nn - 1);
     } else if w == WRAP_MIRRORED_REPEAT {
         let p = 2 * nn;
-        var m = i % p;
-        if m < 0 {
-            m += p;
-        }
+        let m = mod_floor(i, p);
         if m < nn {
             r = m;
         } else {
             r = p - 1 - m;
         }
     } else {
-        r = i % nn;
-        if r < 0 {
-            r += nn;
-        }
+        r = mod_floor(i, nn);
     }
     return u32(r);
 }
