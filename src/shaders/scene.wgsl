@@ -307,8 +307,8 @@ fn bvh_occluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
 override HAS_TEXTURES: bool = true;
 
 // i mod n in [0, n) (n > 0) with only non-negative operands of `%`: GLSL leaves `%` of a
-// negative operand undefined (llvmpipe's GL returned 0 for −1 % 3, so a bilinear lookup at a
-// texture's edge read the wrong row), and naga's GLSL output keeps WGSL's `%` as it is.
+// negative operand undefined, and on wgpu's GL backend (llvmpipe) a bilinear lookup across a
+// repeating edge read row 0 instead of the last row (tests/light_twin.rs on GL).
 fn mod_floor(i: i32, n: i32) -> i32 {
     if i >= 0 {
         return i % n;
