@@ -301,6 +301,27 @@ fn render(args: &RenderArgs) -> Result<()> {
     render_cpu(args, scene, &job, layers.as_ref())
 }
 
+/// The sidecar's environment image (relative to the sidecar's folder), then the `--env*`
+/// flags over it.
+fn apply_environment(
+    args: &RenderArgs,
+    sidecar: Option<&ViewerSettings>,
+    scene: &mut Scene,
+) -> Result<()> {
+    if let (Some(s), Some(file)) = (sidecar, &args.settings)
+        && let Some(e) = &s.environment
+    {
+        let dir = file.parent().unwrap_or(std::path::Path::new("."));
+        for w in e
+            .apply(scene, dir)
+            .with_context(|| format!("settings '{}'", sidecar_file(args)))?
+        {
+            eprintln!("warning: {w}");
+        }
+    }
+    args.env.apply(scene)
+}
+
 /// The scene to render (sidecar edits and flags applied) and the job's other values.
 fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     let sidecar = args
@@ -330,19 +351,7 @@ fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    // The sidecar's environment image, then `--env*` flags over it.
-    if let (Some(s), Some(file)) = (&sidecar, &args.settings)
-        && let Some(e) = &s.environment
-    {
-        let dir = file.parent().unwrap_or(std::path::Path::new("."));
-        for w in e
-            .apply(&mut scene, dir)
-            .with_context(|| format!("settings '{}'", sidecar_file(args)))?
-        {
-            eprintln!("warning: {w}");
-        }
-    }
-    args.env.apply(&mut scene)?;
+    apply_environment(args, sidecar.as_ref(), &mut scene)?;
     let mut sidecar_spp = None;
     if let Some(s) = &sidecar {
         // Headless, a sidecar's impossible material value is an error naming its key.

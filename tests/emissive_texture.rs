@@ -36,24 +36,6 @@ fn bright_at(uv: Vec2) -> bool {
     (t.x.floor() as i64 + t.y.floor() as i64).rem_euclid(2) == 0
 }
 
-fn b64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in data.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            s.push(if k <= c.len() {
-                T[(n >> (18 - 6 * k) & 63) as usize] as char
-            } else {
-                '='
-            });
-        }
-    }
-    s
-}
-
 /// The 2 × 2 checkerboard as a PNG (texel (x, y) bright when x + y is even).
 fn checker_png() -> Vec<u8> {
     let mut px = Vec::new();
@@ -132,7 +114,7 @@ fn textured_scene() -> Scene {
         "images": [{"bufferView": v_img, "mimeType": "image/png"}],
         "textures": [{"source": 0, "sampler": 0}],
         "buffers": [{"byteLength": bytes.len(),
-            "uri": format!("data:application/octet-stream;base64,{}", b64(&bytes))}],
+            "uri": format!("data:application/octet-stream;base64,{}", base64(&bytes))}],
         "bufferViews": views,
         "accessors": [acc(v_wall, 4, "VEC3", 5126), acc(v_uv, 4, "VEC2", 5126),
             acc(v_floor, 4, "VEC3", 5126), acc(v_idx, 6, "SCALAR", 5125)],

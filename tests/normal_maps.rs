@@ -19,24 +19,6 @@ mod common_scenes;
 /// The normal texture's one texel: a tilt of 30° towards the tangent (+X), (191, 128, 238).
 const TEXEL: [u8; 3] = [191, 128, 238];
 
-fn b64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in data.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            s.push(if k <= c.len() {
-                T[(n >> (18 - 6 * k) & 63) as usize] as char
-            } else {
-                '='
-            });
-        }
-    }
-    s
-}
-
 fn png(px: [u8; 3]) -> Vec<u8> {
     let img = image::RgbImage::from_raw(1, 1, px.to_vec()).unwrap();
     let mut out = std::io::Cursor::new(Vec::new());
@@ -125,7 +107,7 @@ fn quad(v: Variant, scale: f32) -> Scene {
         "images": [{"bufferView": vimg, "mimeType": "image/png"}],
         "textures": [{"source": 0}],
         "buffers": [{"byteLength": bytes.len(),
-            "uri": format!("data:application/octet-stream;base64,{}", b64(&bytes))}],
+            "uri": format!("data:application/octet-stream;base64,{}", common_scenes::base64(&bytes))}],
         "bufferViews": views,
         "accessors": [acc(vp, 4, "VEC3", 5126), acc(vn, 4, "VEC3", 5126),
             acc(vt, 4, "VEC2", 5126), acc(vg, 4, "VEC4", 5126), acc(vi, 6, "SCALAR", 5125)],
