@@ -65,11 +65,21 @@ fn incoherent_rays(scene: &Scene) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
-/// Rays per second of `f` over [`RAYS`] rays, and its result.
-fn rate(f: impl FnOnce() -> usize) -> (f64, usize) {
-    let t = Instant::now();
-    let n = f();
-    (RAYS as f64 / t.elapsed().as_secs_f64(), n)
+/// Repetitions of each ray measurement; the median is reported (one pass of [`RAYS`] rays
+/// on two threads lasts ~20 ms, within reach of a scheduler hiccup).
+const REPEATS: usize = 7;
+
+/// Rays per second of `f` over [`RAYS`] rays (the median of [`REPEATS`] runs), and its result.
+fn rate(f: impl Fn() -> usize) -> (f64, usize) {
+    let mut rates = Vec::with_capacity(REPEATS);
+    let mut n = 0;
+    for _ in 0..REPEATS {
+        let t = Instant::now();
+        n = f();
+        rates.push(RAYS as f64 / t.elapsed().as_secs_f64());
+    }
+    rates.sort_by(f64::total_cmp);
+    (rates[REPEATS / 2], n)
 }
 
 /// Nanoseconds per BSDF sample, one core.

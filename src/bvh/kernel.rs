@@ -3,10 +3,10 @@
 //! its instruction set.
 
 use super::slab::Scalar;
-use super::traverse::{Query, SlotHit, Tree, traverse};
+use super::traverse::{QueryRay, SlotHit, Tree, traverse};
 
 /// A traversal compiled for one instruction set.
-pub type QueryFn = fn(Tree, &Query) -> Option<SlotHit>;
+pub type QueryFn = fn(Tree, &QueryRay) -> Option<SlotHit>;
 
 /// The slab-test implementations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,20 +81,20 @@ impl Kernel {
     }
 }
 
-fn scalar<const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+fn scalar<const ANY: bool>(tree: Tree, q: &QueryRay) -> Option<SlotHit> {
     traverse::<Scalar, ANY>(tree, q)
 }
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::super::simd_x86::{Avx2, Sse};
-    use super::super::traverse::{Query, SlotHit, Tree, traverse};
+    use super::super::traverse::{QueryRay, SlotHit, Tree, traverse};
 
-    pub fn sse<const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+    pub fn sse<const ANY: bool>(tree: Tree, q: &QueryRay) -> Option<SlotHit> {
         traverse::<Sse, ANY>(tree, q)
     }
 
-    pub fn avx2<const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+    pub fn avx2<const ANY: bool>(tree: Tree, q: &QueryRay) -> Option<SlotHit> {
         // SAFETY: `Kernel::queries` hands this out only where `is_x86_feature_detected!("avx2")`
         // held on this CPU.
         unsafe { avx2_enabled::<ANY>(tree, q) }
@@ -102,7 +102,7 @@ mod x86 {
 
     /// The traversal with the AVX2 slab test inlined and compiled for AVX2.
     #[target_feature(enable = "avx2")]
-    fn avx2_enabled<const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+    fn avx2_enabled<const ANY: bool>(tree: Tree, q: &QueryRay) -> Option<SlotHit> {
         traverse::<Avx2, ANY>(tree, q)
     }
 }
@@ -110,9 +110,9 @@ mod x86 {
 #[cfg(target_arch = "aarch64")]
 mod arm {
     use super::super::simd_neon::Neon;
-    use super::super::traverse::{Query, SlotHit, Tree, traverse};
+    use super::super::traverse::{QueryRay, SlotHit, Tree, traverse};
 
-    pub fn neon<const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+    pub fn neon<const ANY: bool>(tree: Tree, q: &QueryRay) -> Option<SlotHit> {
         traverse::<Neon, ANY>(tree, q)
     }
 }

@@ -22,11 +22,10 @@ use crate::scene::Mesh;
 use glam::{Vec3, Vec3A};
 use kernel::QueryFn;
 use obvhs::{BvhBuildParams, triangle::Triangle};
-use packet::{LANES, PacketRay, TriPacket};
-use slab::SlabRay;
+use packet::{LANES, TriPacket};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-use traverse::{Query, Tree};
+use traverse::{QueryRay, Tree};
 use watertight::{LeafTri, WatertightRay};
 use wide::WideNode;
 
@@ -188,7 +187,7 @@ impl Bvh {
 
     /// The traversal's form of a ray; None (counted when invalid) for rays that cannot hit.
     #[inline(always)]
-    fn query(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<Query> {
+    fn query(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<QueryRay> {
         let valid = origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO && !tmax.is_nan();
         if !valid {
             self.invalid_rays.fetch_add(1, Ordering::Relaxed);
@@ -197,12 +196,9 @@ impl Bvh {
         if self.packets.is_empty() || tmax <= 0.0 {
             return None;
         }
-        let (o, d): (Vec3A, Vec3A) = (origin.into(), dir.into());
-        let wt = WatertightRay::new(o, d);
-        Some(Query {
-            slab: SlabRay::new(origin.to_array(), dir.to_array()),
-            packet: PacketRay::new(&wt),
-            wt,
+        Some(QueryRay {
+            origin: origin.into(),
+            dir: dir.into(),
             tmax,
         })
     }

@@ -17,9 +17,8 @@ impl BoxTest for Neon {
             // The loads read floats 4h..4h+4 of one `[f32; W]` row and the store writes the
             // same 4 of `tnear` (4h + 4 ≤ W).
             let m = unsafe {
-                let p = &node.planes;
-                let slab = |row: usize, a: usize| {
-                    let b = vld1q_f32(p[row].as_ptr().add(4 * h));
+                let slab = |row: &[f32; W], a: usize| {
+                    let b = vld1q_f32(row.as_ptr().add(4 * h));
                     vmulq_f32(
                         vsubq_f32(b, vdupq_n_f32(ray.org[a])),
                         vdupq_n_f32(ray.inv[a]),
@@ -28,8 +27,9 @@ impl BoxTest for Neon {
                 let mut tn = vdupq_n_f32(0.0);
                 let mut tf = vdupq_n_f32(f32::INFINITY);
                 for a in 0..3 {
-                    tn = vmaxnmq_f32(slab(ray.near[a], a), tn);
-                    tf = vminnmq_f32(slab(ray.far[a], a), tf);
+                    let (near, far) = ray.rows(node, a);
+                    tn = vmaxnmq_f32(slab(near, a), tn);
+                    tf = vminnmq_f32(slab(far, a), tf);
                 }
                 tf = vminq_f32(vmulq_f32(tf, vdupq_n_f32(FAR_SCALE)), vdupq_n_f32(tmax));
                 vst1q_f32(tnear.as_mut_ptr().add(4 * h), tn);

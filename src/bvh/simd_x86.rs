@@ -17,9 +17,8 @@ impl BoxTest for Avx2 {
         // loads read the 8 floats of one `[f32; 8]` row and the store writes the 8 of `tnear`
         // (unaligned forms: no alignment requirement).
         unsafe {
-            let p = &node.planes;
-            let slab = |row: usize, a: usize| {
-                let b = _mm256_loadu_ps(p[row].as_ptr());
+            let slab = |row: &[f32; W], a: usize| {
+                let b = _mm256_loadu_ps(row.as_ptr());
                 _mm256_mul_ps(
                     _mm256_sub_ps(b, _mm256_set1_ps(ray.org[a])),
                     _mm256_set1_ps(ray.inv[a]),
@@ -28,8 +27,9 @@ impl BoxTest for Avx2 {
             let mut tn = _mm256_setzero_ps();
             let mut tf = _mm256_set1_ps(f32::INFINITY);
             for a in 0..3 {
-                tn = _mm256_max_ps(slab(ray.near[a], a), tn);
-                tf = _mm256_min_ps(slab(ray.far[a], a), tf);
+                let (near, far) = ray.rows(node, a);
+                tn = _mm256_max_ps(slab(near, a), tn);
+                tf = _mm256_min_ps(slab(far, a), tf);
             }
             tf = _mm256_min_ps(
                 _mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)),
@@ -53,9 +53,8 @@ impl BoxTest for Sse {
             // one `[f32; W]` row and the store writes the same 4 of `tnear` (in bounds: 4h + 4
             // ≤ W; unaligned forms).
             let m = unsafe {
-                let p = &node.planes;
-                let slab = |row: usize, a: usize| {
-                    let b = _mm_loadu_ps(p[row].as_ptr().add(4 * h));
+                let slab = |row: &[f32; W], a: usize| {
+                    let b = _mm_loadu_ps(row.as_ptr().add(4 * h));
                     _mm_mul_ps(
                         _mm_sub_ps(b, _mm_set1_ps(ray.org[a])),
                         _mm_set1_ps(ray.inv[a]),
@@ -64,8 +63,9 @@ impl BoxTest for Sse {
                 let mut tn = _mm_setzero_ps();
                 let mut tf = _mm_set1_ps(f32::INFINITY);
                 for a in 0..3 {
-                    tn = _mm_max_ps(slab(ray.near[a], a), tn);
-                    tf = _mm_min_ps(slab(ray.far[a], a), tf);
+                    let (near, far) = ray.rows(node, a);
+                    tn = _mm_max_ps(slab(near, a), tn);
+                    tf = _mm_min_ps(slab(far, a), tf);
                 }
                 tf = _mm_min_ps(_mm_mul_ps(tf, _mm_set1_ps(FAR_SCALE)), _mm_set1_ps(tmax));
                 _mm_storeu_ps(tnear.as_mut_ptr().add(4 * h), tn);

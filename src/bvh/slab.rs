@@ -9,7 +9,7 @@
 //! or NaN (origin exactly on the plane, 0·∞); min/max are written so a NaN leaves the running
 //! bound unchanged (the slab does not constrain a ray lying in it), as in pbrt-v4.
 
-use super::wide::{PLANES, W, WideNode};
+use super::wide::{W, WideNode};
 
 /// γ₃ of Higham / pbrt-v4 for f32: 3ε/(1 − 3ε), ε = 2⁻²⁴ (half an ulp of 1).
 const GAMMA3: f32 = 3.0 * (f32::EPSILON * 0.5) / (1.0 - 3.0 * (f32::EPSILON * 0.5));
@@ -29,22 +29,28 @@ pub struct SlabRay {
     pub org: [f32; 3],
     /// 1/d per axis, correctly rounded (±∞ for a zero component, signed like it).
     pub inv: [f32; 3],
-    /// Plane row (`WideNode::planes`) of the near and far side of each axis's slab.
-    pub near: [usize; 3],
-    pub far: [usize; 3],
+    /// The direction is negative along the axis: its slab's near side is the upper plane.
+    neg: [bool; 3],
 }
 
 impl SlabRay {
     #[inline(always)]
     pub fn new(org: [f32; 3], dir: [f32; 3]) -> SlabRay {
         let inv = dir.map(|d| 1.0 / d);
-        let neg = |a: usize| inv[a].is_sign_negative() as usize;
         SlabRay {
             org,
             inv,
-            near: [0, 1, 2].map(|a| 2 * a + neg(a)),
-            far: [0, 1, 2].map(|a| 2 * a + 1 - neg(a)),
+            neg: inv.map(f32::is_sign_negative),
         }
+    }
+
+    /// The plane rows (`WideNode::planes`) of the near and far side of axis `a`'s slab. With
+    /// `a` a constant of an unrolled loop both rows are fixed offsets: a select, no index
+    /// arithmetic or bounds check per node.
+    #[inline(always)]
+    pub fn rows<'n>(&self, node: &'n WideNode, a: usize) -> (&'n [f32; W], &'n [f32; W]) {
+        let (lo, hi) = (&node.planes[2 * a], &node.planes[2 * a + 1]);
+        if self.neg[a] { (hi, lo) } else { (lo, hi) }
     }
 }
 
@@ -74,13 +80,13 @@ pub struct Scalar;
 impl BoxTest for Scalar {
     #[inline(always)]
     fn test(node: &WideNode, ray: &SlabRay, tmax: f32, tnear: &mut [f32; W]) -> u32 {
-        let p: &[[f32; W]; PLANES] = &node.planes;
+        let rows = [0, 1, 2].map(|a| ray.rows(node, a));
         let mut mask = 0;
         for i in 0..W {
             let (mut tn, mut tf) = (0.0f32, f32::INFINITY);
-            for a in 0..3 {
-                tn = max_keep((p[ray.near[a]][i] - ray.org[a]) * ray.inv[a], tn);
-                tf = min_keep((p[ray.far[a]][i] - ray.org[a]) * ray.inv[a], tf);
+            for (a, (near, far)) in rows.iter().enumerate() {
+                tn = max_keep((near[i] - ray.org[a]) * ray.inv[a], tn);
+                tf = min_keep((far[i] - ray.org[a]) * ray.inv[a], tf);
             }
             tnear[i] = tn;
             mask |= ((tn <= (tf * FAR_SCALE).min(tmax)) as u32) << i;

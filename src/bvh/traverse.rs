@@ -7,6 +7,7 @@ use super::packet::{LANES, PacketRay, TriPacket};
 use super::slab::{BoxTest, SlabRay, TMAX_SCALE};
 use super::watertight::WatertightRay;
 use super::wide::{Child, W, WideNode, decode};
+use glam::Vec3A;
 use std::mem::MaybeUninit;
 
 /// Stack entries held in place; deeper stacks (a wide tree deeper than ~9 levels, all of
@@ -69,7 +70,18 @@ pub struct Tree<'a> {
     pub packets: &'a [TriPacket],
 }
 
-/// One query: the ray in both forms and the far end of its segment.
+/// What a query asks: a checked ray (finite, non-zero direction) and the far end of its
+/// segment (not NaN, > 0).
+#[derive(Clone, Copy)]
+pub struct QueryRay {
+    pub origin: Vec3A,
+    pub dir: Vec3A,
+    pub tmax: f32,
+}
+
+/// One query's per-ray constants: the ray in each form the tests take and the far end of its
+/// segment. Built inside the traversal (compiled for its instruction set) rather than passed
+/// in, so that the constants go straight to where the traversal keeps them.
 #[derive(Clone, Copy)]
 pub struct Query {
     pub slab: SlabRay,
@@ -87,10 +99,24 @@ pub struct SlotHit {
     pub b2: f32,
 }
 
+impl Query {
+    #[inline(always)]
+    fn new(r: &QueryRay) -> Query {
+        let wt = WatertightRay::new(r.origin, r.dir);
+        Query {
+            slab: SlabRay::new(r.origin.to_array(), r.dir.to_array()),
+            packet: PacketRay::new(&wt),
+            wt,
+            tmax: r.tmax,
+        }
+    }
+}
+
 /// Closest hit in (0, tmax) (`ANY` = false) or any hit (`ANY` = true, returns the first found).
 /// The tree has at least one triangle.
 #[inline(always)]
-pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, q: &Query) -> Option<SlotHit> {
+pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Option<SlotHit> {
+    let q = &Query::new(ray);
     let mut stack = Stack::new();
     let mut tnear = [0.0f32; W];
     let (mut tmax, mut best) = (q.tmax, None);
@@ -144,8 +170,43 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, q: &Query) -> Option<Sl
 
 /// Push the children in `mask` and return the one to visit next: the nearest (its siblings
 /// stacked farthest first), or for `ANY` the last in slot order. None when the mask is empty.
+/// One and two children (most nodes an incoherent ray enters) take straight-line paths with
+/// the general loop's order: of equal entry distances the higher slot is visited first.
 #[inline(always)]
 fn push_hits<const ANY: bool>(
+    node: &WideNode,
+    mask: u32,
+    tnear: &[f32; W],
+    stack: &mut Stack,
+) -> Option<u32> {
+    if mask == 0 {
+        return None;
+    }
+    let i = mask.trailing_zeros() as usize;
+    let rest = mask & (mask - 1);
+    if rest == 0 {
+        return Some(node.child[i]);
+    }
+    if rest & (rest - 1) == 0 {
+        let j = rest.trailing_zeros() as usize;
+        let (a, b) = (node.child[i], node.child[j]);
+        let (next, later) = if ANY || tnear[i] >= tnear[j] {
+            ((b, tnear[j]), (a, tnear[i]))
+        } else {
+            ((a, tnear[i]), (b, tnear[j]))
+        };
+        stack.push(Entry {
+            word: later.0,
+            t: later.1,
+        });
+        return Some(next.0);
+    }
+    push_sorted::<ANY>(node, mask, tnear, stack)
+}
+
+/// [`push_hits`] for any number of children: insertion by decreasing entry distance.
+#[inline(always)]
+fn push_sorted<const ANY: bool>(
     node: &WideNode,
     mut mask: u32,
     tnear: &[f32; W],

@@ -55,6 +55,12 @@ pub struct Bdpt<'a> {
     /// Heckbert filter in light→eye order (`PathFilter::forward`); None = all paths.
     pub filter: Option<&'a DfaTable>,
     cam: CameraModel,
+    /// The scene has nested or absorbing volumes: the walks keep a medium stack and
+    /// connections attenuate (without, every segment is in air, as in the path tracer's
+    /// lean walk, `cpu::walk_spec`).
+    media: bool,
+    /// The scene has textures: surface hits interpolate uv.
+    with_uv: bool,
 }
 
 const MAX_VERTS: usize = 66;
@@ -88,6 +94,8 @@ impl<'a> Bdpt<'a> {
             mode,
             filter,
             cam: CameraModel::new(&pt.scene.camera, width, height),
+            media: pt.nested || pt.absorption,
+            with_uv: pt.textures,
         }
     }
 

@@ -89,8 +89,15 @@ impl<'a> Vertex<'a> {
         }
     }
 
-    /// The vertex of a walk arriving at `it` with state `st`.
-    pub fn surface(scene: &Scene, it: &Interaction, st: &PathState) -> Vertex<'a> {
+    /// The vertex of a walk arriving at `it` with state `st`; `media`: the walk keeps a
+    /// medium stack (else both media are air).
+    #[inline]
+    pub fn surface(scene: &Scene, it: &Interaction, st: &PathState, media: bool) -> Vertex<'a> {
+        let (medium, medium_across) = if media {
+            (st.medium(scene), st.medium_towards(scene, it, -it.wo_w))
+        } else {
+            (None, None)
+        };
         Vertex {
             ng: it.ng,
             ns: it.ns,
@@ -98,8 +105,8 @@ impl<'a> Vertex<'a> {
             w_prev: it.wo_w,
             tri: it.hit.tri,
             collapsed: st.collapsed,
-            medium: st.medium(scene),
-            medium_across: st.medium_towards(scene, it, -it.wo_w),
+            medium,
+            medium_across,
             ..Vertex::new(Kind::Surface, it.hit.p, st.beta, 0.0, Symbol::D)
         }
     }

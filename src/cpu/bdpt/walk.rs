@@ -4,7 +4,7 @@
 use super::vertex::{Kind, Vertex, to_area};
 use super::{Bdpt, BdptMode};
 use crate::bsdf::{BxDF, TransportMode};
-use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards};
+use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards, surface_with};
 use crate::cpu::path_state::{Interface, PathState};
 use crate::cpu::spectral::Spectral;
 use crate::math::{Color, rng::Sampler};
@@ -32,17 +32,21 @@ impl<'a> Bdpt<'a> {
             let Some(h) = self.pt.bvh.intersect(o, d, f32::INFINITY) else {
                 return Some((st.beta, st.collapsed, d));
             };
-            let hit = self.pt.surface(&h);
-            st.attenuate(scene, hit.t, sp);
-            let enclosing = match st.interface(scene, &hit, d) {
-                Interface::Real(m) => m,
-                Interface::Pass => {
-                    // A false hit is no vertex: the area densities use vertex positions.
-                    o = self.pt.pass_through(&hit, d);
-                    continue;
-                }
-                Interface::Lost => break,
-            };
+            let hit = surface_with(scene, &h, self.with_uv);
+            // Without media every interface is real and refracts against air.
+            let mut enclosing = None;
+            if self.media {
+                st.attenuate(scene, hit.t, sp);
+                enclosing = match st.interface(scene, &hit, d) {
+                    Interface::Real(m) => m,
+                    Interface::Pass => {
+                        // A false hit is no vertex: the area densities use vertex positions.
+                        o = self.pt.pass_through(&hit, d);
+                        continue;
+                    }
+                    Interface::Lost => break,
+                };
+            }
             let prev = path.len() - 1;
             let offset = self.pt.bvh.offset_scale();
             let Some(it) = Interaction::new(scene, &hit, d, sp, offset, enclosing) else {
@@ -65,7 +69,7 @@ impl<'a> Bdpt<'a> {
                 break;
             };
             st.arrive(&it);
-            let mut v = Vertex::surface(scene, &it, &st);
+            let mut v = Vertex::surface(scene, &it, &st, self.media);
             v.pdf_fwd = to_area(pdf_w, &path[prev], &v);
             path.push(v);
             if path.len() >= max_verts {
@@ -76,7 +80,7 @@ impl<'a> Bdpt<'a> {
                 Bounce::Continue { s, wi } => (s, wi),
                 Bounce::Absorbed | Bounce::Poisoned => break,
             };
-            st.scatter(scene, &it, &s, wi, mode);
+            st.scatter_with(scene, &it, (&s, wi), mode, self.media);
             path[cur].class = Symbol::from(s.lobe);
             if s.is_delta {
                 path[cur].delta = true;
