@@ -72,6 +72,9 @@ impl PacketRay {
     #[inline(always)]
     pub fn new(wt: &WatertightRay) -> PacketRay {
         let (org, k, s) = wt.shear();
+        // An array, not `Vec3A`: indexing a `Vec3A` by a runtime axis is a `match` (a
+        // branch per component, mispredicted on incoherent rays); an array is one load.
+        let org = org.to_array();
         PacketRay {
             org: k.map(|a| Vec4::splat(org[a])),
             k,
