@@ -11,6 +11,13 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The world axes (x, y, z): a placeholder for vertices without a surface.
+    pub const WORLD: Frame = Frame {
+        s: Vec3::X,
+        t: Vec3::Y,
+        n: Vec3::Z,
+    };
+
     /// Branchless ONB from a unit normal.
     /// Duff et al. 2017, "Building an Orthonormal Basis, Revisited" (JCGT 6(1)), listing 3.
     #[inline]

@@ -31,12 +31,12 @@ impl End {
     #[inline]
     pub fn new(v: &Vertex, w: Vec3) -> Option<End> {
         let bsdf = v.bsdf.filter(|b| !b.is_delta())?;
-        let frame = Frame::from_normal(v.ns);
+        // A vertex with a BSDF is a surface vertex: its walk stored frame and wo.
         Some(End {
-            frame,
+            frame: v.frame,
             bsdf,
-            wo: frame.to_local(v.w_prev),
-            wi: frame.to_local(w),
+            wo: v.wo,
+            wi: v.frame.to_local(w),
         })
     }
 

@@ -15,17 +15,13 @@ use super::end::End;
 use super::vertex::Kind;
 use super::vertex::{Vertex, remap0, to_area};
 use crate::bsdf::BxDF;
-use crate::math::Frame;
 
 impl Bdpt<'_> {
     /// Solid-angle density of sampling the BSDF at surface vertex `z` towards `w` (from
     /// its predecessor's direction); 0 for delta lobes.
     fn bsdf_pdf_dir(&self, z: &Vertex, w: glam::Vec3) -> f32 {
         match z.bsdf {
-            Some(b) if !b.is_delta() => {
-                let frame = Frame::from_normal(z.ns);
-                b.pdf(frame.to_local(z.w_prev), frame.to_local(w))
-            }
+            Some(b) if !b.is_delta() => b.pdf(z.wo, z.frame.to_local(w)),
             _ => 0.0,
         }
     }

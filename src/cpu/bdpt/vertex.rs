@@ -5,7 +5,7 @@ use crate::bsdf::Bsdf;
 use crate::cpu::interaction::Interaction;
 use crate::cpu::medium::Medium;
 use crate::cpu::path_state::PathState;
-use crate::math::Color;
+use crate::math::{Color, Frame};
 use crate::paths::Symbol;
 use crate::scene::Scene;
 use crate::scene::light::Light;
@@ -46,6 +46,11 @@ pub(super) struct Vertex<'a> {
     pub class: Symbol,
     /// Direction towards the predecessor on its subpath (world).
     pub w_prev: Vec3,
+    /// Surface vertices: the shading frame (`Frame::from_normal(ns)`) and `w_prev` in it, as
+    /// the walk's interaction computed them, so that connections do not rebuild them per
+    /// strategy (`End::new`); `Frame::WORLD` and zero elsewhere.
+    pub frame: Frame,
+    pub wo: Vec3,
     /// Scene triangle of a surface vertex.
     pub tri: u32,
     /// Spectral mode: a dispersive event on this subpath (up to here) left only the hero
@@ -80,6 +85,8 @@ impl<'a> Vertex<'a> {
             delta: false,
             class,
             w_prev: Vec3::ZERO,
+            frame: Frame::WORLD,
+            wo: Vec3::ZERO,
             tri: 0,
             collapsed: false,
             medium: None,
@@ -103,6 +110,8 @@ impl<'a> Vertex<'a> {
             ns: it.ns,
             bsdf: Some(it.bsdf),
             w_prev: it.wo_w,
+            frame: it.frame,
+            wo: it.wo,
             tri: it.hit.tri,
             collapsed: st.collapsed,
             medium,
