@@ -4,9 +4,11 @@
 //! `VK_ICD_FILENAMES` at the radeon ICD and `RADV_FORCE_FAMILY=navi21`, and skips with a
 //! notice where that ICD is not installed.
 //!
-//! The limits below are regression guards at what the kernels use today (the BVH stack moved
-//! to workgroup memory: cornell-glass 192 → 128 VGPRs), not yet the targets of 96 and
-//! 128 VGPRs; no kernel may spill VGPRs.
+//! cornell-glass's kernels meet the target of 96 VGPRs (the BVH stack moved to
+//! workgroup memory: 192 → 128; next-event estimation keeps only its estimate live across
+//! the shadow ray, after the path's BSDF sample is applied: 128 → 96). The all-features
+//! limits are regression guards at what those kernels use today, not yet the 128;
+//! no kernel may spill VGPRs.
 
 mod radv;
 
@@ -22,7 +24,7 @@ fn budgets() -> Vec<(&'static str, Specialization, u64)> {
         .expect("built-in")
         .features();
     vec![
-        ("cornell-glass", Specialization::from_features(cornell), 128),
+        ("cornell-glass", Specialization::from_features(cornell), 96),
         ("all features", Specialization::all(), 240),
         ("all features, sppm", Specialization::all_sppm(), 240),
     ]

@@ -231,9 +231,9 @@ fn integrator_light_mis(pick: LightPick, ls: LightLiSample, hit: SurfaceHit, wo:
     return 1.0;
 }
 
-// One next-event estimate at `hit` (without the path throughput), MIS-weighted.
+// One next-event estimate at `hit` times the path throughput `beta`, MIS-weighted.
 // Twin of `Integrator::sample_light` (plus the light-tracing strategy when HAS_LT).
-fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material) -> vec4<f32> {
+fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, ul: f32, ul2: vec2<f32>, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>) -> vec4<f32> {
     let zero = vec4<f32>(0.0);
     let pick = light_set_pick(ul);
     if pick.prob <= 0.0 {
@@ -255,18 +255,22 @@ fn integrator_sample_light(hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec
     if !(side_i * side_o > 0.0) && !bsdf_can_transmit(bsdf) {
         return zero;
     }
+    // The estimate and the medium the shadow ray crosses are computed before the shadow ray
+    // is traced (the same operations as after it), so that only they stay live across the
+    // traversal — not the BSDF, the light sample and the interaction (register pressure).
+    let w = integrator_light_mis(pick, ls, hit, wo, wi, bsdf, lt);
+    let c = beta * (f * abs(wi.z) * li * (w / ls.pdf));
+    let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
+    let dist = length(ls.p_light - hit.p);
     let ray = spawn_ray_to_light(hit.p, ng, side_i, ls);
     if bvh_occluded(ray.o, ray.d, ray.tmax) {
         return zero;
     }
-    let w = integrator_light_mis(pick, ls, hit, wo, wi, bsdf, lt);
-    let c = f * abs(wi.z) * li * (w / ls.pdf);
     // Absorption along the shadow ray (a light inside absorbing glass).
     if ls.infinite {
         return c;
     }
-    let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
-    return c * connection_transmittance(m, length(ls.p_light - hit.p), sp);
+    return c * connection_transmittance(m, dist, sp);
 }
 
 // Beer–Lambert along a connection of length `t` in `medium` (1 outside every medium): the
@@ -435,12 +439,22 @@ fn integrator_eta(ps: ptr<function, PathState>, mat: Material, enclosing: u32) -
     return ie.eta;
 }
 
-// Continue the path by BSDF sampling at `hit` (PBR 4th ed. §13.4 `PathIntegrator::Li`,
-// "Sample BSDF to get new path direction"): throughput, filter state, light-tracing MIS
-// bookkeeping, medium and the next ray.
-fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Material, on: Oriented, frame: Frame, wo: vec3<f32>, bsdf: Bsdf, uc: f32, u2: vec2<f32>) -> u32 {
-    let ng = on.ng;
-    let b = interaction_sample(bsdf, frame, ng, -ps.d, wo, uc, u2, MODE_RADIANCE);
+// The light-tracing MIS density p←(x_{j-1}) of the BSDF sample `b` at `hit`: the vertex
+// sampling its predecessor (1 for a delta sample; only read from the second vertex on).
+fn integrator_p_back(ps: ptr<function, PathState>, hit: SurfaceHit, bsdf: Bsdf, wo: vec3<f32>, b: Bounce) -> f32 {
+    var p_back = 1.0;
+    if HAS_LT && ps.depth >= 1u && b.step == STEP_CONTINUE && !b.s.is_delta {
+        p_back = bsdf_pdf(bsdf, b.s.wi, wo) * ps.lt.cos_prev / (hit.t * hit.t);
+    }
+    return p_back;
+}
+
+// Continue the path with the BSDF sample `b` taken at `hit` (PBR 4th ed. §13.4
+// `PathIntegrator::Li`, "Sample BSDF to get new path direction"): throughput, filter state,
+// light-tracing MIS bookkeeping (`p_back` from `integrator_p_back`), medium and the next ray.
+// `integrator_li` applies it before next-event estimation at the same vertex, which then
+// reads the state from before (register pressure: see there).
+fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Material, ng: vec3<f32>, b: Bounce, p_back: f32) -> u32 {
     if b.step != STEP_CONTINUE {
         return b.step; // STEP_POISON: the firewall drops and counts the sample
     }
@@ -457,10 +471,6 @@ fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Materi
     if HAS_LT {
         if ps.depth >= 1u {
             // p←(x_{j-1}): this vertex samples the previous one (1 if delta).
-            var p_back = 1.0;
-            if !s.is_delta {
-                p_back = bsdf_pdf(bsdf, s.wi, wo) * ps.lt.cos_prev / (hit.t * hit.t);
-            }
             ps.lt.prod *= ratio(p_back, ps.lt.pf_prev);
         } else if s.is_delta {
             ps.lt.ok = false; // x1 is delta: light tracing cannot connect it to the camera
@@ -549,16 +559,24 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             ps.l += ps.beta * photon_gather(g, bsdf);
         }
 
+        // BSDF sampling, applied to the path before next-event estimation runs at this
+        // vertex with the state from before it (throughput, filter state, light-tracing MIS
+        // and media): the CPU's order of operations on the same random numbers, but across
+        // the shadow ray only the continued path and the estimate stay live, not the BSDF,
+        // the sample and the interaction (register pressure; see README "Register pressure").
+        let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
+        let p_back = integrator_p_back(&ps, hit, bsdf, wo, bounce);
+        let delta = bsdf_is_delta(bsdf);
+        let before = ps;
+        let step = integrator_scatter(&ps, hit, mat, on.ng, bounce, p_back);
+
         // Next-event estimation.
-        if (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !bsdf_is_delta(bsdf) && params.light_count > 0u {
-            let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
+        if (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !delta && params.light_count > 0u {
+            let mask = ClassMask(integrator_accepts_light(integrator_step(before.q, SYM_D)), integrator_accepts_light(integrator_step(before.q, SYM_G)));
             if mask.d || mask.g {
-                ps.l += ps.beta * integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, ps.sp, ps.lt, ps.media, mat);
+                ps.l += integrator_sample_light(hit, on.ng, frame, wo, wo_w, bsdf, ul, ul2, mask, before.sp, before.lt, before.media, mat, before.beta);
             }
         }
-
-        // BSDF sampling.
-        let step = integrator_scatter(&ps, hit, mat, on, frame, wo, bsdf, uc, u2);
         if step == STEP_POISON {
             return poison();
         }
@@ -566,7 +584,7 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
             break;
         }
         if HAS_SPPM {
-            ps.chain = sppm_chain_next(ps.chain, gathered, bsdf_is_delta(bsdf));
+            ps.chain = sppm_chain_next(ps.chain, gathered, delta);
         }
         let q_rr = russian_roulette(ps.beta, ps.eta_scale, ps.depth, sampler);
         if q_rr <= 0.0 {
