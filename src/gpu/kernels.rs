@@ -9,12 +9,16 @@ use anyhow::{Context, Result};
 
 /// The parsed and validated integrator module.
 fn module() -> Result<(naga::Module, naga::valid::ModuleInfo)> {
-    let source = integrator_source();
-    let module = naga::front::wgsl::parse_str(&source)
-        .map_err(|e| anyhow::anyhow!("integrator WGSL: {}", e.emit_to_string(&source)))?;
+    parse(&integrator_source()).context("integrator WGSL")
+}
+
+/// WGSL source parsed and validated.
+fn parse(source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo)> {
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| anyhow::anyhow!("{}", e.emit_to_string(source)))?;
     let info = validator()
         .validate(&module)
-        .context("integrator WGSL does not validate")?;
+        .context("the module does not validate")?;
     Ok((module, info))
 }
 
@@ -52,6 +56,22 @@ fn specialised(
 /// clamped, loops bounded.
 pub fn spirv(spec: &Specialization, kernel: Kernel) -> Result<Vec<u32>> {
     let (module, info) = specialised(spec, kernel)?;
+    write_spirv(&module, &info, kernel.entry())
+}
+
+/// SPIR-V of the entry point `entry` of a WGSL source (e.g. a kernel `dump_kernels` wrote,
+/// edited by hand), written as [`spirv`] writes it — for trying a kernel change on the
+/// register tools without rebuilding the crate (`examples/wgsl_registers.rs`).
+pub fn spirv_of_wgsl(source: &str, entry: &str) -> Result<Vec<u32>> {
+    let (module, info) = parse(source)?;
+    write_spirv(&module, &info, entry)
+}
+
+fn write_spirv(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    entry: &str,
+) -> Result<Vec<u32>> {
     let policies = naga::proc::BoundsCheckPolicies {
         index: naga::proc::BoundsCheckPolicy::Restrict,
         buffer: naga::proc::BoundsCheckPolicy::Unchecked,
@@ -66,10 +86,10 @@ pub fn spirv(spec: &Specialization, kernel: Kernel) -> Result<Vec<u32>> {
     };
     let pipeline = naga::back::spv::PipelineOptions {
         shader_stage: naga::ShaderStage::Compute,
-        entry_point: kernel.entry().to_owned(),
+        entry_point: entry.to_owned(),
     };
-    naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline))
-        .with_context(|| format!("writing SPIR-V of {}", kernel.entry()))
+    naga::back::spv::write_vec(module, info, &options, Some(&pipeline))
+        .with_context(|| format!("writing SPIR-V of {entry}"))
 }
 
 /// WGSL of `kernel` specialised for `spec` (override constants substituted, as naga writes
