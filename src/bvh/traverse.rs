@@ -236,3 +236,66 @@ fn push_sorted<const ANY: bool>(
     }
     Some(last.word)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::rng::Sampler;
+
+    /// What a push left: the child to visit next and the stack from the bottom.
+    fn run(
+        f: fn(&WideNode, u32, &[f32; W], &mut Stack) -> Option<u32>,
+        node: &WideNode,
+        mask: u32,
+        tnear: &[f32; W],
+    ) -> (Option<u32>, Vec<(u32, u32)>) {
+        let mut stack = Stack::new();
+        let next = f(node, mask, tnear, &mut stack);
+        let mut rest = Vec::new();
+        while let Some(e) = stack.pop() {
+            rest.push((e.word, e.t.to_bits()));
+        }
+        rest.reverse();
+        (next, rest)
+    }
+
+    /// The one- and two-child fast paths visit and stack exactly what the general insertion
+    /// does, for closest-hit and any-hit order, including equal entry distances (which decide
+    /// between hits at equal t).
+    #[test]
+    fn fast_paths_push_what_the_insertion_pushes() {
+        let mut s = Sampler::new(3, 0, 5);
+        let mut node = WideNode {
+            planes: [[0.0; W]; super::super::wide::PLANES],
+            child: [0; W],
+        };
+        for (i, c) in node.child.iter_mut().enumerate() {
+            *c = 100 + i as u32;
+        }
+        let mut cases = 0;
+        for mask in 0u32..(1 << W) {
+            for round in 0..8 {
+                // Few distinct distances, so that ties are common.
+                let tnear: [f32; W] = std::array::from_fn(|_| {
+                    if round == 0 {
+                        1.0
+                    } else {
+                        (s.next_1d() * 3.0).floor()
+                    }
+                });
+                assert_eq!(
+                    run(push_hits::<false>, &node, mask, &tnear),
+                    run(push_sorted::<false>, &node, mask, &tnear),
+                    "closest hit, mask {mask:#b}, tnear {tnear:?}"
+                );
+                assert_eq!(
+                    run(push_hits::<true>, &node, mask, &tnear),
+                    run(push_sorted::<true>, &node, mask, &tnear),
+                    "any hit, mask {mask:#b}"
+                );
+                cases += 1;
+            }
+        }
+        assert_eq!(cases, 8 << W);
+    }
+}
