@@ -129,7 +129,12 @@ fn bsdf_sample_index_matched(wo: vec3<f32>) -> BsdfSample {
 
 // True if every lobe is a delta distribution (next-event estimation is skipped).
 fn bsdf_is_delta(b: Bsdf) -> bool {
-    switch b.kind {
+    return bsdf_kind_is_delta(b.kind);
+}
+
+// Whether every lobe of a BSDF of kind `kind` (a material's `bsdf`) is a delta distribution.
+fn bsdf_kind_is_delta(kind: u32) -> bool {
+    switch kind {
         case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
             return true;
         }
