@@ -288,6 +288,11 @@ fn bench_quick_reports_one_core_and_all_core_rates() {
         assert!(one > 0.0 && all > 0.0, "{line}");
         assert!(line.contains("threads"), "{line}");
     }
+    let bdpt = out
+        .lines()
+        .find(|l| l.contains("caustic 256²") && l.contains("(bdpt)"))
+        .unwrap_or_else(|| panic!("no caustic bdpt line:\n{out}"));
+    assert!(figure(bdpt, "M samples/s on ", true) > 0.0, "{bdpt}");
 }
 
 #[test]

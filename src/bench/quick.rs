@@ -1,6 +1,7 @@
 //! `refract bench --quick`: micro-benchmarks of the CPU renderer's parts on one core and on
 //! all cores — incoherent closest-hit and shadow rays/s through the BVH, BSDF sampling, and
-//! path samples/s of a whole render of builtin:cornell-glass at 256² (issue 14's figures).
+//! path samples/s of a whole render of builtin:cornell-glass at 256² (issue 14's figures) —
+//! and BDPT samples/s on builtin:caustic at 256² (issue 19's).
 //! Timings, not tests: ratios measured side by side in one run are what to compare.
 
 use crate::cpu::Renderer;
@@ -47,6 +48,7 @@ pub fn quick(spec: &str) -> Result<String> {
     }
     out.push_str(&bsdf_report());
     out.push_str(&render_report()?);
+    out.push_str(&bdpt_report()?);
     Ok(out)
 }
 
@@ -145,6 +147,31 @@ fn render_report() -> Result<String> {
          thread, {:.2} M samples/s on {} threads\n",
         one / 1e6,
         all / 1e6,
+        rayon::current_num_threads()
+    ))
+}
+
+/// BDPT samples/s of builtin:caustic at 256², 8 spp, on all threads (issue 19's figure; the
+/// median of 3 passes).
+fn bdpt_report() -> Result<String> {
+    let r = Renderer::new(Scene::load("builtin:caustic")?)?;
+    let mut opts = RenderOptions::from_scene(&r.scene);
+    (opts.width, opts.height) = (256, 256);
+    opts.estimator = crate::render::Estimator::Bdpt;
+    let spp = 8;
+    let samples = f64::from(opts.width * opts.height * spp);
+    let mut rates: Vec<f64> = (0..3)
+        .map(|_| {
+            let mut film = Film::new(opts.width, opts.height);
+            let t = Instant::now();
+            r.render_pass(&opts, &mut film, 0, spp);
+            samples / t.elapsed().as_secs_f64()
+        })
+        .collect();
+    rates.sort_by(f64::total_cmp);
+    Ok(format!(
+        "caustic 256², {spp} spp (bdpt): {:.2} M samples/s on {} threads\n",
+        rates[1] / 1e6,
         rayon::current_num_threads()
     ))
 }
