@@ -188,7 +188,11 @@ impl Bvh {
     /// The traversal's form of a ray; None (counted when invalid) for rays that cannot hit.
     #[inline(always)]
     fn query(&self, origin: Vec3, dir: Vec3, tmax: f32) -> Option<QueryRay> {
-        let valid = origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO && !tmax.is_nan();
+        // Vec3A: each test one SIMD compare (the scalar form was ~19 instructions a query).
+        let (o, d) = (Vec3A::from(origin), Vec3A::from(dir));
+        let valid = (o.is_finite_mask() & d.is_finite_mask()).all()
+            && d.cmpne(Vec3A::ZERO).any()
+            && !tmax.is_nan();
         if !valid {
             self.invalid_rays.fetch_add(1, Ordering::Relaxed);
             return None;
@@ -197,8 +201,8 @@ impl Bvh {
             return None;
         }
         Some(QueryRay {
-            origin: origin.into(),
-            dir: dir.into(),
+            origin: o,
+            dir: d,
             tmax,
         })
     }
