@@ -125,7 +125,34 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
         match decode(cur) {
             Child::Inner(n) => {
                 let node = &tree.nodes[n as usize];
-                let mask = K::test(node, &q.slab, tmax * TMAX_SCALE, &mut tnear);
+                let mut mask = K::test(node, &q.slab, tmax * TMAX_SCALE, &mut tnear);
+                if ANY {
+                    // Occlusion: any hit ends the query whatever the order, so the leaves
+                    // among the accepted children are tested at once, not stacked.
+                    let mut leaves = mask & leaf_mask(node);
+                    mask &= !leaves;
+                    while leaves != 0 {
+                        let i = leaves.trailing_zeros() as usize;
+                        leaves &= leaves - 1;
+                        if let Child::Leaf(packet, count) = decode(node.child[i]) {
+                            let h = q.packet.intersect(
+                                &q.wt,
+                                &tree.packets[packet as usize],
+                                count,
+                                tmax,
+                            );
+                            if h.mask != 0 {
+                                let lane = h.mask.trailing_zeros() as usize;
+                                return Some(SlotHit {
+                                    t: h.t[lane],
+                                    slot: packet * LANES as u32 + lane as u32,
+                                    b1: h.b1[lane],
+                                    b2: h.b2[lane],
+                                });
+                            }
+                        }
+                    }
+                }
                 if let Some(next) = push_hits::<ANY>(node, mask, &tnear, &mut stack) {
                     cur = next;
                     continue;
@@ -166,6 +193,16 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
             }
         };
     }
+}
+
+/// The slots of `node` holding leaves (a leaf word has its top bit set: `wide::decode`), as
+/// a bit mask computed without a branch per slot.
+#[inline(always)]
+fn leaf_mask(node: &WideNode) -> u32 {
+    node.child
+        .iter()
+        .enumerate()
+        .fold(0, |m, (i, &w)| m | (w >> 31) << i)
 }
 
 /// Push the children in `mask` and return the one to visit next: the nearest (its siblings
