@@ -73,15 +73,20 @@ const REPEATS: usize = 7;
 
 /// Rays per second of `f` over [`RAYS`] rays (the median of [`REPEATS`] runs), and its result.
 fn rate(f: impl Fn() -> usize) -> (f64, usize) {
-    let mut rates = Vec::with_capacity(REPEATS);
     let mut n = 0;
-    for _ in 0..REPEATS {
+    let r = median_of(REPEATS, || {
         let t = Instant::now();
         n = f();
-        rates.push(RAYS as f64 / t.elapsed().as_secs_f64());
-    }
-    rates.sort_by(f64::total_cmp);
-    (rates[REPEATS / 2], n)
+        RAYS as f64 / t.elapsed().as_secs_f64()
+    });
+    (r, n)
+}
+
+/// The median of `runs` (odd) values of `f`.
+fn median_of(runs: usize, mut f: impl FnMut() -> f64) -> f64 {
+    let mut v: Vec<f64> = (0..runs).map(|_| f()).collect();
+    v.sort_by(f64::total_cmp);
+    v[runs / 2]
 }
 
 /// Nanoseconds per BSDF sample, one core.
@@ -160,18 +165,15 @@ fn bdpt_report() -> Result<String> {
     opts.estimator = crate::render::Estimator::Bdpt;
     let spp = 8;
     let samples = f64::from(opts.width * opts.height * spp);
-    let mut rates: Vec<f64> = (0..3)
-        .map(|_| {
-            let mut film = Film::new(opts.width, opts.height);
-            let t = Instant::now();
-            r.render_pass(&opts, &mut film, 0, spp);
-            samples / t.elapsed().as_secs_f64()
-        })
-        .collect();
-    rates.sort_by(f64::total_cmp);
+    let rate = median_of(3, || {
+        let mut film = Film::new(opts.width, opts.height);
+        let t = Instant::now();
+        r.render_pass(&opts, &mut film, 0, spp);
+        samples / t.elapsed().as_secs_f64()
+    });
     Ok(format!(
         "caustic 256², {spp} spp (bdpt): {:.2} M samples/s on {} threads\n",
-        rates[1] / 1e6,
+        rate / 1e6,
         rayon::current_num_threads()
     ))
 }

@@ -3,7 +3,7 @@
 //! which stops at the first hit); stacked entries keep their entry distance so those beyond
 //! the closest hit so far are dropped when popped.
 
-use super::packet::{LANES, PacketRay, TriPacket};
+use super::packet::{LANES, PacketHits, PacketRay, TriPacket};
 use super::slab::{BoxTest, SlabRay, TMAX_SCALE};
 use super::watertight::WatertightRay;
 use super::wide::{Child, W, WideNode, decode};
@@ -129,7 +129,7 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
                 if ANY {
                     // Occlusion: any hit ends the query whatever the order, so the leaves
                     // among the accepted children are tested at once, not stacked.
-                    let mut leaves = mask & leaf_mask(node);
+                    let mut leaves = mask & node.leaf_slots();
                     mask &= !leaves;
                     while leaves != 0 {
                         let i = leaves.trailing_zeros() as usize;
@@ -142,13 +142,7 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
                                 tmax,
                             );
                             if h.mask != 0 {
-                                let lane = h.mask.trailing_zeros() as usize;
-                                return Some(SlotHit {
-                                    t: h.t[lane],
-                                    slot: packet * LANES as u32 + lane as u32,
-                                    b1: h.b1[lane],
-                                    b2: h.b2[lane],
-                                });
+                                return Some(slot_hit(packet, h.mask.trailing_zeros(), &h));
                             }
                         }
                     }
@@ -171,13 +165,7 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
                     let t = h.t[lane];
                     if t < tmax {
                         tmax = t;
-                        let slot = packet * LANES as u32 + lane as u32;
-                        best = Some(SlotHit {
-                            t,
-                            slot,
-                            b1: h.b1[lane],
-                            b2: h.b2[lane],
-                        });
+                        best = Some(slot_hit(packet, lane as u32, &h));
                         if ANY {
                             return best;
                         }
@@ -195,14 +183,16 @@ pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Opti
     }
 }
 
-/// The slots of `node` holding leaves (a leaf word has its top bit set: `wide::decode`), as
-/// a bit mask computed without a branch per slot.
+/// The hit of lane `lane` of packet `packet` (slot = packet · `LANES` + lane).
 #[inline(always)]
-fn leaf_mask(node: &WideNode) -> u32 {
-    node.child
-        .iter()
-        .enumerate()
-        .fold(0, |m, (i, &w)| m | (w >> 31) << i)
+fn slot_hit(packet: u32, lane: u32, h: &PacketHits) -> SlotHit {
+    let l = lane as usize;
+    SlotHit {
+        t: h.t[l],
+        slot: packet * LANES as u32 + lane,
+        b1: h.b1[l],
+        b2: h.b2[l],
+    }
 }
 
 /// Push the children in `mask` and return the one to visit next: the nearest (its siblings
@@ -276,6 +266,7 @@ fn push_sorted<const ANY: bool>(
 
 #[cfg(test)]
 mod tests {
+    use super::super::wide::PLANES;
     use super::*;
     use crate::math::rng::Sampler;
 
@@ -303,7 +294,7 @@ mod tests {
     fn fast_paths_push_what_the_insertion_pushes() {
         let mut s = Sampler::new(3, 0, 5);
         let mut node = WideNode {
-            planes: [[0.0; W]; super::super::wide::PLANES],
+            planes: [[0.0; W]; PLANES],
             child: [0; W],
         };
         for (i, c) in node.child.iter_mut().enumerate() {

@@ -43,6 +43,16 @@ impl WideNode {
         child: [0; W],
     };
 
+    /// The slots holding leaves, as a bit mask computed without a branch per slot.
+    #[inline(always)]
+    pub fn leaf_slots(&self) -> u32 {
+        const SHIFT: u32 = LEAF_BIT.trailing_zeros();
+        self.child
+            .iter()
+            .enumerate()
+            .fold(0, |m, (i, &w)| m | (w >> SHIFT) << i)
+    }
+
     fn set_box(&mut self, slot: usize, lo: [f32; 3], hi: [f32; 3]) {
         for a in 0..3 {
             self.planes[2 * a][slot] = lo[a];

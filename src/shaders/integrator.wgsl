@@ -578,7 +578,8 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         // sampling (every light type, the environment image's CDF search) only the path and
         // the hit are live, and only the sample is carried on (register pressure).
         let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
-        let nee = (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !bsdf_kind_is_delta(mat.bsdf) && params.light_count > 0u && (mask.d || mask.g);
+        let delta = bsdf_kind_is_delta(mat.bsdf);
+        let nee = (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !delta && params.light_count > 0u && (mask.d || mask.g);
         var nl: NeeLight;
         if nee && NEE_LIGHT_FIRST {
             nl = integrator_nee_light(hit.p, ul, ul2, ps.lt);
@@ -598,12 +599,12 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
 
         // BSDF sampling, applied to the path before next-event estimation runs at this
         // vertex with the state from before it (throughput, filter state, light-tracing MIS
-        // and media): the CPU's order of operations on the same random numbers, but across
-        // the shadow ray only the continued path and the estimate stay live, not the BSDF,
-        // the sample and the interaction (register pressure; see README "Register pressure").
+        // and media): the CPU's operations on the same random numbers (the CPU estimates
+        // first; the values are the same), but across the shadow ray only the continued path
+        // and the estimate stay live, not the BSDF, the sample and the interaction (register
+        // pressure; see README "Register pressure").
         let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
         let p_back = integrator_p_back(&ps, hit, bsdf, wo, bounce);
-        let delta = bsdf_is_delta(bsdf);
         let before = ps;
         let step = integrator_scatter(&ps, hit, mat, on.ng, bounce, p_back);
 

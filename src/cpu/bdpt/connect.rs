@@ -58,9 +58,6 @@ impl Bdpt<'_> {
         d2: f32,
         sp: &Spectral,
     ) -> Option<Color> {
-        if !self.media {
-            return None;
-        }
         let m = v.medium_towards(w);
         m?;
         medium_transmittance(self.pt.scene, m, d2.sqrt(), sp)

@@ -89,13 +89,14 @@ impl<'a> Bdpt<'a> {
         width: u32,
         height: u32,
     ) -> Self {
+        let features = pt.walk_features(&Spectral::RGB);
         Bdpt {
             pt,
             mode,
             filter,
             cam: CameraModel::new(&pt.scene.camera, width, height),
-            media: pt.nested || pt.absorption,
-            with_uv: pt.textures,
+            media: features.media,
+            with_uv: features.textures,
         }
     }
 
