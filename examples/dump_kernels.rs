@@ -57,7 +57,7 @@ fn main() -> Result<()> {
         Specialization {
             light_tracing: a.light_tracing,
             sppm: a.sppm,
-            ..Specialization::from_features(scene.features())
+            ..Specialization::for_scene(&scene)?
         }
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("--out {}", a.out.display()))?;

@@ -23,7 +23,7 @@ fn main() -> anyhow::Result<()> {
             .map_or("builtin:cornell-glass", |s| s);
         Specialization {
             light_tracing: lt,
-            ..Specialization::from_features(Scene::load(name)?.features())
+            ..Specialization::for_scene(&Scene::load(name)?)?
         }
     };
     let bindings = kernels::buffer_bindings()?;

@@ -4,7 +4,7 @@
 //!
 //! `VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/radeon_icd.x86_64.json RADV_FORCE_FAMILY=navi21
 //!  cargo run --release --example wgsl_registers -- DIR/render.wgsl [ENTRY]`
-//! (ENTRY defaults to `render`; the buffer bindings are the renderer's, `gpu::kernels`.)
+//! (ENTRY defaults to `render`; the buffer bindings are the file's own.)
 
 #[path = "../tests/radv/mod.rs"]
 mod radv;
@@ -30,7 +30,7 @@ fn main() -> Result<()> {
     let entry = args.get(1).map_or("render", String::as_str);
     let src = std::fs::read_to_string(path).with_context(|| format!("reading {path}"))?;
     let spirv = kernels::spirv_of_wgsl(&src, entry).with_context(|| format!("compiling {path}"))?;
-    let bindings = kernels::buffer_bindings()?;
+    let bindings = kernels::buffer_bindings_of_wgsl(&src)?;
     for stats in radv::compile_stats(&spirv, entry, &bindings).map_err(|e| anyhow!(e))? {
         let shown: Vec<String> = KEYS
             .iter()

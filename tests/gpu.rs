@@ -117,6 +117,58 @@ fn bvh_repack_leaf_order() {
     eprintln!("BVH2: {} nodes, depth {}", bvh.nodes.len(), bvh.depth);
 }
 
+/// The kernels' traversal stack is sized from the uploaded tree's depth
+/// (`upload::bvh_stack_entries`): each level above a node holds at most one pending sibling,
+/// so depth − 1 entries suffice whichever child a ray visits first. Checked by running
+/// scene.wgsl's loop with every box hit, nearer child first and farther child first, and on
+/// the built-ins the sized stack is well under the full 64.
+#[test]
+fn traversal_stack_sized_from_the_tree_holds_every_pending_sibling() {
+    for name in [
+        "cornell-glass",
+        "caustic",
+        "materials",
+        "glass-of-water",
+        "env-spheres",
+    ] {
+        let scene = Scene::load(&format!("builtin:{name}")).unwrap();
+        let bvh = upload::build_bvh(&scene).unwrap();
+        let entries = upload::bvh_stack_entries(bvh.depth) as usize;
+        for first in [0, 1] {
+            // scene.wgsl's loop with both children always hit: stack one, visit the other.
+            let (mut stack, mut node, mut most) = (Vec::new(), 0u32, 0usize);
+            loop {
+                let n = bvh.nodes[node as usize];
+                if n.prim_count == 0 {
+                    stack.push(n.first_index + 1 - first);
+                    most = most.max(stack.len());
+                    node = n.first_index + first;
+                    continue;
+                }
+                match stack.pop() {
+                    Some(next) => node = next,
+                    None => break,
+                }
+            }
+            assert!(
+                most < bvh.depth as usize,
+                "{name}: {most} pending, depth {}",
+                bvh.depth
+            );
+        }
+        assert!(
+            bvh.depth as usize - 1 <= entries && entries < 64,
+            "{name}: depth {}, {entries} entries",
+            bvh.depth
+        );
+    }
+    assert_eq!(upload::bvh_stack_entries(1), 8);
+    assert_eq!(upload::bvh_stack_entries(23), 24);
+    assert_eq!(upload::bvh_stack_entries(25), 24);
+    assert_eq!(upload::bvh_stack_entries(26), 32);
+    assert_eq!(upload::bvh_stack_entries(64), 64);
+}
+
 const PROBE_COLOR: Vec3 = Vec3::new(0.25, 0.5, 0.875);
 
 fn dist_of(code: u32) -> MicrofacetDistribution {

@@ -134,6 +134,17 @@ pub struct BufferBinding {
 /// pipeline layout outside wgpu. Errors on a binding that is not a buffer.
 pub fn buffer_bindings() -> Result<Vec<BufferBinding>> {
     let (module, _) = module()?;
+    bindings_of(&module)
+}
+
+/// The buffer bindings of a WGSL source (e.g. a hand-edited kernel with a binding of its
+/// own; `examples/wgsl_registers.rs`).
+pub fn buffer_bindings_of_wgsl(source: &str) -> Result<Vec<BufferBinding>> {
+    let (module, _) = parse(source)?;
+    bindings_of(&module)
+}
+
+fn bindings_of(module: &naga::Module) -> Result<Vec<BufferBinding>> {
     let mut out = Vec::new();
     for (_, var) in module.global_variables.iter() {
         let Some(rb) = &var.binding else { continue };

@@ -443,9 +443,6 @@ pub const LIGHT_IMAGE: u32 = 5;
 pub const MEDIUM_STACK_DEPTH: u32 = crate::scene::nesting::MEDIUM_STACK_DEPTH as u32;
 pub const FALSE_HIT_LIMIT: u32 = crate::scene::nesting::FALSE_HIT_LIMIT;
 
-/// Deepest BVH2 the WGSL traversal stack handles (`upload::MAX_BVH_DEPTH`).
-pub const BVH_STACK_SIZE: u32 = super::upload::MAX_BVH_DEPTH;
-
 /// Debug records: 1 (camera dir) + 3 per vertex × 16 vertices + 1 (final sample).
 pub const DEBUG_MAX_VERTICES: usize = 16;
 pub const DEBUG_STRIDE: usize = 3;

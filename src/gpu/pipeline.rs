@@ -127,7 +127,7 @@ pub fn light_probe_source() -> String {
 
 /// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
 /// always compiled in (its radiance is a slider: value edits must not recompile).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Specialization {
     pub lambert: bool,
     pub mirror: bool,
@@ -162,6 +162,17 @@ pub struct Specialization {
     pub sppm: bool,
     /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
     pub nested: bool,
+    /// Traversal stack entries per invocation (`upload::bvh_stack_entries` of the uploaded
+    /// tree's depth; the full 64 where the tree is not known). Workgroup memory, so it
+    /// bounds occupancy: 64 entries allow 4 subgroups per SIMD on RDNA2, 24 allow 10.
+    pub bvh_stack: u32,
+}
+
+impl Default for Specialization {
+    /// No part compiled in, the full traversal stack.
+    fn default() -> Self {
+        Specialization::from_features(Features::empty())
+    }
 }
 
 impl Specialization {
@@ -189,6 +200,22 @@ impl Specialization {
             light_tracing: false,
             sppm: false,
             nested: f.contains(Features::NESTED),
+            bvh_stack: super::upload::MAX_BVH_DEPTH,
+        }
+    }
+
+    /// The kernel parts `scene` needs (as [`Specialization::from_features`]) with the
+    /// traversal stack sized for the BVH2 the renderer uploads for it (built here).
+    pub fn for_scene(scene: &crate::scene::Scene) -> anyhow::Result<Specialization> {
+        let depth = super::upload::build_bvh(scene)?.depth;
+        Ok(Specialization::from_features(scene.features()).with_bvh_depth(depth))
+    }
+
+    /// The same kernel parts with the traversal stack sized for a BVH2 of `depth` levels.
+    pub fn with_bvh_depth(self, depth: u32) -> Specialization {
+        Specialization {
+            bvh_stack: super::upload::bvh_stack_entries(depth),
+            ..self
         }
     }
 
@@ -218,6 +245,7 @@ impl Specialization {
             sppm: false,
             nested: true,
             env_image: true,
+            bvh_stack: super::upload::MAX_BVH_DEPTH,
         }
     }
 
@@ -256,6 +284,7 @@ impl Specialization {
             ("HAS_LT", b(self.light_tracing)),
             ("HAS_SPPM", b(self.sppm)),
             ("HAS_NESTED", b(self.nested)),
+            ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
         ]
     }
 }

@@ -260,7 +260,9 @@ impl GpuRenderer {
         opts.check()?;
         gpu_estimator(opts.estimator, &scene)?;
         let features = scene.features();
-        let spec = Self::specialization_for(features, &opts, &scene);
+        // The tree first: its depth sizes the kernels' traversal stack.
+        let bvh = upload::build_bvh(&scene)?;
+        let spec = Self::specialization_for(features, &opts, &scene, bvh.depth);
         let mut pipelines = ctx.scoped("cannot create the GPU pipeline layout", || {
             Pipelines::new(&ctx)
         })??;
@@ -269,7 +271,6 @@ impl GpuRenderer {
         } else {
             pipelines.compile(spec)?;
         }
-        let bvh = upload::build_bvh(&scene)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
             Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, tiles)?;
@@ -989,8 +990,9 @@ impl GpuRenderer {
         features: Features,
         opts: &RenderOptions,
         scene: &Scene,
+        bvh_depth: u32,
     ) -> Specialization {
-        let mut spec = Specialization::from_features(features);
+        let mut spec = Specialization::from_features(features).with_bvh_depth(bvh_depth);
         spec.filter = opts.filter.is_some();
         spec.light_tracing = light_tracing_for(opts, scene);
         spec.sppm = sppm_for(opts, scene);
@@ -1038,7 +1040,8 @@ impl GpuRenderer {
     /// Select the specialisation for the current features, filter and estimator, and have
     /// its pipelines compiled (cached; on a worker thread with background compilation).
     fn respecialize(&mut self) {
-        self.spec = Self::specialization_for(self.features, &self.opts, &self.scene);
+        self.spec =
+            Self::specialization_for(self.features, &self.opts, &self.scene, self.bvh.depth);
         self.request_pipelines();
     }
 

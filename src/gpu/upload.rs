@@ -15,6 +15,17 @@ use std::time::{Duration, Instant};
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
 pub const MAX_BVH_DEPTH: u32 = 64;
 
+/// Traversal stack entries for a BVH2 of `depth` levels (root = 1): an ordered traversal
+/// holds at most `depth − 1` entries; rounded up to a multiple of 8 (fewer specialisations),
+/// at least 8 (the workgroup counter reduction borrows two entries), at most
+/// [`MAX_BVH_DEPTH`].
+pub fn bvh_stack_entries(depth: u32) -> u32 {
+    depth
+        .saturating_sub(1)
+        .next_multiple_of(8)
+        .clamp(8, MAX_BVH_DEPTH)
+}
+
 /// The BVH2 in GPU form.
 #[derive(Clone, Debug, Default)]
 pub struct GpuBvh {

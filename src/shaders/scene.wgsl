@@ -207,7 +207,15 @@ fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax:
     return F32_MAX;
 }
 
-// gpu::upload checks that the tree is no deeper than this.
+// Entries of each invocation's traversal stack (override; `Specialization::bvh_stack`): the
+// uploaded BVH2's depth rounded up to a multiple of 8, at most 64 (gpu::upload checks the
+// depth). An ordered traversal of a binary tree holds at most one entry per level above the
+// current node, so the depth bounds it; sized to the scene, the stack takes no more workgroup
+// memory than the tree needs (the memory that limits occupancy: README "Register pressure").
+override BVH_STACK_SIZE: u32 = 64u;
+// The workgroup's stacks (a named override: naga cannot specialise an array size written as
+// an override expression).
+override BVH_STACK_WORDS: u32 = BVH_STACK_SIZE * WORKGROUP_LANES;
 
 // Invocations per workgroup of every kernel that traverses (8×8 or 64×1).
 const WORKGROUP_LANES: u32 = 64u;
@@ -216,7 +224,7 @@ const WORKGROUP_LANES: u32 = 64u;
 // registers: a 64-entry array per invocation held 64 VGPRs and was zeroed on every call
 // (WGSL zero-initialises function variables). Entry i of lane l is at i·64 + l, so the lanes
 // of a wave touch distinct banks. Each lane only ever reads its own entries: no barrier.
-var<workgroup> BVH_STACK: array<u32, BVH_STACK_SIZE * WORKGROUP_LANES>;
+var<workgroup> BVH_STACK: array<u32, BVH_STACK_WORDS>;
 // This invocation's lane (local_invocation_index), set first thing by every entry point.
 var<private> LANE: u32;
 
