@@ -11,6 +11,7 @@ use refract::math::rng::Sampler;
 use refract::paths::PathFilter;
 use refract::render::RenderOptions;
 use refract::scene::Scene;
+use refract::scene::camera::CameraRays;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -62,7 +63,7 @@ fn renderer(name: &str) -> Renderer {
 /// paths were lean.
 fn both_walks(r: &Renderer, opts: &RenderOptions, spp: u32) -> (Vec<[u32; 6]>, bool) {
     let integ = r.integrator(opts);
-    let cam = &r.scene.camera;
+    let cam = &CameraRays::new(&r.scene.camera);
     let mut out = Vec::with_capacity((W * H * spp) as usize);
     let mut lean = true;
     for pixel in 0..W * H {
@@ -123,7 +124,7 @@ fn scenes_needing_a_feature_run_the_general_walk() {
 
     // Asking for the lean instance where it does not fit runs the general one.
     let integ = prism.integrator(&prism_opts);
-    let cam = &prism.scene.camera;
+    let cam = &CameraRays::new(&prism.scene.camera);
     for pixel in 0..W * H {
         let mut a = Sampler::new(pixel, 0, 5);
         let dir = camera_ray(cam, (pixel % W, pixel / W), (W, H), &mut a);
@@ -158,7 +159,7 @@ fn camera_walks_do_not_allocate() {
         let mut opts = RenderOptions::from_scene(&r.scene);
         opts.max_depth = 64;
         let integ = r.integrator(&opts);
-        let cam = &r.scene.camera;
+        let cam = &CameraRays::new(&r.scene.camera);
         let before = allocations();
         let mut sum = Vec3::ZERO;
         for pixel in 0..W * H {

@@ -146,8 +146,10 @@ pub enum Bounce {
 
 /// A path vertex on a surface, ready to scatter.
 #[derive(Clone, Copy, Debug)]
-pub struct Interaction {
-    pub hit: SurfaceHit,
+pub struct Interaction<'h> {
+    /// The hit, borrowed from the walk (copying it into every interaction was a memcpy per
+    /// vertex).
+    pub hit: &'h SurfaceHit,
     /// Oriented geometric and shading normals (see `orient_normals`).
     pub ng: Vec3,
     pub ns: Vec3,
@@ -162,7 +164,7 @@ pub struct Interaction {
     pub offset_scale: f32,
 }
 
-impl Interaction {
+impl<'h> Interaction<'h> {
     /// The interaction of a ray travelling along `d` with `hit`; `None` when the path ends
     /// there (one-sided back face, or an emitter, which is black otherwise). `enclosing`: the
     /// medium on the far side of a dielectric (`PathState::interface`), so that it refracts
@@ -170,12 +172,12 @@ impl Interaction {
     #[inline(always)]
     pub fn new(
         scene: &Scene,
-        hit: &SurfaceHit,
+        hit: &'h SurfaceHit,
         d: Vec3,
         sp: &Spectral,
         offset_scale: f32,
         enclosing: Medium,
-    ) -> Option<Interaction> {
+    ) -> Option<Interaction<'h>> {
         let mat = &scene.materials[hit.material as usize];
         let front = d.dot(hit.ng) < 0.0;
         let transmissive = mat.transmits_at(&scene.textures, hit.uv);
@@ -201,7 +203,7 @@ impl Interaction {
         let frame = Frame::from_normal(ns);
         let wo_w = -d;
         Some(Interaction {
-            hit: *hit,
+            hit,
             ng,
             ns,
             frame,
@@ -244,7 +246,7 @@ impl Interaction {
     }
 }
 
-impl Interaction {
+impl Interaction<'_> {
     /// The shadow ray of a light sample: (origin, direction, t_max). Both ends use the offset
     /// rule; the target is rebuilt as p + (p_light − p), the arithmetic the walks have always
     /// used. Infinite lights: along ωi without end.

@@ -8,7 +8,8 @@ use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
 use crate::render::{Estimator, RenderOptions, RenderStats};
-use crate::scene::{Camera, Features, Scene, light::LightSet};
+use crate::scene::camera::CameraRays;
+use crate::scene::{Features, Scene, light::LightSet};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -18,7 +19,7 @@ use std::time::{Duration, Instant};
 /// The renderer and the path inspector draw their camera rays only through this.
 #[inline]
 pub fn camera_ray(
-    cam: &Camera,
+    cam: &CameraRays,
     (x, y): (u32, u32),
     (w, h): (u32, u32),
     sampler: &mut Sampler,
@@ -26,7 +27,7 @@ pub fn camera_ray(
     let j = sampler.next_2d();
     let sx = (x as f32 + j.x) / w as f32;
     let sy = (y as f32 + j.y) / h as f32;
-    cam.ray_dir(sx, sy, w as f32 / h as f32)
+    cam.dir(sx, sy, w as f32 / h as f32)
 }
 
 /// A scene prepared for CPU rendering (BVH and light distribution built once).
@@ -165,7 +166,7 @@ impl Renderer {
     ) -> bool {
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
-        let cam = &self.scene.camera;
+        let cam = &CameraRays::new(&self.scene.camera);
         let seed = opts.seed;
         let per_pixel = proto.layers();
         let row_pass = |y: usize, row: &mut [[f64; 3]], lrow: &mut [[f64; 3]]| -> Option<u64> {

@@ -41,10 +41,7 @@ impl Camera {
     /// Direction (world, unit) through the film point (sx, sy) ∈ [0,1]², (0,0) = top-left.
     #[inline]
     pub fn ray_dir(&self, sx: f32, sy: f32, aspect: f32) -> Vec3 {
-        let tan_half = (0.5 * self.yfov).tan();
-        let x = (2.0 * sx - 1.0) * tan_half * aspect;
-        let y = (1.0 - 2.0 * sy) * tan_half;
-        (self.rotation * Vec3::new(x, y, -1.0)).normalize()
+        CameraRays::new(self).dir(sx, sy, aspect)
     }
 
     /// The film point (sx, sy) of world point `p` (the inverse of [`Camera::ray_dir`]): its
@@ -87,6 +84,34 @@ impl Camera {
             self.yfov
         );
         Ok(())
+    }
+}
+
+/// A camera prepared for many rays: [`Camera::ray_dir`] without its per-ray tangent (the
+/// same operations on the same values, so the same directions bit for bit).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRays {
+    /// Where every ray starts (`Camera::position`).
+    pub position: Vec3,
+    rotation: Mat3,
+    tan_half: f32,
+}
+
+impl CameraRays {
+    pub fn new(cam: &Camera) -> CameraRays {
+        CameraRays {
+            position: cam.position,
+            rotation: cam.rotation,
+            tan_half: (0.5 * cam.yfov).tan(),
+        }
+    }
+
+    /// Direction (world, unit) through the film point (sx, sy) ∈ [0,1]², (0,0) = top-left.
+    #[inline]
+    pub fn dir(&self, sx: f32, sy: f32, aspect: f32) -> Vec3 {
+        let x = (2.0 * sx - 1.0) * self.tan_half * aspect;
+        let y = (1.0 - 2.0 * sy) * self.tan_half;
+        (self.rotation * Vec3::new(x, y, -1.0)).normalize()
     }
 }
 

@@ -1,11 +1,15 @@
 //! Pinhole camera geometry for importance and raster positions (the t = 1 strategy).
 
+use crate::scene::camera::CameraRays;
 use glam::Vec3;
 
 #[derive(Clone, Copy)]
 pub(super) struct CameraModel {
     pub pos: Vec3,
-    pub rot: glam::Mat3,
+    /// World → camera (the camera's rotation transposed once, not per raster query).
+    pub rot_t: glam::Mat3,
+    /// The camera's primary rays (`CameraRays::dir`).
+    pub rays: CameraRays,
     pub tan_half: f32,
     pub aspect: f32,
     /// Area of the image plane at distance 1.
@@ -20,7 +24,8 @@ impl CameraModel {
         let aspect = width as f32 / height as f32;
         CameraModel {
             pos: c.position,
-            rot: c.rotation,
+            rot_t: c.rotation.transpose(),
+            rays: CameraRays::new(c),
             tan_half,
             aspect,
             a_plane: 4.0 * tan_half * tan_half * aspect,
@@ -31,7 +36,7 @@ impl CameraModel {
 
     /// (pixel x, y, cosθ) of the direction `w` from the camera, if it lands on the film.
     pub fn raster(&self, w: Vec3) -> Option<(u32, u32, f32)> {
-        let l = self.rot.transpose() * w;
+        let l = self.rot_t * w;
         if l.z >= 0.0 {
             return None;
         }

@@ -110,7 +110,7 @@ impl<'a> Bdpt<'a> {
         sampler: &mut Sampler,
         sp: &Spectral,
     ) -> Color {
-        let dir = self.pt.scene.camera.ray_dir(
+        let dir = self.cam.rays.dir(
             (x as f32 + j.x) / self.cam.width as f32,
             (y as f32 + j.y) / self.cam.height as f32,
             self.cam.aspect,

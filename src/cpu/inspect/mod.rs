@@ -44,7 +44,7 @@ pub fn trace_pixel(
         "{paths} paths: trace between 1 and {MAX_PATHS}"
     );
     let integ = renderer.integrator(opts);
-    let cam = &renderer.scene.camera;
+    let cam = &crate::scene::camera::CameraRays::new(&renderer.scene.camera);
     let (lo, hi) = renderer.scene.bounds();
     let extent = (hi - lo).length().max(1e-3);
     let pixel = y * w + x;

@@ -148,7 +148,7 @@ pub fn render_iteration(
         filter: pt.filter,
         env_emits: pt.lights.env_pick > 0.0,
     };
-    let cam = &pt.scene.camera;
+    let cam = &crate::scene::camera::CameraRays::new(&pt.scene.camera);
     film.sums_mut()
         .par_chunks_mut(w as usize)
         .enumerate()
