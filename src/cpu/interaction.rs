@@ -55,7 +55,9 @@ pub fn surface_with(scene: &Scene, hit: &crate::bvh::Hit, with_uv: bool) -> Surf
         let w = [b0, hit.b1, hit.b2];
         ns = normal_mapped(scene, mesh.tri_material[t], [i0, i1, i2], w, ns, uv);
     }
-    if ns == Vec3::ZERO || !ns.is_finite() {
+    // `cmpeq(..).all()` tests all three components (`==` stops at the first non-zero one,
+    // a data-dependent branch on axis-aligned walls).
+    if ns.cmpeq(Vec3::ZERO).all() || !ns.is_finite() {
         ns = ng;
     } else if ns.dot(ng) < 0.0 {
         ns = -ns;

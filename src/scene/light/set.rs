@@ -201,7 +201,8 @@ impl LightSet {
             .cdf
             .partition_point(|&c| c <= u)
             .min(self.lights.len() - 1);
-        let prev = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        // A select, not a branch (which light is picked is random per sample).
+        let prev = std::hint::select_unpredictable(i > 0, self.cdf[i.saturating_sub(1)], 0.0);
         let p = self.cdf[i] - prev;
         if p <= 0.0 {
             return None;
