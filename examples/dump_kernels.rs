@@ -59,6 +59,7 @@ fn main() -> Result<()> {
             sppm: a.sppm,
             ..Specialization::for_scene(&scene)?
         }
+        .with_wavefront_rule()
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("--out {}", a.out.display()))?;
     for k in kernels::kernels_of(&spec) {

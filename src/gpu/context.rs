@@ -23,7 +23,13 @@ pub fn install_error_handlers(device: &wgpu::Device) -> ErrorLog {
     let log: ErrorLog = Arc::default();
     let l = Arc::clone(&log);
     device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-        record(&l, format!("GPU error: {e}"));
+        // The description names the call and the cause; `Display` says only "Validation Error".
+        let text = match &e {
+            wgpu::Error::Validation { description, .. }
+            | wgpu::Error::Internal { description, .. } => description.clone(),
+            other => other.to_string(),
+        };
+        record(&l, format!("GPU error: {text}"));
     }));
     let l = Arc::clone(&log);
     device.set_device_lost_callback(move |reason, msg| {

@@ -115,9 +115,10 @@ pub fn kernels_of(spec: &Specialization) -> Vec<Kernel> {
     Kernel::ALL
         .into_iter()
         .filter(|k| match k {
-            Kernel::Render => true,
+            Kernel::Render => !spec.wavefront,
             Kernel::LightTrace => spec.light_tracing,
             Kernel::PhotonTrace => spec.sppm,
+            _ => spec.wavefront,
         })
         .collect()
 }

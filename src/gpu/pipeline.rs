@@ -40,6 +40,7 @@ const INTERACTION: &str = include_str!("../shaders/interaction.wgsl");
 const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
 const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
 const PHOTON: &str = include_str!("../shaders/photon.wgsl");
+const WAVEFRONT: &str = include_str!("../shaders/wavefront.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
 const LIGHT_PROBE: &str = include_str!("../shaders/light_probe.wgsl");
 
@@ -84,6 +85,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("integrator.wgsl", INTEGRATOR),
     ("light_tracing.wgsl", LIGHT_TRACING),
     ("photon.wgsl", PHOTON),
+    ("wavefront.wgsl", WAVEFRONT),
     ("probe.wgsl", PROBE),
     ("light_probe.wgsl", LIGHT_PROBE),
 ];
@@ -111,6 +113,7 @@ pub fn integrator_source() -> String {
         INTEGRATOR,
         LIGHT_TRACING,
         PHOTON,
+        WAVEFRONT,
     ];
     assemble(&[MATHS, &kernel].concat())
 }
@@ -162,6 +165,10 @@ pub struct Specialization {
     pub sppm: bool,
     /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
     pub nested: bool,
+    /// Camera paths by the wavefront kernels (`Kernel::WAVEFRONT`) instead of `render`:
+    /// chosen where the megakernel needs more registers than a GPU can give without
+    /// losing occupancy ([`Specialization::wants_wavefront`]).
+    pub wavefront: bool,
     /// Traversal stack entries per invocation (`upload::bvh_stack_entries` of the uploaded
     /// tree's depth; the full 64 where the tree is not known). Workgroup memory, so it
     /// bounds occupancy: 64 entries allow 4 subgroups per SIMD on RDNA2, 24 allow 10.
@@ -200,15 +207,43 @@ impl Specialization {
             light_tracing: false,
             sppm: false,
             nested: f.contains(Features::NESTED),
+            wavefront: false,
             bvh_stack: super::upload::MAX_BVH_DEPTH,
         }
     }
 
+    /// Whether the camera walk should run as a wavefront: where the megakernel needs more
+    /// than 128 VGPRs on RADV navi21 (fewer than 8 waves per SIMD) — measured for every
+    /// built-in with each GPU estimator and for the all-features worst cases, and checked
+    /// against the compiler by `tests/gpu_registers.rs`: the image environment, textures, or
+    /// light tracing or photon mapping together with spectral, nested or filtered paths or
+    /// the metal-rough material, or light tracing with rough glass. Elsewhere the
+    /// megakernel fits and keeps its paths in registers.
+    pub fn wants_wavefront(&self) -> bool {
+        let joint = self.light_tracing || self.sppm;
+        self.env_image
+            || self.textures
+            || (joint && (self.spectral || self.nested || self.filter || self.metal_rough))
+            || (self.light_tracing && self.rough_dielectric)
+    }
+
     /// The kernel parts `scene` needs (as [`Specialization::from_features`]) with the
-    /// traversal stack sized for the BVH2 the renderer uploads for it (built here).
+    /// traversal stack sized for the BVH2 the renderer uploads for it (built here) and the
+    /// camera walk's form by [`Specialization::wants_wavefront`] — what the renderer runs
+    /// for the path estimator.
     pub fn for_scene(scene: &crate::scene::Scene) -> anyhow::Result<Specialization> {
         let depth = super::upload::build_bvh(scene)?.depth;
-        Ok(Specialization::from_features(scene.features()).with_bvh_depth(depth))
+        Ok(Specialization::from_features(scene.features())
+            .with_bvh_depth(depth)
+            .with_wavefront_rule())
+    }
+
+    /// The same parts with `wavefront` set by [`Specialization::wants_wavefront`].
+    pub fn with_wavefront_rule(self) -> Specialization {
+        Specialization {
+            wavefront: self.wants_wavefront(),
+            ..self
+        }
     }
 
     /// The same kernel parts with the traversal stack sized for a BVH2 of `depth` levels.
@@ -245,6 +280,7 @@ impl Specialization {
             sppm: false,
             nested: true,
             env_image: true,
+            wavefront: true,
             bvh_stack: super::upload::MAX_BVH_DEPTH,
         }
     }
@@ -298,11 +334,40 @@ pub enum Kernel {
     LightTrace,
     /// Caustic photons stored in the hash grid (`photon_trace`, only with `sppm`).
     PhotonTrace,
+    /// `render` as a wavefront (wavefront.wgsl, with `Specialization::wavefront`): camera
+    /// rays, then per bounce closest hits, next-event estimates, the rest of the vertex and
+    /// the estimates' shadow rays, then the film.
+    WfStart,
+    WfExtend,
+    WfNee,
+    WfShade,
+    WfConnect,
+    WfFinish,
 }
 
 impl Kernel {
     /// Every kernel of the integrator module.
-    pub const ALL: [Kernel; 3] = [Kernel::Render, Kernel::LightTrace, Kernel::PhotonTrace];
+    pub const ALL: [Kernel; 9] = [
+        Kernel::Render,
+        Kernel::LightTrace,
+        Kernel::PhotonTrace,
+        Kernel::WfStart,
+        Kernel::WfExtend,
+        Kernel::WfNee,
+        Kernel::WfShade,
+        Kernel::WfConnect,
+        Kernel::WfFinish,
+    ];
+
+    /// The kernels that replace `render` in a wavefront specialisation.
+    pub const WAVEFRONT: [Kernel; 6] = [
+        Kernel::WfStart,
+        Kernel::WfExtend,
+        Kernel::WfNee,
+        Kernel::WfShade,
+        Kernel::WfConnect,
+        Kernel::WfFinish,
+    ];
 
     /// The WGSL entry point's name.
     pub fn entry(self) -> &'static str {
@@ -310,12 +375,18 @@ impl Kernel {
             Kernel::Render => "render",
             Kernel::LightTrace => "light_trace",
             Kernel::PhotonTrace => "photon_trace",
+            Kernel::WfStart => "wf_start",
+            Kernel::WfExtend => "wf_extend",
+            Kernel::WfNee => "wf_nee",
+            Kernel::WfShade => "wf_shade",
+            Kernel::WfConnect => "wf_connect",
+            Kernel::WfFinish => "wf_finish",
         }
     }
 }
 
-/// Storage buffers the integrator binds (bindings 1–8 and 10–12).
-pub const STORAGE_BUFFERS: u32 = 11;
+/// Storage buffers the integrator binds (bindings 1–8 and 10–13).
+pub const STORAGE_BUFFERS: u32 = 12;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
@@ -457,6 +528,19 @@ impl Pipelines {
         // The photon grid (atomics) and the photons (`sppm`, photon.wgsl).
         entries.push(storage_entry(11, false));
         entries.push(storage_entry(12, false));
+        // The wavefront's path states and its chunk table (wavefront.wgsl; placeholders for
+        // the megakernel), the latter read at a dynamic offset per dispatch.
+        entries.push(storage_entry(13, false));
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 14,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(16),
+            },
+            count: None,
+        });
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -74,6 +74,8 @@ struct Buffers {
     photon_store: PhotonStore,
     /// Where the environment image's block starts in `texels` (`upload::pack_environment`).
     env_offset: u32,
+    /// The wavefront's path states and chunk table (placeholders for the megakernel).
+    wavefront: wavefront::WavefrontBuffers,
 }
 
 /// The GPU progressive renderer for one scene.
@@ -115,6 +117,9 @@ pub struct GpuRenderer {
     /// Whether an image larger than one binding may render in tiles (headless renders; not
     /// the viewer, whose display reads the whole film and which falls back to the CPU).
     tiles: bool,
+    /// Camera walk as a wavefront or not regardless of `Specialization::wants_wavefront`
+    /// (None: the rule; `REFRACT_GPU_WAVEFRONT=on|off` sets it for the CLI).
+    wavefront_override: Option<bool>,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -262,7 +267,12 @@ impl GpuRenderer {
         let features = scene.features();
         // The tree first: its depth sizes the kernels' traversal stack.
         let bvh = upload::build_bvh(&scene)?;
-        let spec = Self::specialization_for(features, &opts, &scene, bvh.depth);
+        let wavefront_override = match std::env::var("REFRACT_GPU_WAVEFRONT").as_deref() {
+            Ok("on") => Some(true),
+            Ok("off") => Some(false),
+            _ => None,
+        };
+        let spec = Self::specialization_for(features, &opts, &scene, bvh.depth, wavefront_override);
         let mut pipelines = ctx.scoped("cannot create the GPU pipeline layout", || {
             Pipelines::new(&ctx)
         })??;
@@ -301,8 +311,10 @@ impl GpuRenderer {
             tiled: None,
             film_y0: 0,
             tiles,
+            wavefront_override,
         };
         r.fit_tiles();
+        r.fit_wavefront();
         r.photon_r0 = r.sppm_radius0();
         r.write_filter_table();
         Ok(r)
@@ -423,6 +435,7 @@ impl GpuRenderer {
             splats: splat_film(ctx, splat_bytes),
             photon_store: PhotonStore::new(ctx, photon_paths(sppm_for(opts, scene), opts))?,
             env_offset,
+            wavefront: wavefront::WavefrontBuffers::placeholder(ctx),
         };
         Ok((buffers, light_count, tex_slots))
     }
@@ -452,12 +465,22 @@ impl GpuRenderer {
             (10, &b.splats),
             (11, &b.photon_store.grid),
             (12, &b.photon_store.photons),
+            (13, &b.wavefront.paths),
         ] {
             entries.push(wgpu::BindGroupEntry {
                 binding,
                 resource: buf.as_entire_binding(),
             });
         }
+        // One chunk entry, at the dynamic offset each dispatch gives.
+        entries.push(wgpu::BindGroupEntry {
+            binding: 14,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &b.wavefront.chunks,
+                offset: 0,
+                size: wgpu::BufferSize::new(16),
+            }),
+        });
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("integrator"),
             layout: &p.bind_group_layout,
@@ -661,6 +684,18 @@ impl GpuRenderer {
                 last = self.submit_pass(self.spp + i, 1, 0, self.opts.height);
             }
             last
+        } else if self.spec.wavefront {
+            // As many samples per submission as the chunk table holds.
+            let pixels = self.opts.width * rows;
+            let part =
+                wavefront::samples_per_submission(pixels, k, self.buffers.wavefront.max_paths);
+            let (mut last, mut done) = (None, 0);
+            while done < k {
+                let kk = part.min(k - done);
+                last = self.submit_pass(self.spp + u64::from(done), kk, y0, rows);
+                done += kk;
+            }
+            last
         } else {
             self.submit_pass(self.spp, k, y0, rows)
         }
@@ -727,13 +762,28 @@ impl GpuRenderer {
             self.buffers.photon_store.encode_clear(&mut enc);
             self.encode_kernel(&mut enc, Kernel::PhotonTrace, groups);
         }
-        self.encode_kernel(&mut enc, Kernel::Render, groups);
+        if self.spec.wavefront {
+            self.encode_wavefront(&mut enc, self.opts.width * rows, k);
+        } else {
+            self.encode_kernel(&mut enc, Kernel::Render, groups);
+        }
         Some(self.ctx.queue.submit([enc.finish()]))
     }
 
     /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is
     /// compiled: [`GpuRenderer::ensure_pipelines`]).
     fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
+        self.encode_kernel_at(enc, kernel, groups, 0);
+    }
+
+    /// [`GpuRenderer::encode_kernel`] with the wavefront's chunk table at byte `chunk`.
+    fn encode_kernel_at(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        kernel: Kernel,
+        groups: (u32, u32),
+        chunk: u32,
+    ) {
         let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
             return;
         };
@@ -742,7 +792,7 @@ impl GpuRenderer {
             timestamp_writes: None,
         });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(0, &self.bind_group, &[chunk]);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 
@@ -991,12 +1041,19 @@ impl GpuRenderer {
         opts: &RenderOptions,
         scene: &Scene,
         bvh_depth: u32,
+        wavefront: Option<bool>,
     ) -> Specialization {
         let mut spec = Specialization::from_features(features).with_bvh_depth(bvh_depth);
         spec.filter = opts.filter.is_some();
         spec.light_tracing = light_tracing_for(opts, scene);
         spec.sppm = sppm_for(opts, scene);
-        spec
+        match wavefront {
+            Some(w) => Specialization {
+                wavefront: w,
+                ..spec
+            },
+            None => spec.with_wavefront_rule(),
+        }
     }
 
     /// Give the splat film the size the current specialisation needs (a whole film with light
@@ -1040,9 +1097,23 @@ impl GpuRenderer {
     /// Select the specialisation for the current features, filter and estimator, and have
     /// its pipelines compiled (cached; on a worker thread with background compilation).
     fn respecialize(&mut self) {
-        self.spec =
-            Self::specialization_for(self.features, &self.opts, &self.scene, self.bvh.depth);
+        self.spec = Self::specialization_for(
+            self.features,
+            &self.opts,
+            &self.scene,
+            self.bvh.depth,
+            self.wavefront_override,
+        );
+        self.fit_wavefront();
         self.request_pipelines();
+    }
+
+    /// Run the camera walk as a wavefront (`Some(true)`), as the megakernel (`Some(false)`) or
+    /// as `Specialization::wants_wavefront` decides (`None`); accumulation restarts.
+    pub fn set_wavefront(&mut self, wavefront: Option<bool>) {
+        self.wavefront_override = wavefront;
+        self.respecialize();
+        self.reset();
     }
 
     /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);
@@ -1158,6 +1229,7 @@ impl GpuRenderer {
             self.write_filter_table();
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
             self.fit_tiles();
+            self.fit_wavefront();
         }
         self.reset();
         Ok(())
@@ -1261,3 +1333,4 @@ impl GpuRenderer {
 }
 
 mod tiles;
+mod wavefront;

@@ -262,11 +262,30 @@ fn integrator_nee_light(p: vec3<f32>, ul: f32, ul2: vec2<f32>, lt: LtMis) -> Nee
     return nl;
 }
 
+// What next-event estimation at a vertex leaves to its shadow ray: the estimate `c` it adds
+// when the ray from `o` along `d` (to `tmax`) is unoccluded; `c` zero: nothing to trace.
+struct NeeRay {
+    c: vec4<f32>,
+    o: vec3<f32>,
+    d: vec3<f32>,
+    tmax: f32,
+}
+
 // One next-event estimate at `hit` with the light end `nl`, times the path throughput `beta`,
 // MIS-weighted. Twin of `Integrator::sample_light` (plus the light-tracing strategy when
 // HAS_LT).
 fn integrator_sample_light(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>) -> vec4<f32> {
-    let zero = vec4<f32>(0.0);
+    let r = integrator_nee_ray(nl, hit, ng, frame, wo, wo_w, bsdf, mask, sp, lt, media, mat, beta);
+    if all(r.c == vec4<f32>(0.0)) || bvh_occluded(r.o, r.d, r.tmax) {
+        return vec4<f32>(0.0);
+    }
+    return r.c;
+}
+
+// The estimate of `integrator_sample_light` and its shadow ray, not traced (the wavefront's
+// `wf_nee` hands it to `wf_connect`).
+fn integrator_nee_ray(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>) -> NeeRay {
+    var zero: NeeRay;
     let ls = nl.ls;
     if !ls.valid {
         return zero;
@@ -283,22 +302,18 @@ fn integrator_sample_light(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: 
     if !(side_i * side_o > 0.0) && !bsdf_can_transmit(bsdf) {
         return zero;
     }
-    // The estimate and the medium the shadow ray crosses are computed before the shadow ray
-    // is traced (the same operations as after it), so that only they stay live across the
-    // traversal — not the BSDF, the light sample and the interaction (register pressure).
+    // The whole estimate, absorption along the shadow ray included (a light inside absorbing
+    // glass), is computed before the shadow ray is traced (the same operations as after it),
+    // so that only it stays live across the traversal — not the BSDF, the light sample and
+    // the interaction (register pressure).
     let w = integrator_light_mis(nl.emit_pdf, ls, hit, wo, wi, bsdf, lt);
-    let c = beta * (f * abs(wi.z) * li * (w / ls.pdf));
-    let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
-    let dist = length(ls.p_light - hit.p);
+    var c = beta * (f * abs(wi.z) * li * (w / ls.pdf));
+    if !ls.infinite {
+        let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
+        c *= connection_transmittance(m, length(ls.p_light - hit.p), sp);
+    }
     let ray = spawn_ray_to_light(hit.p, ng, side_i, ls);
-    if bvh_occluded(ray.o, ray.d, ray.tmax) {
-        return zero;
-    }
-    // Absorption along the shadow ray (a light inside absorbing glass).
-    if ls.infinite {
-        return c;
-    }
-    return c * connection_transmittance(m, dist, sp);
+    return NeeRay(c, ray.o, ray.d, ray.tmax);
 }
 
 // Beer–Lambert along a connection of length `t` in `medium` (1 outside every medium): the
@@ -526,111 +541,155 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
     loop {
         let h = bvh_intersect(ps.o, ps.d, F32_MAX);
         segments++;
-        if !h.found {
-            integrator_add_escaped(&ps);
-            break;
-        }
-        var hit = integrator_surface(h);
-        let medium = medium_current(ps.media);
-        if HAS_ABSORPTION && medium != NO_MEDIUM {
-            ps.beta *= medium_transmittance(materials[medium], hit.t, ps.sp);
-        }
-        let mat = materials[hit.material];
-        var enclosing = NO_MEDIUM;
-        if HAS_NESTED {
-            let c = medium_interface(ps.media, mat, hit.material, ps.d, hit.ng);
-            if !c.real {
-                // A false hit: no vertex, no bounce; the ray continues past it.
-                ps.media = c.after;
-                ps.false_hits++;
-                if ps.false_hits > FALSE_HIT_LIMIT {
-                    break;
-                }
-                ps.t_pass += hit.t;
-                ps.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(ps.d, hit.ng));
-                continue;
-            }
-            enclosing = c.enclosing;
-            hit.t += ps.t_pass;
-            ps.t_pass = 0.0;
-        }
-        let front = dot3(ps.d, hit.ng) < 0.0;
-        if HAS_LT {
-            lt_mis_arrive(&ps, hit);
-        }
-        integrator_add_emitted(&ps, hit, mat);
-        debug_write(1u + DEBUG_STRIDE * min(ps.depth, DEBUG_MAX_VERTICES - 1u), vec4<f32>(hit.p, hit.t));
-        if ps.depth + 1u >= params.max_depth {
-            break;
-        }
-        let on = orient_normals(mat, hit, front);
-        if !on.ok {
-            break;
-        }
-        if (mat.flags & MAT_BLACK_EMITTER) != 0u {
-            break; // emitters are black surfaces otherwise
-        }
-        let uc = sampler_next_1d(sampler);
-        let u2 = sampler_next_2d(sampler);
-        let ul = sampler_next_1d(sampler);
-        let ul2 = sampler_next_2d(sampler);
-        // Next-event estimation's light sample, taken before the BSDF is built: across light
-        // sampling (every light type, the environment image's CDF search) only the path and
-        // the hit are live, and only the sample is carried on (register pressure).
-        let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
-        let delta = bsdf_kind_is_delta(mat.bsdf);
-        let nee = (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !delta && params.light_count > 0u && (mask.d || mask.g);
-        var nl: NeeLight;
-        if nee && NEE_LIGHT_FIRST {
-            nl = integrator_nee_light(hit.p, ul, ul2, ps.lt);
-        }
-        let eta = integrator_eta(&ps, mat, enclosing);
-        let bsdf = material_bsdf(mat, hit.uv, eta, ps.sp);
-        let frame = frame_from_normal(on.ns);
-        let wo_w = -ps.d;
-        let wo = frame_to_local(frame, wo_w);
-
-        // Photon-mapped caustics at a diffuse vertex (HAS_SPPM, photon.wgsl).
-        let gathered = sppm_is_gather_vertex(bsdf, ps.depth);
-        if gathered {
-            let g = GatherPoint(hit.p, on.ng, on.ns, frame, wo, ps.depth, ps.q, ps.collapsed);
-            ps.l += ps.beta * photon_gather(g, bsdf);
-        }
-
-        // BSDF sampling, applied to the path before next-event estimation runs at this
-        // vertex with the state from before it (throughput, filter state, light-tracing MIS
-        // and media): the CPU's operations on the same random numbers (the CPU estimates
-        // first; the values are the same), but across the shadow ray only the continued path
-        // and the estimate stay live, not the BSDF, the sample and the interaction (register
-        // pressure; see README "Register pressure").
-        let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
-        let p_back = integrator_p_back(&ps, hit, bsdf, wo, bounce);
-        let before = ps;
-        let step = integrator_scatter(&ps, hit, mat, on.ng, bounce, p_back);
-
-        // Next-event estimation.
-        if nee {
-            if !NEE_LIGHT_FIRST {
-                nl = integrator_nee_light(hit.p, ul, ul2, before.lt);
-            }
-            ps.l += integrator_sample_light(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta);
-        }
-        if step == STEP_POISON {
+        let v = integrator_vertex(&ps, sampler, h, WALK_WHOLE);
+        if v == VERTEX_POISON {
             return poison();
         }
-        if step == STEP_BREAK {
+        if v == VERTEX_END {
             break;
         }
-        if HAS_SPPM {
-            ps.chain = sppm_chain_next(ps.chain, gathered, delta);
-        }
-        let q_rr = russian_roulette(ps.beta, ps.eta_scale, ps.depth, sampler);
-        if q_rr <= 0.0 {
-            break;
-        }
-        ps.beta /= q_rr;
     }
     return spectral_to_rgb(ps.sp, ps.l);
+}
+
+// What `integrator_vertex` does at the vertex: all of it, next-event estimation with its
+// shadow ray included (the megakernel `render`); all but next-event estimation (the
+// wavefront's `wf_shade`); only next-event estimation, untraced, into `NEE_RAY`, on a copy of
+// the state (`wf_nee`).
+const WALK_WHOLE: u32 = 0u;
+const WALK_SHADE: u32 = 1u;
+const WALK_NEE: u32 = 2u;
+
+// How the path goes on after `integrator_vertex`: along (ps.o, ps.d); it ended; or its sample
+// is poisoned (the firewall drops and counts it).
+const VERTEX_NEXT: u32 = 0u;
+const VERTEX_END: u32 = 1u;
+const VERTEX_POISON: u32 = 2u;
+
+// `WALK_NEE`'s result (c = 0: no estimate at this vertex).
+var<private> NEE_RAY: NeeRay;
+
+// The path in `ps` arriving at the closest hit `h` of its ray (not found: escaped) — one turn
+// of the loop of `Integrator::li`.
+fn integrator_vertex(ps: ptr<function, PathState>, sampler: ptr<function, Sampler>, h: Hit, mode: u32) -> u32 {
+    if !h.found {
+        if mode != WALK_NEE {
+            integrator_add_escaped(ps);
+        }
+        return VERTEX_END;
+    }
+    var hit = integrator_surface(h);
+    let medium = medium_current(ps.media);
+    if HAS_ABSORPTION && medium != NO_MEDIUM {
+        ps.beta *= medium_transmittance(materials[medium], hit.t, ps.sp);
+    }
+    let mat = materials[hit.material];
+    var enclosing = NO_MEDIUM;
+    if HAS_NESTED {
+        let c = medium_interface(ps.media, mat, hit.material, ps.d, hit.ng);
+        if !c.real {
+            // A false hit: no vertex, no bounce; the ray continues past it.
+            ps.media = c.after;
+            ps.false_hits++;
+            if ps.false_hits > FALSE_HIT_LIMIT {
+                return VERTEX_END;
+            }
+            ps.t_pass += hit.t;
+            ps.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(ps.d, hit.ng));
+            return VERTEX_NEXT;
+        }
+        enclosing = c.enclosing;
+        hit.t += ps.t_pass;
+        ps.t_pass = 0.0;
+    }
+    let front = dot3(ps.d, hit.ng) < 0.0;
+    if HAS_LT {
+        lt_mis_arrive(ps, hit);
+    }
+    if mode != WALK_NEE {
+        integrator_add_emitted(ps, hit, mat);
+    }
+    debug_write(1u + DEBUG_STRIDE * min(ps.depth, DEBUG_MAX_VERTICES - 1u), vec4<f32>(hit.p, hit.t));
+    if ps.depth + 1u >= params.max_depth {
+        return VERTEX_END;
+    }
+    let on = orient_normals(mat, hit, front);
+    if !on.ok {
+        return VERTEX_END;
+    }
+    if (mat.flags & MAT_BLACK_EMITTER) != 0u {
+        return VERTEX_END; // emitters are black surfaces otherwise
+    }
+    let uc = sampler_next_1d(sampler);
+    let u2 = sampler_next_2d(sampler);
+    let ul = sampler_next_1d(sampler);
+    let ul2 = sampler_next_2d(sampler);
+    // Next-event estimation's light sample, taken before the BSDF is built: across light
+    // sampling (every light type, the environment image's CDF search) only the path and
+    // the hit are live, and only the sample is carried on (register pressure).
+    let mask = ClassMask(integrator_accepts_light(integrator_step(ps.q, SYM_D)), integrator_accepts_light(integrator_step(ps.q, SYM_G)));
+    let delta = bsdf_kind_is_delta(mat.bsdf);
+    let nee = (HAS_LIGHTS || HAS_PUNCTUAL || HAS_ENV_IMAGE) && !delta && params.light_count > 0u && (mask.d || mask.g) && mode != WALK_SHADE;
+    var nl: NeeLight;
+    if nee && NEE_LIGHT_FIRST {
+        nl = integrator_nee_light(hit.p, ul, ul2, ps.lt);
+    }
+    let eta = integrator_eta(ps, mat, enclosing);
+    let bsdf = material_bsdf(mat, hit.uv, eta, ps.sp);
+    let frame = frame_from_normal(on.ns);
+    let wo_w = -ps.d;
+    let wo = frame_to_local(frame, wo_w);
+
+    // Photon-mapped caustics at a diffuse vertex (HAS_SPPM, photon.wgsl).
+    let gathered = sppm_is_gather_vertex(bsdf, ps.depth);
+    if gathered && mode != WALK_NEE {
+        let g = GatherPoint(hit.p, on.ng, on.ns, frame, wo, ps.depth, ps.q, ps.collapsed);
+        ps.l += ps.beta * photon_gather(g, bsdf);
+    }
+
+    // BSDF sampling, applied to the path before next-event estimation runs at this
+    // vertex with the state from before it (throughput, filter state, light-tracing MIS
+    // and media): the CPU's operations on the same random numbers (the CPU estimates
+    // first; the values are the same), but across the shadow ray only the continued path
+    // and the estimate stay live, not the BSDF, the sample and the interaction (register
+    // pressure; see README "Register pressure").
+    let before = *ps;
+    var step = STEP_CONTINUE;
+    if mode != WALK_NEE {
+        let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
+        let p_back = integrator_p_back(ps, hit, bsdf, wo, bounce);
+        step = integrator_scatter(ps, hit, mat, on.ng, bounce, p_back);
+    }
+
+    // Next-event estimation.
+    if nee {
+        if !NEE_LIGHT_FIRST {
+            nl = integrator_nee_light(hit.p, ul, ul2, before.lt);
+        }
+        if mode == WALK_NEE {
+            NEE_RAY = integrator_nee_ray(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta);
+        } else {
+            ps.l += integrator_sample_light(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta);
+        }
+    }
+    if mode == WALK_NEE {
+        return VERTEX_END; // the caller keeps only NEE_RAY
+    }
+    if step == STEP_POISON {
+        return VERTEX_POISON;
+    }
+    if step == STEP_BREAK {
+        return VERTEX_END;
+    }
+    if HAS_SPPM {
+        ps.chain = sppm_chain_next(ps.chain, gathered, delta);
+    }
+    let q_rr = russian_roulette(ps.beta, ps.eta_scale, ps.depth, sampler);
+    if q_rr <= 0.0 {
+        return VERTEX_END;
+    }
+    ps.beta /= q_rr;
+    return VERTEX_NEXT;
 }
 
 // A sample is accepted only if every component is finite and non-negative (film::sample_is_valid).
@@ -695,6 +754,14 @@ fn render_pixel(x: u32, y: u32) -> u32 {
             dropped++;
         }
     }
+    film_fold(pixel, sum);
+    return dropped;
+}
+
+// Fold the sum of a pixel's batch of camera samples (plus, with light tracing, the batch's
+// splats on it) into the running mean without drift: mean·n/(n+k) + Σ/(n+k).
+fn film_fold(pixel: u32, camera_sum: vec3<f32>) {
+    var sum = camera_sum;
     if HAS_LT {
         // This batch's light-tracing splats (k light paths per pixel, like the camera paths).
         let lt_sum = splat_take(pixel);
@@ -702,9 +769,7 @@ fn render_pixel(x: u32, y: u32) -> u32 {
             sum += lt_sum;
         }
     }
-    // Fold the batch into the running mean without drift: mean·n/(n+k) + Σ/(n+k).
-    let slot = pixel - params.film_y0 * w;
+    let slot = pixel - params.film_y0 * params.width;
     let old = accum[slot];
     accum[slot] = vec4<f32>(old.xyz * params.w_old + sum * params.w_new, 1.0);
-    return dropped;
 }

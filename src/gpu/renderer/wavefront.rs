@@ -1,0 +1,160 @@
+//! The camera walk as a wavefront on the host side (shaders/wavefront.wgsl): the path-state
+//! buffer, the chunk table read at a dynamic offset, and the dispatches of one submission —
+//! per chunk of whole pixels `wf_start`, then per bounce `wf_extend`, `wf_nee`, `wf_shade`,
+//! `wf_connect`, then `wf_finish`.
+
+use super::GpuRenderer;
+use crate::gpu::GpuContext;
+use crate::gpu::pipeline::Kernel;
+use wgpu::util::DeviceExt;
+
+/// Bytes of one `WfPath` (wavefront.wgsl; `tests/gpu.rs` checks it against the WGSL layout).
+pub const PATH_BYTES: u64 = 240;
+/// Stride of the chunk table's entries: the largest `min_uniform_buffer_offset_alignment`
+/// WebGPU allows.
+pub const CHUNK_STRIDE: u64 = 256;
+/// Chunks one submission may have (a larger one is split into submissions of fewer samples).
+pub const MAX_CHUNKS: usize = 1024;
+/// Paths in flight at most (64 MiB of state).
+const MAX_PATHS: u64 = 1 << 18;
+
+/// The wavefront's buffers: path states for up to `max_paths` paths and the chunk table.
+pub struct WavefrontBuffers {
+    pub paths: wgpu::Buffer,
+    pub chunks: wgpu::Buffer,
+    pub max_paths: u32,
+}
+
+impl WavefrontBuffers {
+    /// Buffers for `max_paths` paths (0: placeholders for a megakernel specialisation).
+    fn with_paths(ctx: &GpuContext, max_paths: u32) -> WavefrontBuffers {
+        let chunks = if max_paths == 0 { 1 } else { MAX_CHUNKS as u64 };
+        WavefrontBuffers {
+            paths: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront paths"),
+                size: (u64::from(max_paths) * PATH_BYTES).max(PATH_BYTES),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            chunks: ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("wavefront chunks"),
+                    contents: &vec![0u8; (chunks * CHUNK_STRIDE) as usize],
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                }),
+            max_paths,
+        }
+    }
+
+    pub fn placeholder(ctx: &GpuContext) -> WavefrontBuffers {
+        Self::with_paths(ctx, 0)
+    }
+
+    /// Buffers for as many paths as fit one binding, at most `MAX_PATHS`.
+    pub fn sized(ctx: &GpuContext) -> WavefrontBuffers {
+        let paths = (ctx.max_binding_bytes() / PATH_BYTES).min(MAX_PATHS);
+        Self::with_paths(ctx, paths as u32)
+    }
+}
+
+/// Chunks of whole pixels for `pixels` pixels of `k` samples with at most `max_paths` paths
+/// each: (first path, paths).
+pub fn chunks(pixels: u32, k: u32, max_paths: u32) -> Vec<(u32, u32)> {
+    let per = (max_paths / k.max(1)).max(1);
+    (0..pixels)
+        .step_by(per as usize)
+        .map(|p0| (p0 * k, (per.min(pixels - p0)) * k))
+        .collect()
+}
+
+/// Samples per pixel (at most `k`) that `pixels` pixels can take in one submission of at
+/// most `MAX_CHUNKS` chunks.
+pub fn samples_per_submission(pixels: u32, k: u32, max_paths: u32) -> u32 {
+    let mut k = k.max(1);
+    while k > 1 && chunks(pixels, k, max_paths).len() > MAX_CHUNKS {
+        k = k.div_ceil(2);
+    }
+    k
+}
+
+impl GpuRenderer {
+    /// Give the wavefront buffers the size the current specialisation needs and rebind when
+    /// they change.
+    pub(super) fn fit_wavefront(&mut self) {
+        let want = self.spec.wavefront;
+        if want == (self.buffers.wavefront.max_paths > 0) {
+            return;
+        }
+        self.buffers.wavefront = if want {
+            WavefrontBuffers::sized(&self.ctx)
+        } else {
+            WavefrontBuffers::placeholder(&self.ctx)
+        };
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+    }
+
+    /// The bounces a path can take: one per vertex up to `max_depth`, the escape, and with
+    /// nested volumes the false hits passed on the way.
+    fn wavefront_bounces(&self) -> u32 {
+        let false_hits = if self.spec.nested {
+            crate::gpu::layout::FALSE_HIT_LIMIT + 1
+        } else {
+            0
+        };
+        self.opts.max_depth.max(1) + 1 + false_hits
+    }
+
+    /// Record the camera walk of `pixels` pixels (rows from the submission's `tile_y0`) at
+    /// `k` samples each: the chunk table written, then each chunk's dispatches.
+    pub(super) fn encode_wavefront(&self, enc: &mut wgpu::CommandEncoder, pixels: u32, k: u32) {
+        let wf = &self.buffers.wavefront;
+        let table = chunks(pixels, k, wf.max_paths);
+        let mut bytes = vec![0u8; table.len() * CHUNK_STRIDE as usize];
+        for (c, &(first, count)) in table.iter().enumerate() {
+            let at = c * CHUNK_STRIDE as usize;
+            bytes[at..at + 4].copy_from_slice(&first.to_le_bytes());
+            bytes[at + 4..at + 8].copy_from_slice(&count.to_le_bytes());
+        }
+        self.ctx.queue.write_buffer(&wf.chunks, 0, &bytes);
+        let bounces = self.wavefront_bounces();
+        for (c, &(_, count)) in table.iter().enumerate() {
+            let offset = (c as u64 * CHUNK_STRIDE) as u32;
+            let groups = (count.div_ceil(64), 1);
+            self.encode_kernel_at(enc, Kernel::WfStart, groups, offset);
+            for _ in 0..bounces {
+                for kernel in [
+                    Kernel::WfExtend,
+                    Kernel::WfNee,
+                    Kernel::WfShade,
+                    Kernel::WfConnect,
+                ] {
+                    self.encode_kernel_at(enc, kernel, groups, offset);
+                }
+            }
+            let finish = ((count / k.max(1)).div_ceil(64), 1);
+            self.encode_kernel_at(enc, Kernel::WfFinish, finish, offset);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunks_cover_every_path_once_in_whole_pixels() {
+        for (pixels, k, max) in [(10, 3, 7), (1000, 4, 256), (5, 1, 100), (7, 9, 8)] {
+            let c = chunks(pixels, k, max);
+            let mut next = 0;
+            for &(first, count) in &c {
+                assert_eq!(first, next);
+                assert_eq!(first % k, 0);
+                assert_eq!(count % k, 0);
+                assert!(count <= max.max(k));
+                next += count;
+            }
+            assert_eq!(next, pixels * k);
+        }
+    }
+}
