@@ -169,8 +169,20 @@ fn traversal_stack_sized_from_the_tree_holds_every_pending_sibling() {
     assert_eq!(upload::bvh_stack_entries(64), 64);
 }
 
+/// The wavefronts' path states are as large as the host allocates for them.
+#[test]
+fn wavefront_states_match_their_wgsl_layouts() {
+    use refract::gpu::renderer::wavefront::{LIGHT_PATH_BYTES, PATH_BYTES};
+    let src = integrator_source();
+    for (name, bytes) in [("WfPath", PATH_BYTES), ("LtPath", LIGHT_PATH_BYTES)] {
+        let (size, _) = layout::wgsl_struct_layout(&src, name).unwrap();
+        assert_eq!(u64::from(size), bytes, "{name}");
+    }
+}
+
 /// The wavefront camera walk (wavefront.wgsl) is the megakernel's walk split into kernels
-/// with the path state in memory: with the same seed it gives the same samples — equal up to
+/// with the path state in memory, and likewise lt+pt's light subpaths (light_wavefront.wgsl):
+/// with the same seed they give the same samples — equal up to
 /// the compiler's floating-point contractions, which differ between kernels (exactly equal
 /// outside spectral code on lavapipe) — the same path segments and the same dropped samples,
 /// for path tracing, nested absorbing glass, dispersion, an image environment, light tracing

@@ -8,28 +8,18 @@
 //! workgroup memory: 192 → 128; next-event estimation keeps only its estimate live across
 //! the shadow ray, after the path's BSDF sample is applied: 128 → 96), and with the stack
 //! sized to the scene's tree (`Specialization::bvh_stack`) run 10 subgroups per SIMD instead
-//! of the 4 that 16 KiB of workgroup memory allowed. With every feature the camera walk runs
-//! as a wavefront (`Specialization::wavefront`; its megakernel needed 216–224) whose kernels
-//! meet the 128; the light-tracing kernel (`lt+pt` only) is still one loop, guarded
-//! at what it uses today. No kernel may spill VGPRs.
+//! of the 4 that 16 KiB of workgroup memory allowed. With every feature the camera walk and
+//! lt+pt's light subpaths run as wavefronts (`Specialization::wavefront`; their loops needed
+//! 216–224 and 184) whose kernels meet the 128, as does every kernel of every
+//! built-in's specialisation with each estimator. No kernel may spill VGPRs.
 
 mod radv;
 
 use refract::gpu::kernels;
-use refract::gpu::pipeline::{Kernel, Specialization};
+use refract::gpu::pipeline::Specialization;
 use refract::scene::Scene;
 
 const CHILD: &str = "REFRACT_RADV_CHILD";
-
-/// Most VGPRs allowed for kernel `k` of a specialisation whose budget is `max`: the light-
-/// tracing loop is guarded at 184 (not yet split).
-fn vgpr_budget(k: Kernel, max: u64) -> u64 {
-    if k == Kernel::LightTrace {
-        max.max(184)
-    } else {
-        max
-    }
-}
 
 /// (what, specialisation, most VGPRs allowed, fewest subgroups per SIMD allowed).
 fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
@@ -44,9 +34,9 @@ fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
     ]
 }
 
-/// Every built-in scene's camera walk with each GPU estimator, in the form
-/// `Specialization::wants_wavefront` picks: its kernels within 128 VGPRs (the light-tracing
-/// loop of `lt+pt` is not part of the walk: guarded by `budgets`). Returns what is over.
+/// Every built-in scene with each GPU estimator, its walks in the form
+/// `Specialization::wants_wavefront` picks: every kernel within 128 VGPRs. Returns what is
+/// over.
 fn builtins_within_128() -> Vec<String> {
     let bindings = kernels::buffer_bindings().expect("bindings");
     let mut over = Vec::new();
@@ -66,9 +56,6 @@ fn builtins_within_128() -> Vec<String> {
         ] {
             let spec = spec.with_wavefront_rule();
             for k in kernels::kernels_of(&spec) {
-                if matches!(k, Kernel::LightTrace | Kernel::PhotonTrace) {
-                    continue;
-                }
                 let spirv = kernels::spirv(&spec, k).expect("SPIR-V");
                 let stats = radv::compile_stats(&spirv, k.entry(), &bindings).expect("RADV");
                 for s in stats {
@@ -88,7 +75,7 @@ fn measure_all() -> Vec<String> {
     let mut over = Vec::new();
     for (what, spec, budget, min_subgroups) in budgets() {
         for k in kernels::kernels_of(&spec) {
-            let max_vgprs = vgpr_budget(k, budget);
+            let max_vgprs = budget;
             let spirv = kernels::spirv(&spec, k).expect("SPIR-V");
             let stats = radv::compile_stats(&spirv, k.entry(), &bindings).expect("RADV compile");
             for s in stats {

@@ -116,8 +116,13 @@ pub fn kernels_of(spec: &Specialization) -> Vec<Kernel> {
         .into_iter()
         .filter(|k| match k {
             Kernel::Render => !spec.wavefront,
-            Kernel::LightTrace => spec.light_tracing,
+            Kernel::LightTrace => spec.light_tracing && !spec.wavefront,
             Kernel::PhotonTrace => spec.sppm,
+            Kernel::LtWfStart
+            | Kernel::LtWfExtend
+            | Kernel::LtWfShade
+            | Kernel::LtWfSplat
+            | Kernel::LtWfFinish => spec.light_tracing && spec.wavefront,
             _ => spec.wavefront,
         })
         .collect()

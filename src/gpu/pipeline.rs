@@ -41,6 +41,7 @@ const INTEGRATOR: &str = include_str!("../shaders/integrator.wgsl");
 const LIGHT_TRACING: &str = include_str!("../shaders/light_tracing.wgsl");
 const PHOTON: &str = include_str!("../shaders/photon.wgsl");
 const WAVEFRONT: &str = include_str!("../shaders/wavefront.wgsl");
+const LIGHT_WAVEFRONT: &str = include_str!("../shaders/light_wavefront.wgsl");
 const PROBE: &str = include_str!("../shaders/probe.wgsl");
 const LIGHT_PROBE: &str = include_str!("../shaders/light_probe.wgsl");
 
@@ -86,6 +87,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("light_tracing.wgsl", LIGHT_TRACING),
     ("photon.wgsl", PHOTON),
     ("wavefront.wgsl", WAVEFRONT),
+    ("light_wavefront.wgsl", LIGHT_WAVEFRONT),
     ("probe.wgsl", PROBE),
     ("light_probe.wgsl", LIGHT_PROBE),
 ];
@@ -114,6 +116,7 @@ pub fn integrator_source() -> String {
         LIGHT_TRACING,
         PHOTON,
         WAVEFRONT,
+        LIGHT_WAVEFRONT,
     ];
     assemble(&[MATHS, &kernel].concat())
 }
@@ -343,11 +346,19 @@ pub enum Kernel {
     WfShade,
     WfConnect,
     WfFinish,
+    /// `light_trace` as a wavefront (light_wavefront.wgsl, lt+pt with
+    /// `Specialization::wavefront`): subpath starts, per bounce closest hits, vertices and
+    /// camera connections' shadow rays (splats), then the rejected count.
+    LtWfStart,
+    LtWfExtend,
+    LtWfShade,
+    LtWfSplat,
+    LtWfFinish,
 }
 
 impl Kernel {
     /// Every kernel of the integrator module.
-    pub const ALL: [Kernel; 9] = [
+    pub const ALL: [Kernel; 14] = [
         Kernel::Render,
         Kernel::LightTrace,
         Kernel::PhotonTrace,
@@ -357,6 +368,11 @@ impl Kernel {
         Kernel::WfShade,
         Kernel::WfConnect,
         Kernel::WfFinish,
+        Kernel::LtWfStart,
+        Kernel::LtWfExtend,
+        Kernel::LtWfShade,
+        Kernel::LtWfSplat,
+        Kernel::LtWfFinish,
     ];
 
     /// The kernels that replace `render` in a wavefront specialisation.
@@ -381,12 +397,17 @@ impl Kernel {
             Kernel::WfShade => "wf_shade",
             Kernel::WfConnect => "wf_connect",
             Kernel::WfFinish => "wf_finish",
+            Kernel::LtWfStart => "lt_wf_start",
+            Kernel::LtWfExtend => "lt_wf_extend",
+            Kernel::LtWfShade => "lt_wf_shade",
+            Kernel::LtWfSplat => "lt_wf_splat",
+            Kernel::LtWfFinish => "lt_wf_finish",
         }
     }
 }
 
-/// Storage buffers the integrator binds (bindings 1–8 and 10–13).
-pub const STORAGE_BUFFERS: u32 = 12;
+/// Storage buffers the integrator binds (bindings 1–8, 10–13 and 15).
+pub const STORAGE_BUFFERS: u32 = 13;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
@@ -541,6 +562,8 @@ impl Pipelines {
             },
             count: None,
         });
+        // The light wavefront's subpath states (light_wavefront.wgsl; a placeholder).
+        entries.push(storage_entry(15, false));
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -466,6 +466,7 @@ impl GpuRenderer {
             (11, &b.photon_store.grid),
             (12, &b.photon_store.photons),
             (13, &b.wavefront.paths),
+            (15, &b.wavefront.light_paths),
         ] {
             entries.push(wgpu::BindGroupEntry {
                 binding,
@@ -755,7 +756,7 @@ impl GpuRenderer {
         let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
         // Light subpaths first: `render` folds their splats into the film; photons first:
         // `render` gathers them (wgpu orders the passes' storage accesses).
-        if self.spec.light_tracing {
+        if self.spec.light_tracing && !self.spec.wavefront {
             self.encode_kernel(&mut enc, Kernel::LightTrace, groups);
         }
         if self.spec.sppm {
@@ -1333,4 +1334,4 @@ impl GpuRenderer {
 }
 
 mod tiles;
-mod wavefront;
+pub mod wavefront;

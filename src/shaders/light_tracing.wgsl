@@ -247,20 +247,52 @@ fn light_walk_arrive(lw: ptr<function, LightWalk>, hit: SurfaceHit, sp: Spectral
 // MIS-weighted contribution. Returns 1 if the value was rejected by the firewall.
 // `dispersive`: ym's BSDF depends on the wavelength (the contribution keeps the hero lane).
 fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf, sp: Spectral, dispersive: bool) -> u32 {
+    let s = lt_splat(lw, hit, mat, ng, ns, frame, wo_w, wo, bsdf, sp, dispersive);
+    if !s.ok || bvh_occluded(s.origin, params.cam_pos.xyz - s.origin, 1.0) {
+        return 0u;
+    }
+    return lt_splat_add(s);
+}
+
+// A light vertex's connection to the camera, computed up to its shadow ray: the MIS-weighted
+// value `v` for film pixel `pixel` if the ray from `origin` to the camera is unoccluded
+// (ok = false: no connection).
+struct LtSplat {
+    ok: bool,
+    pixel: u32,
+    origin: vec3<f32>,
+    v: vec3<f32>,
+}
+
+// Splat `s` (its shadow ray unoccluded) after the film firewall (sample_is_valid: spectral
+// estimates may be negative in RGB) and the fixed-point range; 1 if rejected.
+fn lt_splat_add(s: LtSplat) -> u32 {
+    if !sample_is_valid(s.v) || max_element3(abs(s.v)) > SPLAT_MAX {
+        return 1u;
+    }
+    splat_add(s.pixel, s.v);
+    return 0u;
+}
+
+// The connection of `lt_connect` without its shadow ray (the wavefront's `lt_shade` hands it
+// to `lt_connect_splat`). The value is computed before the ray is traced: the same
+// operations as after it.
+fn lt_splat(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: vec3<f32>, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, bsdf: Bsdf, sp: Spectral, dispersive: bool) -> LtSplat {
+    var none: LtSplat;
     let to_cam = params.cam_pos.xyz - hit.p;
     let d2 = dot3(to_cam, to_cam);
     if !(d2 > 0.0) {
-        return 0u;
+        return none;
     }
     let wc = to_cam / sqrt(d2);
     let r = camera_raster(-wc);
     if !r.ok {
-        return 0u;
+        return none;
     }
     let side_o = dot3(wo_w, ng);
     let side_i = dot3(wc, ng);
     if side_i == 0.0 || (!(side_o * side_i > 0.0) && !bsdf_can_transmit(bsdf)) {
-        return 0u;
+        return none;
     }
     let wi = frame_to_local(frame, wc);
     var f: vec4<f32>;
@@ -271,7 +303,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: 
         f = bsdf_eval(bsdf, wo, wi, MODE_IMPORTANCE);
     }
     if !(max_element4(f) > 0.0) {
-        return 0u;
+        return none;
     }
     // We·G for a pinhole with the adjoint shading correction: |ωc·ns|·corr / (d² A cos³θ)
     // = |ωc·ng| |ωo·ns| / (|ωo·ng| d² A cos³θ).
@@ -283,12 +315,9 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: 
         v4 = spectral_collapse(v4);
     }
     if !(max_element4(v4) > 0.0) {
-        return 0u;
+        return none;
     }
     let origin = offset_ray_origin_towards(hit.p, ng, side_i);
-    if bvh_occluded(origin, params.cam_pos.xyz - origin, 1.0) {
-        return 0u;
-    }
     // Absorption along the connection to the camera (a camera inside absorbing glass).
     v4 *= connection_transmittance(medium_towards(lw.media, mat, hit.material, ng, wo_w, wc), sqrt(d2), sp);
     // MIS: densities of the other strategies relative to this one (p_t1).
@@ -316,13 +345,7 @@ fn lt_connect(lw: LightWalk, hit: SurfaceHit, mat: Material, ng: vec3<f32>, ns: 
         v = spectrum_sample_to_rgb(sp.lambdas, v4);
     }
     v *= mis_weight3(r_s0, r_s1);
-    // The film firewall (sample_is_valid: spectral estimates may be negative in RGB), plus the
-    // fixed-point range.
-    if !sample_is_valid(v) || max_element3(abs(v)) > SPLAT_MAX {
-        return 1u;
-    }
-    splat_add(r.pixel, v);
-    return 0u;
+    return LtSplat(true, r.pixel, origin, v);
 }
 
 // Continue the light subpath by sampling the adjoint BSDF at ym = `hit` (MODE_IMPORTANCE,
@@ -377,8 +400,27 @@ fn light_walk_scatter(lw: ptr<function, LightWalk>, hit: SurfaceHit, mat: Materi
 // Random dimensions: light pick (1), u_pos (2), u_dir (2), hero wavelengths (1, spectral),
 // the emitting side (1, double-sided area lights); per vertex uc, u2 (2); Russian roulette (1).
 fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
-    if params.light_count == 0u {
+    var lw: LightWalk;
+    var sp: Spectral;
+    if !lt_begin(sampler, &lw, &sp) {
         return 0u;
+    }
+    var rejected = 0u;
+    loop {
+        let h = bvh_intersect(lw.o, lw.d, F32_MAX);
+        segments++;
+        if lt_vertex(&lw, sampler, sp, h, WALK_WHOLE, &rejected) != VERTEX_NEXT {
+            break;
+        }
+    }
+    return rejected;
+}
+
+// Start a light subpath: pick a light, its hero wavelengths, an emitted ray. False when the
+// subpath carries nothing (no light, a light at infinity, an invalid or black sample).
+fn lt_begin(sampler: ptr<function, Sampler>, lw: ptr<function, LightWalk>, sp: ptr<function, Spectral>) -> bool {
+    if params.light_count == 0u {
+        return false;
     }
     let pick = light_set_pick(sampler_next_1d(sampler));
     let u_pos = sampler_next_2d(sampler);
@@ -388,86 +430,93 @@ fn lt_path(sampler: ptr<function, Sampler>) -> u32 {
     // (`bdpt::light_path`, `Bdpt::infinite_weight`), so its paths keep the path tracer's
     // two-strategy weights (integrator_light_mis, integrator_add_escaped).
     if pick.prob <= 0.0 || light_is_infinite(pick.light) {
-        return 0u;
+        return false;
     }
-    let sp = spectral_new(sampler);
+    *sp = spectral_new(sampler);
     let le = light_sample_le(pick.light, u_pos, u_dir, sampler, pick.prob);
     if !le.valid {
-        return 0u;
+        return false;
     }
-    var lw = light_walk_new(pick.light, le, sp);
-    if !(max_element4(lw.beta) > 0.0) {
-        return 0u;
+    *lw = light_walk_new(pick.light, le, *sp);
+    return max_element4(lw.beta) > 0.0;
+}
+
+// `WALK_SHADE`'s connection to the camera, left for its shadow ray (ok = false: none).
+var<private> LT_SPLAT: LtSplat;
+
+// The light subpath in `lw` arriving at the closest hit `h` of its ray (not found: it
+// escaped): the vertex's connection to the camera — splatted (`WALK_WHOLE`) or left in
+// `LT_SPLAT` (`WALK_SHADE`) — then its BSDF sample and Russian roulette; `rejected` counts
+// firewall rejections. VERTEX_NEXT: the walk goes on along (lw.o, lw.d).
+fn lt_vertex(lw: ptr<function, LightWalk>, sampler: ptr<function, Sampler>, sp: Spectral, h: Hit, mode: u32, rejected: ptr<function, u32>) -> u32 {
+    if !h.found {
+        return VERTEX_END;
     }
-    var rejected = 0u;
-    loop {
-        let h = bvh_intersect(lw.o, lw.d, F32_MAX);
-        segments++;
-        if !h.found {
-            break;
-        }
-        var hit = integrator_surface(h);
-        light_walk_attenuate(&lw, hit.t, sp);
-        let mat = materials[hit.material];
-        var enclosing = NO_MEDIUM;
-        if HAS_NESTED {
-            let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
-            if !c.real {
-                // A false hit: no vertex; the ray continues past it.
-                lw.media = c.after;
-                lw.false_hits++;
-                if lw.false_hits > FALSE_HIT_LIMIT {
-                    break;
-                }
-                lw.t_pass += hit.t;
-                lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
-                continue;
+    var hit = integrator_surface(h);
+    light_walk_attenuate(lw, hit.t, sp);
+    let mat = materials[hit.material];
+    var enclosing = NO_MEDIUM;
+    if HAS_NESTED {
+        let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
+        if !c.real {
+            // A false hit: no vertex; the ray continues past it.
+            lw.media = c.after;
+            lw.false_hits++;
+            if lw.false_hits > FALSE_HIT_LIMIT {
+                return VERTEX_END;
             }
-            enclosing = c.enclosing;
-            hit.t += lw.t_pass;
-            lw.t_pass = 0.0;
+            lw.t_pass += hit.t;
+            lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
+            return VERTEX_NEXT;
         }
-        light_walk_arrive(&lw, hit, sp);
-        let front = dot3(lw.d, hit.ng) < 0.0;
-        if (mat.flags & MAT_BLACK_EMITTER) != 0u {
-            break; // emitters are black surfaces otherwise (as in the path tracer)
-        }
-        let on = orient_normals(mat, hit, front);
-        if !on.ok {
-            break;
-        }
-        let ie = interface_eta(mat, enclosing, sp);
-        let dispersive = ie.dispersive;
-        let bsdf = material_bsdf(mat, hit.uv, ie.eta, sp);
-        let frame = frame_from_normal(on.ns);
-        let wo_w = -lw.d;
-        let wo = frame_to_local(frame, wo_w);
-        // The full path x0 … xk has k = m + 1 segments.
-        if !bsdf_is_delta(bsdf) {
-            rejected += lt_connect(lw, hit, mat, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
-        }
-        if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
-            break;
-        }
-        let uc = sampler_next_1d(sampler);
-        let u2 = sampler_next_2d(sampler);
-        let step = light_walk_scatter(&lw, hit, mat, on, frame, wo, bsdf, dispersive, uc, u2);
-        if step == STEP_POISON {
-            rejected += 1u;
-            break;
-        }
-        if step == STEP_BREAK {
-            break;
-        }
-        // Russian roulette on the importance throughput (no η² factor: importance does not
-        // compress on refraction).
-        let q_rr = russian_roulette(lw.beta, 1.0, lw.m, sampler);
-        if q_rr <= 0.0 {
-            break;
-        }
-        lw.beta /= q_rr;
+        enclosing = c.enclosing;
+        hit.t += lw.t_pass;
+        lw.t_pass = 0.0;
     }
-    return rejected;
+    light_walk_arrive(lw, hit, sp);
+    let front = dot3(lw.d, hit.ng) < 0.0;
+    if (mat.flags & MAT_BLACK_EMITTER) != 0u {
+        return VERTEX_END; // emitters are black surfaces otherwise (as in the path tracer)
+    }
+    let on = orient_normals(mat, hit, front);
+    if !on.ok {
+        return VERTEX_END;
+    }
+    let ie = interface_eta(mat, enclosing, sp);
+    let dispersive = ie.dispersive;
+    let bsdf = material_bsdf(mat, hit.uv, ie.eta, sp);
+    let frame = frame_from_normal(on.ns);
+    let wo_w = -lw.d;
+    let wo = frame_to_local(frame, wo_w);
+    // The full path x0 … xk has k = m + 1 segments.
+    if !bsdf_is_delta(bsdf) {
+        if mode == WALK_WHOLE {
+            *rejected += lt_connect(*lw, hit, mat, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
+        } else {
+            LT_SPLAT = lt_splat(*lw, hit, mat, on.ng, on.ns, frame, wo_w, wo, bsdf, sp, dispersive);
+        }
+    }
+    if lw.m + 1u >= params.max_depth || (HAS_FILTER && lw.m >= LT_MAX_SYMBOLS) {
+        return VERTEX_END;
+    }
+    let uc = sampler_next_1d(sampler);
+    let u2 = sampler_next_2d(sampler);
+    let step = light_walk_scatter(lw, hit, mat, on, frame, wo, bsdf, dispersive, uc, u2);
+    if step == STEP_POISON {
+        *rejected += 1u;
+        return VERTEX_END;
+    }
+    if step == STEP_BREAK {
+        return VERTEX_END;
+    }
+    // Russian roulette on the importance throughput (no η² factor: importance does not
+    // compress on refraction).
+    let q_rr = russian_roulette(lw.beta, 1.0, lw.m, sampler);
+    if q_rr <= 0.0 {
+        return VERTEX_END;
+    }
+    lw.beta /= q_rr;
+    return VERTEX_NEXT;
 }
 
 // One light subpath per invocation per sample of the batch (as many as camera paths).

@@ -1,15 +1,20 @@
-//! The camera walk as a wavefront on the host side (shaders/wavefront.wgsl): the path-state
-//! buffer, the chunk table read at a dynamic offset, and the dispatches of one submission —
-//! per chunk of whole pixels `wf_start`, then per bounce `wf_extend`, `wf_nee`, `wf_shade`,
-//! `wf_connect`, then `wf_finish`.
+//! The camera walk and lt+pt's light subpaths as wavefronts on the host side
+//! (shaders/wavefront.wgsl, light_wavefront.wgsl): the path-state buffers, the chunk table
+//! read at a dynamic offset, and the dispatches of one submission — every chunk's light
+//! subpaths first (`lt_wf_start`, per bounce `lt_wf_extend`, `lt_wf_shade`, `lt_wf_splat`,
+//! then `lt_wf_finish`: their splats land anywhere in the film), then per chunk of whole
+//! pixels `wf_start`, per bounce `wf_extend`, `wf_nee`, `wf_shade`, `wf_connect`, then
+//! `wf_finish`, which folds each pixel's samples and splats into the film.
 
 use super::GpuRenderer;
 use crate::gpu::GpuContext;
 use crate::gpu::pipeline::Kernel;
 use wgpu::util::DeviceExt;
 
-/// Bytes of one `WfPath` (wavefront.wgsl; `tests/gpu.rs` checks it against the WGSL layout).
+/// Bytes of one `WfPath` (wavefront.wgsl) and of one `LtPath` (light_wavefront.wgsl);
+/// `tests/gpu.rs` checks both against the WGSL layouts.
 pub const PATH_BYTES: u64 = 240;
+pub const LIGHT_PATH_BYTES: u64 = 240;
 /// Stride of the chunk table's entries: the largest `min_uniform_buffer_offset_alignment`
 /// WebGPU allows.
 pub const CHUNK_STRIDE: u64 = 256;
@@ -18,24 +23,40 @@ pub const MAX_CHUNKS: usize = 1024;
 /// Paths in flight at most (64 MiB of state).
 const MAX_PATHS: u64 = 1 << 18;
 
-/// The wavefront's buffers: path states for up to `max_paths` paths and the chunk table.
+/// The wavefront's buffers: path states for up to `max_paths` camera paths (and as many
+/// light subpaths with lt+pt) and the chunk table.
 pub struct WavefrontBuffers {
     pub paths: wgpu::Buffer,
+    pub light_paths: wgpu::Buffer,
     pub chunks: wgpu::Buffer,
     pub max_paths: u32,
+    /// `light_paths` holds `max_paths` subpaths (else a placeholder).
+    pub light: bool,
 }
 
 impl WavefrontBuffers {
-    /// Buffers for `max_paths` paths (0: placeholders for a megakernel specialisation).
-    fn with_paths(ctx: &GpuContext, max_paths: u32) -> WavefrontBuffers {
+    /// Buffers for `max_paths` paths (0: placeholders for a megakernel specialisation), with
+    /// light subpaths when `light`.
+    fn with_paths(ctx: &GpuContext, max_paths: u32, light: bool) -> WavefrontBuffers {
         let chunks = if max_paths == 0 { 1 } else { MAX_CHUNKS as u64 };
-        WavefrontBuffers {
-            paths: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("wavefront paths"),
-                size: (u64::from(max_paths) * PATH_BYTES).max(PATH_BYTES),
+        let light_paths = if light { u64::from(max_paths) } else { 0 };
+        let storage = |label, bytes: u64| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
-            }),
+            })
+        };
+        WavefrontBuffers {
+            paths: storage(
+                "wavefront paths",
+                (u64::from(max_paths) * PATH_BYTES).max(PATH_BYTES),
+            ),
+            light_paths: storage(
+                "wavefront light subpaths",
+                (light_paths * LIGHT_PATH_BYTES).max(LIGHT_PATH_BYTES),
+            ),
             chunks: ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -44,17 +65,18 @@ impl WavefrontBuffers {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
             max_paths,
+            light,
         }
     }
 
     pub fn placeholder(ctx: &GpuContext) -> WavefrontBuffers {
-        Self::with_paths(ctx, 0)
+        Self::with_paths(ctx, 0, false)
     }
 
     /// Buffers for as many paths as fit one binding, at most `MAX_PATHS`.
-    pub fn sized(ctx: &GpuContext) -> WavefrontBuffers {
-        let paths = (ctx.max_binding_bytes() / PATH_BYTES).min(MAX_PATHS);
-        Self::with_paths(ctx, paths as u32)
+    pub fn sized(ctx: &GpuContext, light: bool) -> WavefrontBuffers {
+        let paths = (ctx.max_binding_bytes() / PATH_BYTES.max(LIGHT_PATH_BYTES)).min(MAX_PATHS);
+        Self::with_paths(ctx, paths as u32, light)
     }
 }
 
@@ -83,11 +105,13 @@ impl GpuRenderer {
     /// they change.
     pub(super) fn fit_wavefront(&mut self) {
         let want = self.spec.wavefront;
-        if want == (self.buffers.wavefront.max_paths > 0) {
+        let light = want && self.spec.light_tracing;
+        let wf = &self.buffers.wavefront;
+        if want == (wf.max_paths > 0) && light == wf.light {
             return;
         }
         self.buffers.wavefront = if want {
-            WavefrontBuffers::sized(&self.ctx)
+            WavefrontBuffers::sized(&self.ctx, light)
         } else {
             WavefrontBuffers::placeholder(&self.ctx)
         };
@@ -118,6 +142,19 @@ impl GpuRenderer {
         }
         self.ctx.queue.write_buffer(&wf.chunks, 0, &bytes);
         let bounces = self.wavefront_bounces();
+        if self.spec.light_tracing {
+            for (c, &(_, count)) in table.iter().enumerate() {
+                let offset = (c as u64 * CHUNK_STRIDE) as u32;
+                let groups = (count.div_ceil(64), 1);
+                self.encode_kernel_at(enc, Kernel::LtWfStart, groups, offset);
+                for _ in 0..bounces {
+                    for kernel in [Kernel::LtWfExtend, Kernel::LtWfShade, Kernel::LtWfSplat] {
+                        self.encode_kernel_at(enc, kernel, groups, offset);
+                    }
+                }
+                self.encode_kernel_at(enc, Kernel::LtWfFinish, groups, offset);
+            }
+        }
         for (c, &(_, count)) in table.iter().enumerate() {
             let offset = (c as u64 * CHUNK_STRIDE) as u32;
             let groups = (count.div_ceil(64), 1);
