@@ -142,13 +142,8 @@ fn lt_wf_extend(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_in
     segments = 0u;
     let i = gid.x;
     if HAS_LT && i < wf_path_count() && lt_paths[i].status == WF_LIVE {
-        let h = bvh_intersect(lt_paths[i].o, lt_paths[i].d, F32_MAX);
+        lt_paths[i].hit = wf_closest_hit(lt_paths[i].o, lt_paths[i].d);
         segments = 1u;
-        var slot = WF_NO_HIT;
-        if h.found {
-            slot = h.slot;
-        }
-        lt_paths[i].hit = vec4<u32>(bitcast<u32>(h.t), slot, bitcast<u32>(h.b1), bitcast<u32>(h.b2));
     }
     add_counters_workgroup(0u, segments);
 }
@@ -165,8 +160,7 @@ fn lt_wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     var lw = lt_wf_load(i);
     var sampler = Sampler(lt_paths[i].s_base, lt_paths[i].s_dim);
     var rejected = lt_paths[i].rejected;
-    let hv = lt_paths[i].hit;
-    let h = Hit(hv.y != WF_NO_HIT, bitcast<f32>(hv.x), hv.y, bitcast<f32>(hv.z), bitcast<f32>(hv.w));
+    let h = wf_decode_hit(lt_paths[i].hit);
     LT_SPLAT = LtSplat(false, 0u, vec3<f32>(0.0), vec3<f32>(0.0));
     let v = lt_vertex(&lw, &sampler, lt_wf_spectral(i), h, WALK_SHADE, &rejected);
     lt_wf_store(i, lw, sampler);

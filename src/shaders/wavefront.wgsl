@@ -135,7 +135,20 @@ fn wf_store(i: u32, ps: PathState, s: Sampler) {
 }
 
 fn wf_hit(i: u32) -> Hit {
-    let h = wf_paths[i].hit;
+    return wf_decode_hit(wf_paths[i].hit);
+}
+
+// The closest hit of the ray (o, d) in the form a path state stores it (`WfPath.hit`).
+fn wf_closest_hit(o: vec3<f32>, d: vec3<f32>) -> vec4<u32> {
+    let h = bvh_intersect(o, d, F32_MAX);
+    var slot = WF_NO_HIT;
+    if h.found {
+        slot = h.slot;
+    }
+    return vec4<u32>(bitcast<u32>(h.t), slot, bitcast<u32>(h.b1), bitcast<u32>(h.b2));
+}
+
+fn wf_decode_hit(h: vec4<u32>) -> Hit {
     return Hit(h.y != WF_NO_HIT, bitcast<f32>(h.x), h.y, bitcast<f32>(h.z), bitcast<f32>(h.w));
 }
 
@@ -179,13 +192,8 @@ fn wf_extend(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
     segments = 0u;
     let i = gid.x;
     if i < wf_path_count() && wf_paths[i].status == WF_LIVE {
-        let h = bvh_intersect(wf_paths[i].o, wf_paths[i].d, F32_MAX);
+        wf_paths[i].hit = wf_closest_hit(wf_paths[i].o, wf_paths[i].d);
         segments = 1u;
-        var slot = WF_NO_HIT;
-        if h.found {
-            slot = h.slot;
-        }
-        wf_paths[i].hit = vec4<u32>(bitcast<u32>(h.t), slot, bitcast<u32>(h.b1), bitcast<u32>(h.b2));
     }
     add_counters_workgroup(0u, segments);
 }
