@@ -168,7 +168,8 @@ pub struct Specialization {
     pub sppm: bool,
     /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
     pub nested: bool,
-    /// Camera paths by the wavefront kernels (`Kernel::WAVEFRONT`) instead of `render`:
+    /// Camera paths by the wavefront kernels (`Kernel::WfStart` … `WfFinish`, and for lt+pt
+    /// `LtWfStart` … `LtWfFinish` instead of `light_trace`) instead of `render`:
     /// chosen where the megakernel needs more registers than a GPU can give without
     /// losing occupancy ([`Specialization::wants_wavefront`]).
     pub wavefront: bool,
@@ -373,16 +374,6 @@ impl Kernel {
         Kernel::LtWfShade,
         Kernel::LtWfSplat,
         Kernel::LtWfFinish,
-    ];
-
-    /// The kernels that replace `render` in a wavefront specialisation.
-    pub const WAVEFRONT: [Kernel; 6] = [
-        Kernel::WfStart,
-        Kernel::WfExtend,
-        Kernel::WfNee,
-        Kernel::WfShade,
-        Kernel::WfConnect,
-        Kernel::WfFinish,
     ];
 
     /// The WGSL entry point's name.
