@@ -211,28 +211,46 @@ fn wavefront_matches_megakernel() {
         if let Some(f) = filter {
             g.set_filter(Some(&PathFilter::parse(f).unwrap()));
         }
-        let mut run = |wavefront: bool| {
+        let mut run = |wavefront: bool, indirect: bool| {
             g.set_wavefront(Some(wavefront));
+            g.set_wavefront_indirect(indirect);
             assert_eq!(g.specialization().wavefront, wavefront);
-            let img = g.render(3).unwrap();
+            // One submission of 3 spp (`render` would split by measured time, which changes
+            // the film's order of additions from run to run).
+            g.dispatch(3);
+            let img = g.image().unwrap();
             (img, g.stats().unwrap().segments)
         };
-        let (mega, mega_segments) = run(false);
-        let (wave, wave_segments) = run(true);
+        let (mega, mega_segments) = run(false, true);
+        // Every bounce over the whole chunk (no indirect dispatch): the same samples.
+        let (direct, direct_segments) = run(true, false);
+        let (wave, wave_segments) = run(true, true);
         assert_eq!(wave_segments, mega_segments, "{name}: path segments");
+        assert_eq!(
+            direct_segments, wave_segments,
+            "{name}: path segments, direct"
+        );
+        assert!(
+            direct.mean == wave.mean,
+            "{name}: direct and indirect dispatch differ by {:e}",
+            worst_relative_difference(&direct.mean, &wave.mean)
+        );
         assert!(mega_segments.is_some_and(|n| n > 0), "{name}");
         assert_eq!(wave.dropped, mega.dropped, "{name}: dropped samples");
-        let worst = mega
-            .mean
-            .iter()
-            .zip(&wave.mean)
-            .map(|(a, b)| (*a - *b).abs().max_element() / a.abs().max_element().max(1e-3))
-            .fold(0.0f32, f32::max);
+        let worst = worst_relative_difference(&mega.mean, &wave.mean);
         eprintln!(
             "{name} ({estimator:?}): wavefront vs megakernel, worst relative difference {worst:e}"
         );
         assert!(worst <= 1e-5, "{name}: {worst}");
     }
+}
+
+/// The largest per-pixel difference of two images relative to the first's pixel (at least 1e-3).
+fn worst_relative_difference(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (*a - *b).abs().max_element() / a.abs().max_element().max(1e-3))
+        .fold(0.0f32, f32::max)
 }
 
 const PROBE_COLOR: Vec3 = Vec3::new(0.25, 0.5, 0.875);

@@ -347,6 +347,9 @@ pub enum Kernel {
     WfShade,
     WfConnect,
     WfFinish,
+    /// Between a wavefront's bounces (camera or light): the next queue of live paths made
+    /// the running one, its dispatch size written.
+    WfAdvance,
     /// `light_trace` as a wavefront (light_wavefront.wgsl, lt+pt with
     /// `Specialization::wavefront`): subpath starts, per bounce closest hits, vertices and
     /// camera connections' shadow rays (splats), then the rejected count.
@@ -359,7 +362,7 @@ pub enum Kernel {
 
 impl Kernel {
     /// Every kernel of the integrator module.
-    pub const ALL: [Kernel; 14] = [
+    pub const ALL: [Kernel; 15] = [
         Kernel::Render,
         Kernel::LightTrace,
         Kernel::PhotonTrace,
@@ -369,6 +372,7 @@ impl Kernel {
         Kernel::WfShade,
         Kernel::WfConnect,
         Kernel::WfFinish,
+        Kernel::WfAdvance,
         Kernel::LtWfStart,
         Kernel::LtWfExtend,
         Kernel::LtWfShade,
@@ -388,6 +392,7 @@ impl Kernel {
             Kernel::WfShade => "wf_shade",
             Kernel::WfConnect => "wf_connect",
             Kernel::WfFinish => "wf_finish",
+            Kernel::WfAdvance => "wf_advance",
             Kernel::LtWfStart => "lt_wf_start",
             Kernel::LtWfExtend => "lt_wf_extend",
             Kernel::LtWfShade => "lt_wf_shade",
@@ -397,8 +402,8 @@ impl Kernel {
     }
 }
 
-/// Storage buffers the integrator binds (bindings 1–8, 10–13 and 15).
-pub const STORAGE_BUFFERS: u32 = 13;
+/// Storage buffers the integrator binds (bindings 1–8, 10–13, 15 and 16).
+pub const STORAGE_BUFFERS: u32 = 14;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
@@ -555,6 +560,8 @@ impl Pipelines {
         });
         // The light wavefront's subpath states (light_wavefront.wgsl; a placeholder).
         entries.push(storage_entry(15, false));
+        // The wavefronts' queues of live paths (wavefront.wgsl's `WfQueue`; a placeholder).
+        entries.push(storage_entry(16, false));
         let bind_group_layout =
             ctx.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -120,6 +120,8 @@ pub struct GpuRenderer {
     /// Camera walk as a wavefront or not regardless of `Specialization::wants_wavefront`
     /// (None: the rule; `REFRACT_GPU_WAVEFRONT=on|off` sets it for the CLI).
     wavefront_override: Option<bool>,
+    /// Wavefront bounces sized by indirect dispatch (where the adapter has it).
+    wavefront_indirect: bool,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -312,7 +314,9 @@ impl GpuRenderer {
             film_y0: 0,
             tiles,
             wavefront_override,
+            wavefront_indirect: false,
         };
+        r.set_wavefront_indirect(true);
         r.fit_tiles();
         r.fit_wavefront();
         r.photon_r0 = r.sppm_radius0();
@@ -467,6 +471,7 @@ impl GpuRenderer {
             (12, &b.photon_store.photons),
             (13, &b.wavefront.paths),
             (15, &b.wavefront.light_paths),
+            (16, &b.wavefront.queue),
         ] {
             entries.push(wgpu::BindGroupEntry {
                 binding,
@@ -1115,6 +1120,14 @@ impl GpuRenderer {
         self.wavefront_override = wavefront;
         self.respecialize();
         self.reset();
+    }
+
+    /// Size the wavefront's bounces by indirect dispatch (`true`, the default, where the
+    /// adapter has `DownlevelFlags::INDIRECT_EXECUTION`) or dispatch every bounce over the
+    /// whole chunk (`false`; for tests: the same image either way).
+    pub fn set_wavefront_indirect(&mut self, on: bool) {
+        let flags = self.ctx.adapter.get_downlevel_capabilities().flags;
+        self.wavefront_indirect = on && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION);
     }
 
     /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);

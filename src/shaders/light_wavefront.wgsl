@@ -115,13 +115,20 @@ fn lt_wf_spectral(i: u32) -> Spectral {
     return Spectral(lt_paths[i].sp_on != 0u, lt_paths[i].lambdas);
 }
 
-// Light subpath i of the chunk leaves its light (`light_trace`'s start of a subpath).
+// Light subpath i of the chunk leaves its light (`light_trace`'s start of a subpath) and,
+// when it does, joins the first queue (`WfQueue`, shared with the camera wavefront).
 @compute @workgroup_size(64, 1, 1)
-fn lt_wf_start(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn lt_wf_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let i = gid.x;
-    if !HAS_LT || i >= wf_path_count() {
-        return;
+    var live = false;
+    if HAS_LT && i < wf_path_count() {
+        live = lt_wf_begin(i);
     }
+    wf_enqueue(i, live, lane);
+}
+
+// `lt_wf_start` for subpath i: whether it left its light.
+fn lt_wf_begin(i: u32) -> bool {
     OFFSET_SCALE = params.offset_scale;
     var sampler = sampler_new(wf_pixel(i), params.sample_offset + (wf_chunk.first + i) % params.batch, params.seed ^ LT_SEED_MIX);
     var lw: LightWalk;
@@ -133,27 +140,28 @@ fn lt_wf_start(@builtin(global_invocation_id) gid: vec3<u32>) {
     lt_paths[i].status = select(WF_DONE, WF_LIVE, live);
     lt_paths[i].splat_ok = 0u;
     lt_paths[i].rejected = 0u;
+    return live;
 }
 
-// The closest hit of each live subpath's ray.
+// The closest hit of each queued subpath's ray.
 @compute @workgroup_size(64, 1, 1)
 fn lt_wf_extend(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     LANE = lane;
     segments = 0u;
-    let i = gid.x;
-    if HAS_LT && i < wf_path_count() && lt_paths[i].status == WF_LIVE {
+    let i = wf_queued(gid.x);
+    if HAS_LT && i != WF_NO_PATH {
         lt_paths[i].hit = wf_closest_hit(lt_paths[i].o, lt_paths[i].d);
         segments = 1u;
     }
     add_counters_workgroup(0u, segments);
 }
 
-// Each live subpath's vertex: its camera connection left for `lt_wf_splat`, then the BSDF
+// Each queued subpath's vertex: its camera connection left for `lt_wf_splat`, then the BSDF
 // sample and roulette.
 @compute @workgroup_size(64, 1, 1)
 fn lt_wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if !HAS_LT || i >= wf_path_count() || lt_paths[i].status != WF_LIVE {
+    let i = wf_queued(gid.x);
+    if !HAS_LT || i == WF_NO_PATH {
         return;
     }
     OFFSET_SCALE = params.offset_scale;
@@ -174,12 +182,23 @@ fn lt_wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// The pending connections' shadow rays to the camera; an unoccluded one is splatted.
+// The pending connections' shadow rays to the camera (of the bounce's queue, whose vertices
+// `lt_wf_shade` just ran); an unoccluded one is splatted. Then the subpaths that go on join
+// the next queue.
 @compute @workgroup_size(64, 1, 1)
 fn lt_wf_splat(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     LANE = lane;
-    let i = gid.x;
-    if !HAS_LT || i >= wf_path_count() || lt_paths[i].splat_ok == 0u {
+    let i = wf_queued(gid.x);
+    var next = false;
+    if HAS_LT && i != WF_NO_PATH {
+        lt_wf_splat_path(i);
+        next = lt_paths[i].status == WF_LIVE;
+    }
+    wf_enqueue(i, next, lane);
+}
+
+fn lt_wf_splat_path(i: u32) {
+    if lt_paths[i].splat_ok == 0u {
         return;
     }
     lt_paths[i].splat_ok = 0u;

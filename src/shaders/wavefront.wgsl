@@ -68,11 +68,85 @@ struct WfChunk {
 
 @group(0) @binding(14) var<uniform> wf_chunk: WfChunk;
 
+// The live paths of the running chunk, compacted bounce by bounce (the queues of Laine, Karras & Aila 2013:
+// each kernel runs one thread per queued path, not one per path ever started). Two queues
+// alternate: the running bounce's (parity `cur`), read by its kernels, and the next one's,
+// to which the bounce's last kernel (`wf_connect`, `lt_wf_splat`) and the start kernels
+// append the paths that go on. `wf_advance`
+// then makes the next queue current and writes its dispatch size to `args`, which the host
+// copies to the indirect-dispatch buffer of the next bounce's kernels (a buffer bound as
+// storage cannot be an indirect argument in the same dispatch). Shared by the light
+// wavefront, which runs before the camera one.
+struct WfQueue {
+    // (workgroups, 1, 1, queued paths) of the running bounce.
+    args: vec4<u32>,
+    count: array<atomic<u32>, 2>,
+    cur: u32,
+    _pad: u32,
+    // Parity p's queue at [p · capacity, (p + 1) · capacity).
+    items: array<u32>,
+}
+
+@group(0) @binding(16) var<storage, read_write> wf_queue: WfQueue;
+
+fn wf_queue_capacity() -> u32 {
+    return arrayLength(&wf_queue.items) / 2u;
+}
+
+// The path that thread j of a bounce's kernel runs, or WF_NO_PATH past the queue's end.
+fn wf_queued(j: u32) -> u32 {
+    let cur = wf_queue.cur;
+    if j >= atomicLoad(&wf_queue.count[cur]) {
+        return WF_NO_PATH;
+    }
+    return wf_queue.items[cur * wf_queue_capacity() + j];
+}
+
+// Append path i to the next bounce's queue when `keep`: lane 0 numbers the workgroup's
+// kept paths and reserves their slots with one global atomic add. The lanes' flags and slots
+// live in the traversal stack's workgroup memory (no traversal runs in the kernels that
+// call this; more workgroup memory would cost occupancy, see `add_counters_workgroup`).
+// Every lane of the workgroup must call it (it holds barriers).
+fn wf_enqueue(i: u32, keep: bool, lane: u32) {
+    BVH_STACK[lane] = u32(keep);
+    workgroupBarrier();
+    if lane == 0u {
+        var n = 0u;
+        for (var l = 0u; l < WORKGROUP_LANES; l++) {
+            let k = BVH_STACK[l];
+            BVH_STACK[l] = n;
+            n += k;
+        }
+        var base = 0u;
+        if n > 0u {
+            base = atomicAdd(&wf_queue.count[1u - wf_queue.cur], n);
+        }
+        BVH_STACK[WORKGROUP_LANES] = base;
+    }
+    workgroupBarrier();
+    if keep {
+        let slot = BVH_STACK[WORKGROUP_LANES] + BVH_STACK[lane];
+        wf_queue.items[(1u - wf_queue.cur) * wf_queue_capacity() + slot] = i;
+    }
+}
+
+// Between bounces (one thread): the next queue becomes the running one.
+@compute @workgroup_size(1, 1, 1)
+fn wf_advance() {
+    let cur = wf_queue.cur;
+    let next = 1u - cur;
+    let n = atomicLoad(&wf_queue.count[next]);
+    wf_queue.args = vec4<u32>((n + 63u) / 64u, 1u, 1u, n);
+    atomicStore(&wf_queue.count[cur], 0u);
+    wf_queue.cur = next;
+}
+
 // `WfPath.status`.
 const WF_LIVE: u32 = 0u;
 const WF_DONE: u32 = 1u;
 const WF_POISONED: u32 = 2u;
 const WF_NO_HIT: u32 = 0xffffffffu;
+const WF_NO_PATH: u32 = 0xffffffffu;
 
 fn wf_path_count() -> u32 {
     return wf_chunk.count;
@@ -161,13 +235,18 @@ fn wf_debug(i: u32) {
     debug_on = wf_pixel(i) == params.debug_pixel && (wf_chunk.first + i) % params.batch == 0u;
 }
 
-// Path i leaves the camera (`render_pixel`'s start of a sample).
+// Path i leaves the camera (`render_pixel`'s start of a sample) and joins the first queue.
 @compute @workgroup_size(64, 1, 1)
-fn wf_start(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn wf_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let i = gid.x;
-    if i >= wf_path_count() {
-        return;
+    let started = i < wf_path_count();
+    if started {
+        wf_begin(i);
     }
+    wf_enqueue(i, started, lane);
+}
+
+fn wf_begin(i: u32) {
     OFFSET_SCALE = params.offset_scale;
     let pixel = wf_pixel(i);
     let x = pixel % params.width;
@@ -185,25 +264,25 @@ fn wf_start(@builtin(global_invocation_id) gid: vec3<u32>) {
     wf_paths[i].nee_c = vec4<f32>(0.0);
 }
 
-// The closest hit of each live path's ray.
+// The closest hit of each queued path's ray.
 @compute @workgroup_size(64, 1, 1)
 fn wf_extend(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     LANE = lane;
     segments = 0u;
-    let i = gid.x;
-    if i < wf_path_count() && wf_paths[i].status == WF_LIVE {
+    let i = wf_queued(gid.x);
+    if i != WF_NO_PATH {
         wf_paths[i].hit = wf_closest_hit(wf_paths[i].o, wf_paths[i].d);
         segments = 1u;
     }
     add_counters_workgroup(0u, segments);
 }
 
-// Next-event estimation at each live path's vertex, from a copy of its state (the vertex
+// Next-event estimation at each queued path's vertex, from a copy of its state (the vertex
 // draws its random numbers again in `wf_shade`, from the same sampler state).
 @compute @workgroup_size(64, 1, 1)
 fn wf_nee(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= wf_path_count() || wf_paths[i].status != WF_LIVE {
+    let i = wf_queued(gid.x);
+    if i == WF_NO_PATH {
         return;
     }
     OFFSET_SCALE = params.offset_scale;
@@ -218,11 +297,11 @@ fn wf_nee(@builtin(global_invocation_id) gid: vec3<u32>) {
     wf_paths[i].nee_tmax = NEE_RAY.tmax;
 }
 
-// The rest of each live path's vertex: emission, the BSDF sample, Russian roulette.
+// The rest of each queued path's vertex: emission, the BSDF sample, Russian roulette.
 @compute @workgroup_size(64, 1, 1)
 fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= wf_path_count() || wf_paths[i].status != WF_LIVE {
+    let i = wf_queued(gid.x);
+    if i == WF_NO_PATH {
         return;
     }
     OFFSET_SCALE = params.offset_scale;
@@ -239,14 +318,22 @@ fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // The pending next-event estimates' shadow rays; an unoccluded estimate joins the path's
-// radiance after the vertex's emission and gather, as in the megakernel.
+// radiance after the vertex's emission and gather, as in the megakernel. (A path of the
+// bounce's queue that `wf_shade` ended may still have one.) Then the paths that go on join
+// the next queue — here rather than in `wf_shade`, whose registers the queue would cost.
 @compute @workgroup_size(64, 1, 1)
 fn wf_connect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     LANE = lane;
-    let i = gid.x;
-    if i >= wf_path_count() {
-        return;
+    let i = wf_queued(gid.x);
+    var next = false;
+    if i != WF_NO_PATH {
+        wf_connect_path(i);
+        next = wf_paths[i].status == WF_LIVE;
     }
+    wf_enqueue(i, next, lane);
+}
+
+fn wf_connect_path(i: u32) {
     let c = wf_paths[i].nee_c;
     if all(c == vec4<f32>(0.0)) {
         return;

@@ -5,6 +5,13 @@
 //! then `lt_wf_finish`: their splats land anywhere in the film), then per chunk of whole
 //! pixels `wf_start`, per bounce `wf_extend`, `wf_nee`, `wf_shade`, `wf_connect`, then
 //! `wf_finish`, which folds each pixel's samples and splats into the film.
+//!
+//! Each bounce's kernels run one thread per path still live (the `WfQueue` of
+//! wavefront.wgsl): `wf_advance` writes the next bounce's dispatch size, copied between
+//! compute passes into the indirect-dispatch buffer — once every path has ended, the
+//! remaining bounces dispatch no workgroups. Without indirect dispatch
+//! (`DownlevelFlags::INDIRECT_EXECUTION`) they dispatch the whole chunk, whose threads past
+//! the queue's end return at once.
 
 use super::GpuRenderer;
 use crate::gpu::GpuContext;
@@ -20,6 +27,8 @@ pub const LIGHT_PATH_BYTES: u64 = 240;
 pub const CHUNK_STRIDE: u64 = 256;
 /// Chunks one submission may have (a larger one is split into submissions of fewer samples).
 pub const MAX_CHUNKS: usize = 1024;
+/// Bytes of `WfQueue`'s header (args, two counts, the running parity, padding).
+pub const QUEUE_HEADER: u64 = 32;
 /// Paths in flight at most (64 MiB of state).
 const MAX_PATHS: u64 = 1 << 18;
 
@@ -29,6 +38,11 @@ pub struct WavefrontBuffers {
     pub paths: wgpu::Buffer,
     pub light_paths: wgpu::Buffer,
     pub chunks: wgpu::Buffer,
+    /// `WfQueue`: its header (`QUEUE_HEADER` bytes, the dispatch size first) and two queues
+    /// of `max_paths` path indices.
+    pub queue: wgpu::Buffer,
+    /// The running bounce's dispatch size, copied from `queue`'s header.
+    pub args: wgpu::Buffer,
     pub max_paths: u32,
     /// `light_paths` holds `max_paths` subpaths (else a placeholder).
     pub light: bool,
@@ -64,6 +78,20 @@ impl WavefrontBuffers {
                     contents: &vec![0u8; (chunks * CHUNK_STRIDE) as usize],
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
+            queue: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront queues"),
+                size: QUEUE_HEADER + 2 * 4 * u64::from(max_paths.max(1)),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront dispatch size"),
+                size: 16,
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             max_paths,
             light,
         }
@@ -141,38 +169,113 @@ impl GpuRenderer {
             bytes[at + 4..at + 8].copy_from_slice(&count.to_le_bytes());
         }
         self.ctx.queue.write_buffer(&wf.chunks, 0, &bytes);
-        let bounces = self.wavefront_bounces();
+        let bounce_kernels: &[Kernel] = &[
+            Kernel::WfExtend,
+            Kernel::WfNee,
+            Kernel::WfShade,
+            Kernel::WfConnect,
+        ];
         if self.spec.light_tracing {
+            let light = [Kernel::LtWfExtend, Kernel::LtWfShade, Kernel::LtWfSplat];
             for (c, &(_, count)) in table.iter().enumerate() {
-                let offset = (c as u64 * CHUNK_STRIDE) as u32;
-                let groups = (count.div_ceil(64), 1);
-                self.encode_kernel_at(enc, Kernel::LtWfStart, groups, offset);
-                for _ in 0..bounces {
-                    for kernel in [Kernel::LtWfExtend, Kernel::LtWfShade, Kernel::LtWfSplat] {
-                        self.encode_kernel_at(enc, kernel, groups, offset);
-                    }
-                }
-                self.encode_kernel_at(enc, Kernel::LtWfFinish, groups, offset);
+                let walk = ChunkWalk {
+                    offset: (c as u64 * CHUNK_STRIDE) as u32,
+                    groups: count.div_ceil(64),
+                    start: Kernel::LtWfStart,
+                    bounce: &light,
+                    finish: (Kernel::LtWfFinish, count.div_ceil(64)),
+                };
+                self.encode_chunk_walk(enc, &walk);
             }
         }
         for (c, &(_, count)) in table.iter().enumerate() {
-            let offset = (c as u64 * CHUNK_STRIDE) as u32;
-            let groups = (count.div_ceil(64), 1);
-            self.encode_kernel_at(enc, Kernel::WfStart, groups, offset);
-            for _ in 0..bounces {
-                for kernel in [
-                    Kernel::WfExtend,
-                    Kernel::WfNee,
-                    Kernel::WfShade,
-                    Kernel::WfConnect,
-                ] {
-                    self.encode_kernel_at(enc, kernel, groups, offset);
-                }
-            }
-            let finish = ((count / k.max(1)).div_ceil(64), 1);
-            self.encode_kernel_at(enc, Kernel::WfFinish, finish, offset);
+            let walk = ChunkWalk {
+                offset: (c as u64 * CHUNK_STRIDE) as u32,
+                groups: count.div_ceil(64),
+                start: Kernel::WfStart,
+                bounce: bounce_kernels,
+                finish: (Kernel::WfFinish, (count / k.max(1)).div_ceil(64)),
+            };
+            self.encode_chunk_walk(enc, &walk);
         }
     }
+
+    /// One chunk's walk: its queue reset, the start kernel, per bounce the bounce's kernels
+    /// over the queued paths (each bounce one compute pass), then the finish kernel.
+    fn encode_chunk_walk(&self, enc: &mut wgpu::CommandEncoder, walk: &ChunkWalk) {
+        let wf = &self.buffers.wavefront;
+        let indirect = self.wavefront_indirect;
+        enc.clear_buffer(&wf.queue, 0, Some(QUEUE_HEADER));
+        {
+            let mut pass = self.begin_wavefront_pass(enc, walk.offset);
+            self.dispatch_in(&mut pass, walk.start, Dispatch::Groups(walk.groups));
+            self.dispatch_in(&mut pass, Kernel::WfAdvance, Dispatch::Groups(1));
+        }
+        for _ in 0..self.wavefront_bounces() {
+            if indirect {
+                enc.copy_buffer_to_buffer(&wf.queue, 0, &wf.args, 0, 16);
+            }
+            let mut pass = self.begin_wavefront_pass(enc, walk.offset);
+            let size = if indirect {
+                Dispatch::Indirect
+            } else {
+                Dispatch::Groups(walk.groups)
+            };
+            for &kernel in walk.bounce {
+                self.dispatch_in(&mut pass, kernel, size);
+            }
+            self.dispatch_in(&mut pass, Kernel::WfAdvance, Dispatch::Groups(1));
+        }
+        let mut pass = self.begin_wavefront_pass(enc, walk.offset);
+        self.dispatch_in(&mut pass, walk.finish.0, Dispatch::Groups(walk.finish.1));
+    }
+
+    /// A compute pass with the integrator's bind group at the chunk's table entry.
+    fn begin_wavefront_pass<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        chunk: u32,
+    ) -> wgpu::ComputePass<'e> {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("wavefront"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[chunk]);
+        pass
+    }
+
+    /// One kernel of the running specialisation in `pass` (wgpu orders the dispatches of a
+    /// pass and makes each one's writes visible to the next).
+    fn dispatch_in(&self, pass: &mut wgpu::ComputePass, kernel: Kernel, size: Dispatch) {
+        let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
+            return;
+        };
+        pass.set_pipeline(pipeline);
+        match size {
+            Dispatch::Groups(n) => pass.dispatch_workgroups(n, 1, 1),
+            Dispatch::Indirect => {
+                pass.dispatch_workgroups_indirect(&self.buffers.wavefront.args, 0);
+            }
+        }
+    }
+}
+
+/// The kernels of one chunk's walk (camera or light) and their dispatch sizes.
+struct ChunkWalk<'k> {
+    /// The chunk's dynamic offset in the chunk table.
+    offset: u32,
+    /// Workgroups covering the chunk's paths.
+    groups: u32,
+    start: Kernel,
+    bounce: &'k [Kernel],
+    finish: (Kernel, u32),
+}
+
+/// A dispatch's size: workgroups, or the running bounce's from the indirect buffer.
+#[derive(Clone, Copy)]
+enum Dispatch {
+    Groups(u32),
+    Indirect,
 }
 
 #[cfg(test)]
