@@ -8,7 +8,8 @@
 #
 # Measured: cornell-glass (the default scene, megakernel) at 1920×1080 with 1 spp per
 # submission — the viewer's frame — and with 64 spp for throughput; the same with the
-# wavefront forced on; env-spheres (wavefront by the rule) both ways; caustic lt+pt and sppm.
+# wavefront forced on; env-spheres (wavefront by the rule) both ways; caustic lt+pt and sppm;
+# `bench --quick` (CPU) on the machine's cores.
 # Each render prints samples/s and path segments/s; a 1-spp 1080p frame takes
 # 2,073,600 / (samples/s) of GPU time (the viewer adds its tone map and the UI).
 set -uo pipefail
@@ -39,14 +40,16 @@ run() {
   echo "$label | $(echo "$end - $start" | bc) s whole process | $line" | tee -a "$log"
 }
 # W and H override the resolution (a quick try on lavapipe: W=64 H=36).
+size="${W:-1920}x${H:-1080}"
 common=(--width "${W:-1920}" --height "${H:-1080}" --out "$OUT/frame.exr")
 for wf in off on; do
   # Warm-up compiles the specialisation into the pipeline cache.
   run "cornell-glass warm-up wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:cornell-glass "${common[@]}" --spp 1
-  run "cornell-glass 1080p 1 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:cornell-glass "${common[@]}" --spp 1
-  run "cornell-glass 1080p 64 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:cornell-glass "${common[@]}" --spp 64
-  run "env-spheres 1080p 64 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:env-spheres "${common[@]}" --spp 64
-  run "caustic lt+pt 1080p 16 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:caustic --estimator lt+pt "${common[@]}" --spp 16
+  run "cornell-glass $size 1 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:cornell-glass "${common[@]}" --spp 1
+  run "cornell-glass $size 64 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:cornell-glass "${common[@]}" --spp 64
+  run "env-spheres $size 64 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:env-spheres "${common[@]}" --spp 64
+  run "caustic lt+pt $size 16 spp wavefront=$wf" REFRACT_GPU_WAVEFRONT=$wf -- --scene builtin:caustic --estimator lt+pt "${common[@]}" --spp 16
 done
-run "caustic sppm 1080p 16 spp" A=1 -- --scene builtin:caustic --estimator sppm "${common[@]}" --spp 16
-"$BIN" bench --quick --device gpu >"$OUT/bench-quick.txt" 2>&1 || true
+run "caustic sppm $size 16 spp" A=1 -- --scene builtin:caustic --estimator sppm "${common[@]}" --spp 16
+# The CPU renderer on that machine's cores, for scale (`bench --quick` is CPU-only).
+"$BIN" bench --quick >"$OUT/bench-quick-cpu.txt" 2>&1 || true
