@@ -169,15 +169,26 @@ fn traversal_stack_sized_from_the_tree_holds_every_pending_sibling() {
     assert_eq!(upload::bvh_stack_entries(64), 64);
 }
 
-/// The wavefronts' path states are as large as the host allocates for them.
+/// The wavefronts' path states are as large as the host allocates for them, and the
+/// live-path queues start where the host's header (cleared per chunk, its first 16 bytes
+/// the indirect dispatch size) ends.
 #[test]
 fn wavefront_states_match_their_wgsl_layouts() {
-    use refract::gpu::renderer::wavefront::{LIGHT_PATH_BYTES, PATH_BYTES};
+    use refract::gpu::renderer::wavefront::{LIGHT_PATH_BYTES, PATH_BYTES, QUEUE_HEADER};
     let src = integrator_source();
     for (name, bytes) in [("WfPath", PATH_BYTES), ("LtPath", LIGHT_PATH_BYTES)] {
         let (size, _) = layout::wgsl_struct_layout(&src, name).unwrap();
         assert_eq!(u64::from(size), bytes, "{name}");
     }
+    let (_, fields) = layout::wgsl_struct_layout(&src, "WfQueue").unwrap();
+    let offset = |f: &str| {
+        fields
+            .iter()
+            .find(|(n, _)| n == f)
+            .map(|&(_, o)| u64::from(o))
+    };
+    assert_eq!(offset("args"), Some(0), "the dispatch size the host copies");
+    assert_eq!(offset("items"), Some(QUEUE_HEADER), "{fields:?}");
 }
 
 /// The wavefront camera walk (wavefront.wgsl) is the megakernel's walk split into kernels

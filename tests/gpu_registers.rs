@@ -16,8 +16,9 @@
 mod radv;
 
 use refract::gpu::kernels;
-use refract::gpu::pipeline::Specialization;
+use refract::gpu::pipeline::{Kernel, Specialization};
 use refract::scene::Scene;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 const CHILD: &str = "REFRACT_RADV_CHILD";
 
@@ -34,81 +35,126 @@ fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
     ]
 }
 
-/// Every built-in scene with each GPU estimator, its walks in the form
-/// `Specialization::wants_wavefront` picks: every kernel within 128 VGPRs. Returns what is
-/// over.
-fn builtins_within_128() -> Vec<String> {
-    let bindings = kernels::buffer_bindings().expect("bindings");
-    let mut over = Vec::new();
+/// One kernel to compile on RADV and the budget it must meet.
+struct Job {
+    what: String,
+    spec: Specialization,
+    kernel: Kernel,
+    max_vgprs: u64,
+    min_subgroups: u64,
+    /// Print its statistics (the budgets above; the built-ins' would be hundreds of lines).
+    report: bool,
+}
+
+/// The budgets' kernels, then every built-in scene's with each GPU estimator, its walks in
+/// the form `Specialization::wants_wavefront` picks: every kernel within 128 VGPRs.
+fn jobs() -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for (what, spec, max_vgprs, min_subgroups) in budgets() {
+        for kernel in kernels::kernels_of(&spec) {
+            jobs.push(Job {
+                what: what.to_string(),
+                spec,
+                kernel,
+                max_vgprs,
+                min_subgroups,
+                report: true,
+            });
+        }
+    }
     for name in refract::scene::builtin::NAMES {
         let scene = Scene::load(&format!("builtin:{name}")).expect("built-in");
         let path = Specialization::for_scene(&scene).expect("BVH");
-        for (estimator, spec) in [
-            ("path", path),
-            (
-                "lt+pt",
-                Specialization {
-                    light_tracing: true,
-                    ..path
-                },
-            ),
-            ("sppm", Specialization { sppm: true, ..path }),
-        ] {
+        let lt = Specialization {
+            light_tracing: true,
+            ..path
+        };
+        let sppm = Specialization { sppm: true, ..path };
+        for (estimator, spec) in [("path", path), ("lt+pt", lt), ("sppm", sppm)] {
             let spec = spec.with_wavefront_rule();
-            for k in kernels::kernels_of(&spec) {
-                let spirv = kernels::spirv(&spec, k).expect("SPIR-V");
-                let stats = radv::compile_stats(&spirv, k.entry(), &bindings).expect("RADV");
-                for s in stats {
-                    let v = s["VGPRs"];
-                    if v > 128 || s["Spilled VGPRs"] > 0 {
-                        over.push(format!("{name} {estimator} {}: {v} VGPRs", k.entry()));
-                    }
-                }
+            for kernel in kernels::kernels_of(&spec) {
+                jobs.push(Job {
+                    what: format!("{name} {estimator}"),
+                    spec,
+                    kernel,
+                    max_vgprs: 128,
+                    min_subgroups: 0,
+                    report: false,
+                });
             }
+        }
+    }
+    jobs
+}
+
+/// Compile one job's kernel; what is over its budget.
+fn check(job: &Job, bindings: &[kernels::BufferBinding]) -> Vec<String> {
+    let k = job.kernel;
+    let spirv = kernels::spirv(&job.spec, k).expect("SPIR-V");
+    let stats = radv::compile_stats(&spirv, k.entry(), bindings).expect("RADV compile");
+    let mut over = Vec::new();
+    for s in stats {
+        let get = |n: &str| *s.get(n).unwrap_or_else(|| panic!("no '{n}' statistic"));
+        let (v, spills, subgroups) = (
+            get("VGPRs"),
+            get("Spilled VGPRs"),
+            get("Subgroups per SIMD"),
+        );
+        if job.report {
+            eprintln!(
+                "{} {}: {v} VGPRs, {} SGPRs, {spills} spilled VGPRs, {} spilled SGPRs, \
+                 {subgroups} subgroups per SIMD, LDS {} B",
+                job.what,
+                k.entry(),
+                get("SGPRs"),
+                get("Spilled SGPRs"),
+                get("LDS size")
+            );
+        }
+        if v > job.max_vgprs || spills > 0 || subgroups < job.min_subgroups {
+            over.push(format!(
+                "{} {}: {v} VGPRs (budget {}), {spills} spilled, {subgroups} subgroups per \
+                 SIMD (at least {})",
+                job.what,
+                k.entry(),
+                job.max_vgprs,
+                job.min_subgroups
+            ));
         }
     }
     over
 }
 
-fn measure_all() -> Vec<String> {
+/// Every job, on `threads` threads taking them in turn (each RADV compile is
+/// single-threaded, and every call opens its own Vulkan instance); what is over budget.
+fn check_all(threads: usize) -> Vec<String> {
     let bindings = kernels::buffer_bindings().expect("bindings");
-    let mut over = Vec::new();
-    for (what, spec, budget, min_subgroups) in budgets() {
-        for k in kernels::kernels_of(&spec) {
-            let max_vgprs = budget;
-            let spirv = kernels::spirv(&spec, k).expect("SPIR-V");
-            let stats = radv::compile_stats(&spirv, k.entry(), &bindings).expect("RADV compile");
-            for s in stats {
-                let get = |n: &str| *s.get(n).unwrap_or_else(|| panic!("no '{n}' statistic"));
-                let (v, spills) = (get("VGPRs"), get("Spilled VGPRs"));
-                eprintln!(
-                    "{what} {}: {v} VGPRs, {} SGPRs, {spills} spilled VGPRs, {} spilled SGPRs, \
-                     {} subgroups per SIMD, LDS {} B",
-                    k.entry(),
-                    get("SGPRs"),
-                    get("Spilled SGPRs"),
-                    get("Subgroups per SIMD"),
-                    get("LDS size")
-                );
-                let subgroups = get("Subgroups per SIMD");
-                if v > max_vgprs || spills > 0 || subgroups < min_subgroups {
-                    over.push(format!(
-                        "{what} {}: {v} VGPRs (budget {max_vgprs}), {spills} spilled, \
-                         {subgroups} subgroups per SIMD (at least {min_subgroups})",
-                        k.entry()
-                    ));
-                }
-            }
-        }
-    }
-    over
+    let jobs = jobs();
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut over = Vec::new();
+                    while let Some(job) = jobs.get(next.fetch_add(1, Ordering::Relaxed)) {
+                        over.extend(check(job, &bindings));
+                    }
+                    over
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("RADV worker"))
+            .collect()
+    })
 }
 
 #[test]
 fn kernels_fit_their_register_budgets_on_rdna2() {
     if std::env::var_os(CHILD).is_some() {
-        let mut over = measure_all();
-        over.extend(builtins_within_128());
+        // CI has two cores.
+        let over = check_all(2);
         assert!(over.is_empty(), "over budget:\n{}", over.join("\n"));
         return;
     }
