@@ -170,8 +170,7 @@ fn traversal_stack_sized_from_the_tree_holds_every_pending_sibling() {
 }
 
 /// The wavefronts' path states are as large as the host allocates for them, and the
-/// live-path queues start where the host's header (cleared per chunk, its first 16 bytes
-/// the indirect dispatch size) ends.
+/// live-path queues start where the host's header (cleared per chunk) ends.
 #[test]
 fn wavefront_states_match_their_wgsl_layouts() {
     use refract::gpu::renderer::wavefront::{LIGHT_PATH_BYTES, PATH_BYTES, QUEUE_HEADER};
@@ -187,7 +186,7 @@ fn wavefront_states_match_their_wgsl_layouts() {
             .find(|(n, _)| n == f)
             .map(|&(_, o)| u64::from(o))
     };
-    assert_eq!(offset("args"), Some(0), "the dispatch size the host copies");
+    assert_eq!(offset("count"), Some(0), "the counts the host clears");
     assert_eq!(offset("items"), Some(QUEUE_HEADER), "{fields:?}");
 }
 

@@ -402,14 +402,19 @@ impl Kernel {
     }
 }
 
-/// Storage buffers the integrator binds (bindings 1–8, 10–13, 15 and 16).
-pub const STORAGE_BUFFERS: u32 = 14;
+/// Storage buffers the integrator binds (group 0: bindings 1–8, 10–13, 15 and 16; and
+/// `wf_advance`'s group 1).
+pub const STORAGE_BUFFERS: u32 = 15;
 
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
+    /// Group 1 of `wf_advance` alone: the wavefront's indirect dispatch size, which the other
+    /// kernels' layouts leave out so that it can be their indirect argument in the same pass.
+    pub advance_group_layout: wgpu::BindGroupLayout,
     device: wgpu::Device,
     layout: wgpu::PipelineLayout,
+    advance_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     /// The driver's pipeline cache, kept on disk (None: the device has none).
     disk_cache: Option<Arc<DiskPipelineCache>>,
@@ -437,6 +442,7 @@ struct Pending {
 struct Compiler {
     device: wgpu::Device,
     layout: wgpu::PipelineLayout,
+    advance_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     disk_cache: Option<Arc<DiskPipelineCache>>,
 }
@@ -468,7 +474,11 @@ impl Compiler {
         self.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(kernel.entry()),
-                layout: Some(&self.layout),
+                layout: Some(if kernel == Kernel::WfAdvance {
+                    &self.advance_layout
+                } else {
+                    &self.layout
+                }),
                 module: &self.module,
                 entry_point: Some(kernel.entry()),
                 compilation_options: wgpu::PipelineCompilationOptions {
@@ -575,12 +585,27 @@ impl Pipelines {
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
+        let advance_group_layout =
+            ctx.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("wavefront dispatch size"),
+                    entries: &[storage_entry(0, false)],
+                });
+        let advance_layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("wf_advance"),
+                bind_group_layouts: &[Some(&bind_group_layout), Some(&advance_group_layout)],
+                immediate_size: 0,
+            });
         let disk_cache =
             DiskPipelineCache::open(ctx, ctx.pipeline_cache_dir.as_deref()).map(Arc::new);
         Ok(Pipelines {
             bind_group_layout,
+            advance_group_layout,
             device: ctx.device.clone(),
             layout,
+            advance_layout,
             module,
             disk_cache,
             cache: HashMap::new(),
@@ -599,6 +624,7 @@ impl Pipelines {
         Compiler {
             device: self.device.clone(),
             layout: self.layout.clone(),
+            advance_layout: self.advance_layout.clone(),
             module: self.module.clone(),
             disk_cache: self.disk_cache.clone(),
         }

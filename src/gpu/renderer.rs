@@ -122,6 +122,8 @@ pub struct GpuRenderer {
     wavefront_override: Option<bool>,
     /// Wavefront bounces sized by indirect dispatch (where the adapter has it).
     wavefront_indirect: bool,
+    /// `wf_advance`'s dispatch-size buffer and its bind group.
+    wf_args: wavefront::AdvanceArgs,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -286,8 +288,11 @@ impl GpuRenderer {
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
             Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, tiles)?;
-        let bind_group = ctx.scoped("cannot bind the GPU buffers", || {
-            Self::bind(&ctx, &pipelines, &buffers)
+        let (bind_group, wf_args) = ctx.scoped("cannot bind the GPU buffers", || {
+            (
+                Self::bind(&ctx, &pipelines, &buffers),
+                wavefront::AdvanceArgs::new(&ctx, &pipelines),
+            )
         })?;
         let mut r = GpuRenderer {
             ctx,
@@ -315,6 +320,7 @@ impl GpuRenderer {
             tiles,
             wavefront_override,
             wavefront_indirect: false,
+            wf_args,
         };
         r.set_wavefront_indirect(true);
         r.fit_tiles();

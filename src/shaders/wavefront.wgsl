@@ -68,18 +68,16 @@ struct WfChunk {
 
 @group(0) @binding(14) var<uniform> wf_chunk: WfChunk;
 
-// The live paths of the running chunk, compacted bounce by bounce (the queues of Laine, Karras & Aila 2013:
-// each kernel runs one thread per queued path, not one per path ever started). Two queues
-// alternate: the running bounce's (parity `cur`), read by its kernels, and the next one's,
-// to which the bounce's last kernel (`wf_connect`, `lt_wf_splat`) and the start kernels
-// append the paths that go on. `wf_advance`
-// then makes the next queue current and writes its dispatch size to `args`, which the host
-// copies to the indirect-dispatch buffer of the next bounce's kernels (a buffer bound as
-// storage cannot be an indirect argument in the same dispatch). Shared by the light
-// wavefront, which runs before the camera one.
+// The live paths of the running chunk, compacted bounce by bounce (the queues of Laine,
+// Karras & Aila 2013: each kernel runs one thread per queued path, not one per path ever
+// started). Two queues alternate: the running bounce's (parity `cur`), read by its kernels,
+// and the next one's, to which the bounce's last kernel (`wf_connect`, `lt_wf_splat`) and
+// the start kernels append the paths that go on. `wf_advance` then makes the next queue
+// current and writes its dispatch size to `wf_args`, the indirect argument of the next
+// bounce's kernels (bound in a group of `wf_advance`'s own: a buffer the running kernel binds
+// as storage cannot be its indirect argument). Shared by the light wavefront, which runs
+// before the camera one.
 struct WfQueue {
-    // (workgroups, 1, 1, queued paths) of the running bounce.
-    args: vec4<u32>,
     count: array<atomic<u32>, 2>,
     cur: u32,
     _pad: u32,
@@ -88,6 +86,8 @@ struct WfQueue {
 }
 
 @group(0) @binding(16) var<storage, read_write> wf_queue: WfQueue;
+// (workgroups, 1, 1, queued paths) of the running bounce.
+@group(1) @binding(0) var<storage, read_write> wf_args: vec4<u32>;
 
 fn wf_queue_capacity() -> u32 {
     return arrayLength(&wf_queue.items) / 2u;
@@ -136,7 +136,7 @@ fn wf_advance() {
     let cur = wf_queue.cur;
     let next = 1u - cur;
     let n = atomicLoad(&wf_queue.count[next]);
-    wf_queue.args = vec4<u32>((n + 63u) / 64u, 1u, 1u, n);
+    wf_args = vec4<u32>((n + 63u) / 64u, 1u, 1u, n);
     atomicStore(&wf_queue.count[cur], 0u);
     wf_queue.cur = next;
 }

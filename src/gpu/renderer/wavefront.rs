@@ -7,11 +7,11 @@
 //! `wf_finish`, which folds each pixel's samples and splats into the film.
 //!
 //! Each bounce's kernels run one thread per path still live (the `WfQueue` of
-//! wavefront.wgsl): `wf_advance` writes the next bounce's dispatch size, copied between
-//! compute passes into the indirect-dispatch buffer — once every path has ended, the
-//! remaining bounces dispatch no workgroups. Without indirect dispatch
-//! (`DownlevelFlags::INDIRECT_EXECUTION`) they dispatch the whole chunk, whose threads past
-//! the queue's end return at once.
+//! wavefront.wgsl): `wf_advance` writes the next bounce's dispatch size into the buffer the
+//! bounce's kernels are dispatched from indirectly — once every path has ended, the
+//! remaining bounces dispatch no workgroups. A chunk's walk is one compute pass. Without
+//! indirect dispatch (`DownlevelFlags::INDIRECT_EXECUTION`) they dispatch the whole chunk,
+//! whose threads past the queue's end return at once.
 
 use super::GpuRenderer;
 use crate::gpu::GpuContext;
@@ -27,8 +27,8 @@ pub const LIGHT_PATH_BYTES: u64 = 240;
 pub const CHUNK_STRIDE: u64 = 256;
 /// Chunks one submission may have (a larger one is split into submissions of fewer samples).
 pub const MAX_CHUNKS: usize = 1024;
-/// Bytes of `WfQueue`'s header (args, two counts, the running parity, padding).
-pub const QUEUE_HEADER: u64 = 32;
+/// Bytes of `WfQueue`'s header (two counts, the running parity, padding).
+pub const QUEUE_HEADER: u64 = 16;
 /// Paths in flight at most (64 MiB of state).
 const MAX_PATHS: u64 = 1 << 18;
 
@@ -38,11 +38,9 @@ pub struct WavefrontBuffers {
     pub paths: wgpu::Buffer,
     pub light_paths: wgpu::Buffer,
     pub chunks: wgpu::Buffer,
-    /// `WfQueue`: its header (`QUEUE_HEADER` bytes, the dispatch size first) and two queues
-    /// of `max_paths` path indices.
+    /// `WfQueue`: its header (`QUEUE_HEADER` bytes) and two queues of `max_paths` path
+    /// indices.
     pub queue: wgpu::Buffer,
-    /// The running bounce's dispatch size, copied from `queue`'s header.
-    pub args: wgpu::Buffer,
     pub max_paths: u32,
     /// `light_paths` holds `max_paths` subpaths (else a placeholder).
     pub light: bool,
@@ -81,15 +79,7 @@ impl WavefrontBuffers {
             queue: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("wavefront queues"),
                 size: QUEUE_HEADER + 2 * 4 * u64::from(max_paths.max(1)),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("wavefront dispatch size"),
-                size: 16,
-                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             max_paths,
@@ -105,6 +95,33 @@ impl WavefrontBuffers {
     pub fn sized(ctx: &GpuContext, light: bool) -> WavefrontBuffers {
         let paths = (ctx.max_binding_bytes() / PATH_BYTES.max(LIGHT_PATH_BYTES)).min(MAX_PATHS);
         Self::with_paths(ctx, paths as u32, light)
+    }
+}
+
+/// `wf_advance`'s group 1: the running bounce's dispatch size, written by `wf_advance` and
+/// read as the indirect argument of the bounce's kernels.
+pub struct AdvanceArgs {
+    pub buffer: wgpu::Buffer,
+    pub group: wgpu::BindGroup,
+}
+
+impl AdvanceArgs {
+    pub fn new(ctx: &GpuContext, pipelines: &crate::gpu::pipeline::Pipelines) -> AdvanceArgs {
+        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("wavefront dispatch size"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        });
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("wavefront dispatch size"),
+            layout: &pipelines.advance_group_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        AdvanceArgs { buffer, group }
     }
 }
 
@@ -200,52 +217,35 @@ impl GpuRenderer {
         }
     }
 
-    /// One chunk's walk: its queue reset, the start kernel, per bounce the bounce's kernels
-    /// over the queued paths (each bounce one compute pass), then the finish kernel.
+    /// One chunk's walk: its queue reset, then one compute pass: the start kernel, per bounce
+    /// the bounce's kernels over the queued paths and `wf_advance`, then the finish kernel.
     fn encode_chunk_walk(&self, enc: &mut wgpu::CommandEncoder, walk: &ChunkWalk) {
-        let wf = &self.buffers.wavefront;
-        let indirect = self.wavefront_indirect;
-        enc.clear_buffer(&wf.queue, 0, Some(QUEUE_HEADER));
-        {
-            let mut pass = self.begin_wavefront_pass(enc, walk.offset);
-            self.dispatch_in(&mut pass, walk.start, Dispatch::Groups(walk.groups));
-            self.dispatch_in(&mut pass, Kernel::WfAdvance, Dispatch::Groups(1));
-        }
+        enc.clear_buffer(&self.buffers.wavefront.queue, 0, Some(QUEUE_HEADER));
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("wavefront"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[walk.offset]);
+        pass.set_bind_group(1, &self.wf_args.group, &[]);
+        self.dispatch_in(&mut pass, walk.start, Dispatch::Groups(walk.groups));
+        self.dispatch_in(&mut pass, Kernel::WfAdvance, Dispatch::Groups(1));
+        let size = if self.wavefront_indirect {
+            Dispatch::Indirect
+        } else {
+            Dispatch::Groups(walk.groups)
+        };
         for _ in 0..self.wavefront_bounces() {
-            if indirect {
-                enc.copy_buffer_to_buffer(&wf.queue, 0, &wf.args, 0, 16);
-            }
-            let mut pass = self.begin_wavefront_pass(enc, walk.offset);
-            let size = if indirect {
-                Dispatch::Indirect
-            } else {
-                Dispatch::Groups(walk.groups)
-            };
             for &kernel in walk.bounce {
                 self.dispatch_in(&mut pass, kernel, size);
             }
             self.dispatch_in(&mut pass, Kernel::WfAdvance, Dispatch::Groups(1));
         }
-        let mut pass = self.begin_wavefront_pass(enc, walk.offset);
         self.dispatch_in(&mut pass, walk.finish.0, Dispatch::Groups(walk.finish.1));
     }
 
-    /// A compute pass with the integrator's bind group at the chunk's table entry.
-    fn begin_wavefront_pass<'e>(
-        &self,
-        enc: &'e mut wgpu::CommandEncoder,
-        chunk: u32,
-    ) -> wgpu::ComputePass<'e> {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("wavefront"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, &self.bind_group, &[chunk]);
-        pass
-    }
-
     /// One kernel of the running specialisation in `pass` (wgpu orders the dispatches of a
-    /// pass and makes each one's writes visible to the next).
+    /// pass and makes each one's writes visible to the next; group 1, bound for the pass, is
+    /// part of `wf_advance`'s layout only).
     fn dispatch_in(&self, pass: &mut wgpu::ComputePass, kernel: Kernel, size: Dispatch) {
         let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
             return;
@@ -254,7 +254,7 @@ impl GpuRenderer {
         match size {
             Dispatch::Groups(n) => pass.dispatch_workgroups(n, 1, 1),
             Dispatch::Indirect => {
-                pass.dispatch_workgroups_indirect(&self.buffers.wavefront.args, 0);
+                pass.dispatch_workgroups_indirect(&self.wf_args.buffer, 0);
             }
         }
     }
