@@ -29,8 +29,9 @@ pub const CHUNK_STRIDE: u64 = 256;
 pub const MAX_CHUNKS: usize = 1024;
 /// Bytes of `WfQueue`'s header (two counts, the running parity, padding).
 pub const QUEUE_HEADER: u64 = 16;
-/// Paths in flight at most (64 MiB of state).
-const MAX_PATHS: u64 = 1 << 18;
+/// Paths in flight at most (120 MiB of state; fewer, larger chunks cost the host less per
+/// submission: `examples/wavefront_encode`, README "Live-path queues").
+const MAX_PATHS: u64 = 1 << 19;
 
 /// The wavefront's buffers: path states for up to `max_paths` camera paths (and as many
 /// light subpaths with lt+pt) and the chunk table.
