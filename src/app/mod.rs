@@ -602,6 +602,8 @@ pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     use eframe::wgpu;
     let mut create = WgpuSetupCreateNew::without_display_handle();
+    create.instance_descriptor.flags =
+        crate::gpu::context::instance_flags(create.instance_descriptor.flags);
     create.device_descriptor =
         std::sync::Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
             label: Some("refract device"),

@@ -76,12 +76,28 @@ pub struct GpuContext {
     pub pipeline_cache_dir: Option<std::path::PathBuf>,
 }
 
+/// The instance flags refract's devices use: wgpu's defaults and environment variables,
+/// except that indirect dispatches are not validated unless `WGPU_VALIDATION_INDIRECT_CALL`
+/// asks for it. wgpu's validation runs a one-thread check (and its barriers) before every
+/// indirect dispatch; refract's only indirect dispatches are the wavefront's bounce kernels,
+/// whose size `wf_advance` computes as ⌈queued paths / 64⌉ ≤ 2¹⁹ / 64 = 8192 workgroups, within
+/// every adapter's limit by construction. (On lavapipe the check cost the wavefront a third of
+/// its time: README "Live-path queues".)
+pub fn instance_flags(defaults: wgpu::InstanceFlags) -> wgpu::InstanceFlags {
+    let mut flags = defaults;
+    if std::env::var_os("WGPU_VALIDATION_INDIRECT_CALL").is_none() {
+        flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    }
+    flags
+}
+
 impl GpuContext {
     /// Open the best adapter (a hardware GPU if there is one, else a software one such as
     /// lavapipe). A clear error if there is none.
     pub fn new() -> Result<GpuContext> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        descriptor.flags = instance_flags(descriptor.flags);
+        let instance = wgpu::Instance::new(descriptor);
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,

@@ -32,6 +32,10 @@ pub const QUEUE_HEADER: u64 = 16;
 /// Paths in flight at most (120 MiB of state; fewer, larger chunks cost the host less per
 /// submission: `examples/wavefront_encode`, README "Live-path queues").
 const MAX_PATHS: u64 = 1 << 19;
+// The bounce kernels' indirect sizes are at most MAX_PATHS / 64 workgroups, which must stay
+// within WebGPU's least `max_compute_workgroups_per_dimension` (65535): wgpu does not check
+// them (`gpu::context::instance_flags`).
+const _: () = assert!(MAX_PATHS / 64 <= 65535);
 
 /// The wavefront's buffers: path states for up to `max_paths` camera paths (and as many
 /// light subpaths with lt+pt) and the chunk table.
