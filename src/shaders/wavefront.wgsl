@@ -104,9 +104,10 @@ fn wf_queued(j: u32) -> u32 {
 
 // Append path i to the next bounce's queue when `keep`: lane 0 numbers the workgroup's
 // kept paths and reserves their slots with one global atomic add. The lanes' flags and slots
-// live in the traversal stack's workgroup memory (no traversal runs in the kernels that
-// call this; more workgroup memory would cost occupancy, see `add_counters_workgroup`).
-// Every lane of the workgroup must call it (it holds barriers).
+// live in the traversal stack's workgroup memory, as in `add_counters_workgroup` (more
+// workgroup memory would cost occupancy): each lane first writes only its own entry 0 (at
+// index `lane`), and lane 0 touches the others' entries after the barrier, when every lane's
+// traversal is done. Every lane of the workgroup must call it (it holds barriers).
 fn wf_enqueue(i: u32, keep: bool, lane: u32) {
     BVH_STACK[lane] = u32(keep);
     workgroupBarrier();
