@@ -783,19 +783,9 @@ impl GpuRenderer {
     }
 
     /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is
-    /// compiled: [`GpuRenderer::ensure_pipelines`]).
+    /// compiled: [`GpuRenderer::ensure_pipelines`]; the wavefront's kernels are recorded by
+    /// `encode_wavefront`).
     fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
-        self.encode_kernel_at(enc, kernel, groups, 0);
-    }
-
-    /// [`GpuRenderer::encode_kernel`] with the wavefront's chunk table at byte `chunk`.
-    fn encode_kernel_at(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        kernel: Kernel,
-        groups: (u32, u32),
-        chunk: u32,
-    ) {
         let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
             return;
         };
@@ -804,7 +794,8 @@ impl GpuRenderer {
             timestamp_writes: None,
         });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[chunk]);
+        // The chunk table's dynamic offset: only the wavefront's kernels read it.
+        pass.set_bind_group(0, &self.bind_group, &[0]);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 

@@ -228,6 +228,32 @@ fn light_walk_attenuate(lw: ptr<function, LightWalk>, t: f32, sp: Spectral) {
     }
 }
 
+// What a light walk's ray met at `hit` among nested media (only with HAS_NESTED): a real
+// interface (`enclosing` set to the medium around it, `hit.t` extended by the false hits
+// passed since the last vertex), a false hit the walk has moved past (no vertex), or a walk
+// lost after FALSE_HIT_LIMIT false hits. Shared by `lt_vertex` and `photon_trace`.
+const WALK_HIT_REAL: u32 = 0u;
+const WALK_HIT_PASSED: u32 = 1u;
+const WALK_HIT_LOST: u32 = 2u;
+
+fn light_walk_interface(lw: ptr<function, LightWalk>, mat: Material, hit: ptr<function, SurfaceHit>, enclosing: ptr<function, u32>) -> u32 {
+    let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
+    if !c.real {
+        lw.media = c.after;
+        lw.false_hits++;
+        if lw.false_hits > FALSE_HIT_LIMIT {
+            return WALK_HIT_LOST;
+        }
+        lw.t_pass += hit.t;
+        lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
+        return WALK_HIT_PASSED;
+    }
+    *enclosing = c.enclosing;
+    hit.t += lw.t_pass;
+    lw.t_pass = 0.0;
+    return WALK_HIT_REAL;
+}
+
 // Arrival at ym = `hit` (hit.t: the distance from y_{m-1}): the light-side density of ym
 // (1 after a delta vertex).
 fn light_walk_arrive(lw: ptr<function, LightWalk>, hit: SurfaceHit, sp: Spectral) {
@@ -457,21 +483,13 @@ fn lt_vertex(lw: ptr<function, LightWalk>, sampler: ptr<function, Sampler>, sp: 
     let mat = materials[hit.material];
     var enclosing = NO_MEDIUM;
     if HAS_NESTED {
-        let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
-        if !c.real {
-            // A false hit: no vertex; the ray continues past it.
-            lw.media = c.after;
-            lw.false_hits++;
-            if lw.false_hits > FALSE_HIT_LIMIT {
-                return VERTEX_END;
-            }
-            lw.t_pass += hit.t;
-            lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
-            return VERTEX_NEXT;
+        let crossed = light_walk_interface(lw, mat, &hit, &enclosing);
+        if crossed == WALK_HIT_LOST {
+            return VERTEX_END;
         }
-        enclosing = c.enclosing;
-        hit.t += lw.t_pass;
-        lw.t_pass = 0.0;
+        if crossed == WALK_HIT_PASSED {
+            return VERTEX_NEXT; // a false hit: no vertex; the ray continues past it
+        }
     }
     light_walk_arrive(lw, hit, sp);
     let front = dot3(lw.d, hit.ng) < 0.0;

@@ -123,20 +123,13 @@ fn photon_path(sampler: ptr<function, Sampler>, sp: Spectral) {
         let mat = materials[hit.material];
         var enclosing = NO_MEDIUM;
         if HAS_NESTED {
-            let c = medium_interface(lw.media, mat, hit.material, lw.d, hit.ng);
-            if !c.real {
-                lw.media = c.after;
-                lw.false_hits++;
-                if lw.false_hits > FALSE_HIT_LIMIT {
-                    return;
-                }
-                lw.t_pass += hit.t;
-                lw.o = offset_ray_origin_towards(hit.p, hit.ng, dot3(lw.d, hit.ng));
+            let crossed = light_walk_interface(&lw, mat, &hit, &enclosing);
+            if crossed == WALK_HIT_LOST {
+                return;
+            }
+            if crossed == WALK_HIT_PASSED {
                 continue;
             }
-            enclosing = c.enclosing;
-            hit.t += lw.t_pass;
-            lw.t_pass = 0.0;
         }
         light_walk_arrive(&lw, hit, sp);
         if (mat.flags & MAT_BLACK_EMITTER) != 0u {
