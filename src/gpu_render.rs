@@ -9,7 +9,7 @@ use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
-pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Result<bool> {
+pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::cli_job::Job) -> Result<bool> {
     let (spp, tone) = (job.spp, job.tone);
     let forced = match args.device {
         Device::Cpu => return Ok(false),
@@ -69,7 +69,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         bvh_time.as_secs_f64() * 1e3,
         opts.width,
         opts.height,
-        super::spp_text(spp, args.time_budget),
+        super::cli_render::spp_text(spp, args.time_budget),
         opts.max_depth,
         r.effective_estimator(),
         if filter.is_accept_all() {
@@ -84,7 +84,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         }
     );
     eprintln!("{}", pipeline_report(&r));
-    let bar = super::spp_progress_bar(spp, args.quiet);
+    let bar = super::cli_render::spp_progress_bar(spp, args.quiet);
     let img = match r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
         bar.set_position(d)
     }) {
@@ -115,7 +115,7 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::Job) -> Resu
         stats.segments_per_sec() / 1e6,
         stats.dropped
     );
-    super::budget_report(args.time_budget, stats.spp, r.batch_spp());
+    super::cli_render::budget_report(args.time_budget, stats.spp, r.batch_spp());
     Ok(true)
 }
 

@@ -2,19 +2,19 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
-use refract::cpu::Renderer;
-use refract::film::{self, ToneMap};
+use refract::film;
 use refract::math::spectrum;
-use refract::render::settings::{DEFAULT_SCENE, ViewerSettings, abbreviate};
-use refract::render::{Device, Estimator, RenderOptions};
+use refract::render::settings::abbreviate;
+use refract::render::{Device, Estimator};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
 
 mod cli_duration;
+mod cli_job;
 mod cli_layers;
 mod cli_load;
+mod cli_render;
 mod cli_trace;
 mod gpu_render;
 
@@ -248,287 +248,6 @@ struct RenderArgs {
     env: EnvArgs,
 }
 
-fn parse_tonemap(s: &str) -> Result<ToneMap> {
-    Ok(match s.to_ascii_lowercase().as_str() {
-        "clamp" | "none" => ToneMap::Clamp,
-        "reinhard" => ToneMap::Reinhard,
-        "aces" => ToneMap::Aces,
-        _ => bail!("unknown tone map '{s}' (use clamp, reinhard or aces)"),
-    })
-}
-
-/// Values of the render command resolved from flags and the settings sidecar.
-struct Job {
-    /// Samples per pixel; None: as many as `--time-budget` allows.
-    spp: Option<u32>,
-    tone: ToneMap,
-    exposure: f32,
-    seed: u32,
-    filter: refract::paths::PathFilter,
-    /// `--estimator`, resolved for the scene on the CPU (never `auto`).
-    estimator: Estimator,
-    /// `--estimator` as given (the GPU resolves `auto` by its own rule).
-    choice: Estimator,
-    /// `--max-film-gib` in bytes.
-    max_film_bytes: u64,
-}
-
-fn render(args: &RenderArgs) -> Result<()> {
-    // Before any work: a render whose image cannot be written is an error now, not after.
-    film::check_output_path(&args.out).context("--out")?;
-    let layers = cli_layers::Layers::parse(args.decompose.as_deref(), args.aov.as_deref())?;
-    if let Some(l) = &layers {
-        l.check_outputs(&args.out)?;
-    }
-    let (scene, mut job) = prepare(args)?;
-    if let Some(l) = &layers {
-        l.check(args.device, job.choice, job.filter.source())?;
-        let size = (scene.settings.width, scene.settings.height);
-        l.check_memory(size, job.max_film_bytes)?;
-        // The layers come from the path tracer's camera walk (`auto` path-traces then).
-        if job.estimator != Estimator::Path {
-            eprintln!(
-                "estimator auto: path (the layers need the path tracer; auto alone would \
-                 pick {})",
-                job.estimator
-            );
-        }
-        job.estimator = Estimator::Path;
-        job.choice = Estimator::Path;
-    } else if gpu_render::render(args, &scene, &job)? {
-        return Ok(());
-    }
-    render_cpu(args, scene, &job, layers.as_ref())
-}
-
-/// The sidecar's environment image (relative to the sidecar's folder), then the `--env*`
-/// flags over it.
-fn apply_environment(
-    args: &RenderArgs,
-    sidecar: Option<&ViewerSettings>,
-    scene: &mut Scene,
-) -> Result<()> {
-    if let (Some(s), Some(file)) = (sidecar, &args.settings)
-        && let Some(e) = &s.environment
-    {
-        let dir = file.parent().unwrap_or(std::path::Path::new("."));
-        for w in e
-            .apply(scene, dir)
-            .with_context(|| format!("settings '{}'", sidecar_file(args)))?
-        {
-            eprintln!("warning: {w}");
-        }
-    }
-    args.env.apply(scene)
-}
-
-/// The scene to render (sidecar edits and flags applied) and the job's other values.
-fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
-    let sidecar = args
-        .settings
-        .as_deref()
-        .map(ViewerSettings::load)
-        .transpose()?;
-    let spec = args
-        .scene
-        .clone()
-        .or_else(|| sidecar.as_ref().map(|s| s.scene.clone()))
-        .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
-    let tone = match (&args.tonemap, &sidecar) {
-        (Some(t), _) => parse_tonemap(t)?,
-        (None, Some(s)) => s.display.tone_map,
-        (None, None) => ToneMap::Clamp,
-    };
-    let (exposure, exposure_from) = match (args.exposure, &sidecar) {
-        (Some(e), _) => (e, "--exposure".to_owned()),
-        (None, Some(s)) => (s.display.exposure, sidecar_key(args, "display.exposure")),
-        (None, None) => (0.0, String::new()),
-    };
-    if !exposure.is_finite() {
-        bail!("{exposure_from} must be a finite number (exposure in stops), got {exposure}");
-    }
-    let mut scene = Scene::load_with(&spec, &args.load.limits())?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
-    apply_environment(args, sidecar.as_ref(), &mut scene)?;
-    let mut sidecar_spp = None;
-    if let Some(s) = &sidecar {
-        // Headless, a sidecar's impossible material value is an error naming its key.
-        for (k, e) in s.materials.iter().enumerate() {
-            e.check()
-                .with_context(|| sidecar_key(args, &format!("materials[{k}]")))?;
-        }
-        s.light
-            .check()
-            .with_context(|| sidecar_key(args, "light"))?;
-        // The viewer's edits and options, exactly as the viewer applies them.
-        let (edited, warnings) = s.apply(&scene);
-        for w in warnings {
-            eprintln!("warning: {w}");
-        }
-        // Light edits scale every emitter: an overflow names the sidecar keys it came from.
-        edited.validate().with_context(|| {
-            format!(
-                "{} = {}, light.color = {:?}, light.temperature_k = {:?}",
-                sidecar_key(args, "light.intensity"),
-                s.light.intensity,
-                s.light.color,
-                s.light.temperature_k
-            )
-        })?;
-        let o = s
-            .render_options(&edited)
-            .with_context(|| format!("settings '{}'", sidecar_file(args)))?;
-        scene = edited;
-        scene.settings.width = o.width;
-        scene.settings.height = o.height;
-        scene.settings.max_depth = o.max_depth;
-        scene.settings.rr_depth = o.rr_depth;
-        sidecar_spp = s.capture.as_ref().map(|c| c.spp);
-    }
-    if let Some(w) = args.width {
-        scene.settings.width = w;
-    }
-    if let Some(h) = args.height {
-        scene.settings.height = h;
-    }
-    if let Some(d) = args.max_depth {
-        scene.settings.max_depth = d;
-    }
-    if let Some(r) = args.rr_depth {
-        scene.settings.rr_depth = r;
-    }
-    if let Some(nm) = args.light_line {
-        scene.settings.light_line_nm =
-            Some(spectrum::check_light_line(nm, "--light-line").map_err(anyhow::Error::msg)?);
-    }
-    let s = scene.settings;
-    check_size(args, sidecar.as_ref(), &spec, &s)?;
-    let spp = resolve_spp(args, sidecar_spp, &spec, s.spp)?;
-    if args.threads == Some(0) {
-        bail!("--threads must be at least 1");
-    }
-    let seed = args
-        .seed
-        .or(sidecar.as_ref().map(|s| s.render.seed))
-        .unwrap_or(0);
-    let (paths, paths_from) = match (&args.paths, &sidecar) {
-        (Some(p), _) => (p.clone(), "--paths".to_owned()),
-        (None, Some(s)) => (s.render.paths.clone(), sidecar_key(args, "render.paths")),
-        (None, None) => (String::new(), String::new()),
-    };
-    let filter = refract::paths::PathFilter::parse(&paths)
-        .map_err(|e| anyhow::anyhow!("invalid {paths_from} '{}': {e}", abbreviate(&paths)))?;
-    let choice = args
-        .estimator
-        .or(sidecar.as_ref().map(|s| s.render.estimator))
-        .unwrap_or(Estimator::Auto);
-    let (estimator, _) = choice.resolve_why(&scene);
-    let job = Job {
-        spp,
-        tone,
-        exposure,
-        seed,
-        filter,
-        estimator,
-        choice,
-        max_film_bytes: film_budget(args),
-    };
-    Ok((scene, job))
-}
-
-/// The image size and depth, each error naming where the value came from (flag, sidecar key
-/// or the scene's `extras.render`).
-fn check_size(
-    args: &RenderArgs,
-    sidecar: Option<&ViewerSettings>,
-    spec: &str,
-    s: &refract::scene::RenderSettings,
-) -> Result<()> {
-    let from = |flags: bool, key: &str| -> String {
-        match sidecar {
-            _ if flags => "--width/--height".to_owned(),
-            Some(c) if c.capture.is_some() => sidecar_key(args, "capture.width/height"),
-            Some(_) => sidecar_key(args, "render.render_scale"),
-            None => format!("extras.render.{key} of scene '{}'", abbreviate(spec)),
-        }
-    };
-    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE {
-        bail!(
-            "image size {}x{} from {} is out of range (1..={MAX_IMAGE_SIDE} per side)",
-            s.width,
-            s.height,
-            from(
-                args.width.is_some() || args.height.is_some(),
-                "width/height"
-            )
-        );
-    }
-    let film = refract::film::Film::bytes_for(s.width, s.height);
-    if film > film_budget(args) {
-        bail!(
-            "image size {}x{} from {} needs a {:.1} GiB film, more than the {} GiB budget \
-             (raise it with --max-film-gib)",
-            s.width,
-            s.height,
-            from(
-                args.width.is_some() || args.height.is_some(),
-                "width/height"
-            ),
-            film as f64 / (1u64 << 30) as f64,
-            args.max_film_gib
-        );
-    }
-    if s.max_depth == 0 {
-        let from = match (args.max_depth, sidecar) {
-            (Some(_), _) => "--max-depth".to_owned(),
-            (None, Some(_)) => sidecar_key(args, "render.max_depth"),
-            (None, None) => format!("extras.render.max_depth of scene '{}'", abbreviate(spec)),
-        };
-        bail!("{from} must be at least 1 (1 = emitters only)");
-    }
-    Ok(())
-}
-
-/// Samples per pixel: the flag, else (without a time budget) the sidecar's capture, else the
-/// scene's; None when a time budget alone bounds the render. Zero is an error naming its source.
-fn resolve_spp(
-    args: &RenderArgs,
-    sidecar_spp: Option<u64>,
-    spec: &str,
-    scene_spp: u32,
-) -> Result<Option<u32>> {
-    let (spp, spp_from) = match (args.spp, args.time_budget, sidecar_spp) {
-        (Some(n), _, _) => (Some(n), "--spp".to_owned()),
-        // A time budget alone is not capped by the sidecar's or the scene's spp.
-        (None, Some(_), _) => (None, String::new()),
-        (None, None, Some(n)) => (
-            Some(u32::try_from(n).unwrap_or(u32::MAX)),
-            sidecar_key(args, "capture.spp"),
-        ),
-        (None, None, None) => (
-            Some(scene_spp),
-            format!("extras.render.spp of scene '{}'", abbreviate(spec)),
-        ),
-    };
-    if spp == Some(0) {
-        bail!("{spp_from} must be at least 1");
-    }
-    Ok(spp)
-}
-
-/// `key` of the `--settings` sidecar, as errors name it: "display.exposure of settings 'x.json'".
-fn sidecar_key(args: &RenderArgs, key: &str) -> String {
-    format!("{key} of settings '{}'", sidecar_file(args))
-}
-
-/// The `--settings` file's path for an error line (abbreviated).
-fn sidecar_file(args: &RenderArgs) -> String {
-    let file = args.settings.as_deref().unwrap_or(std::path::Path::new(""));
-    abbreviate(&file.display().to_string())
-}
-
 /// A rayon pool of `threads` workers (default: all cores); a failure is one line naming the
 /// flag and the OS's reason once.
 fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
@@ -548,11 +267,6 @@ fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     })
 }
 
-/// `--max-film-gib` in bytes.
-fn film_budget(args: &RenderArgs) -> u64 {
-    (args.max_film_gib * (1u64 << 30) as f64) as u64
-}
-
 /// A positive, finite number of GiB, at most 2²⁰ (1 PiB).
 fn parse_gib(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -562,124 +276,6 @@ fn parse_gib(s: &str) -> Result<f64, String> {
             abbreviate(s)
         )),
     }
-}
-
-fn render_cpu(
-    args: &RenderArgs,
-    scene: Scene,
-    job: &Job,
-    layers: Option<&cli_layers::Layers>,
-) -> Result<()> {
-    let &Job {
-        spp,
-        tone,
-        exposure,
-        seed,
-        estimator,
-        ..
-    } = job;
-    let pool = thread_pool(args.threads)?;
-    let renderer = Renderer::new(scene)?;
-    let mut opts = RenderOptions::from_scene(&renderer.scene);
-    opts.max_film_bytes = job.max_film_bytes;
-    opts.seed = seed;
-    opts.set_filter(Some(&job.filter));
-    opts.estimator = estimator;
-    if job.choice == Estimator::Auto {
-        let (_, why) = job.choice.resolve_why(&renderer.scene);
-        eprintln!("estimator auto: {estimator} ({why})");
-    }
-    if estimator == Estimator::LtPt {
-        eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
-    }
-
-    eprintln!(
-        "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {}, max depth {}",
-        renderer.scene.name,
-        renderer.scene.mesh.triangle_count(),
-        renderer.bvh.build_time.as_secs_f64() * 1e3,
-        opts.width,
-        opts.height,
-        spp_text(spp, args.time_budget),
-        opts.max_depth
-    );
-    let bar = spp_progress_bar(spp, args.quiet);
-    let n = spp.unwrap_or(u32::MAX);
-    let (film, layer_film, stats) = pool.install(|| match layers {
-        Some(l) => {
-            let proto = l.proto();
-            let progress = |d| bar.set_position(d);
-            let (f, lf, s) =
-                renderer.render_layered(&opts, (n, args.time_budget), &proto, progress);
-            (f, Some(lf), s)
-        }
-        None => {
-            let (f, s) = renderer.render(&opts, n, args.time_budget, |d| bar.set_position(d));
-            (f, None, s)
-        }
-    });
-    bar.finish_and_clear();
-    film::save_image(
-        &args.out,
-        opts.width,
-        opts.height,
-        &film.image(),
-        exposure,
-        tone,
-    )?;
-    eprintln!(
-        "wrote {} — {} spp in {:.2} s, {:.3} M samples/s, {} NaN/Inf/negative samples dropped",
-        args.out.display(),
-        stats.spp,
-        stats.elapsed.as_secs_f64(),
-        stats.samples_per_sec() / 1e6,
-        stats.dropped
-    );
-    if let (Some(l), Some(lf)) = (layers, &layer_film) {
-        l.save(&args.out, lf, film.spp)?;
-    }
-    budget_report(args.time_budget, stats.spp, opts.pass_spp());
-    Ok(())
-}
-
-/// The samples asked for, as the render commands log them: "64 spp", or "spp until 2s" for a
-/// time budget alone.
-fn spp_text(spp: Option<u32>, budget: Option<Duration>) -> String {
-    match (spp, budget) {
-        (Some(n), _) => format!("{n} spp"),
-        (None, Some(b)) => format!("spp until {b:?}"),
-        (None, None) => "spp unbounded".to_owned(),
-    }
-}
-
-/// With a time budget, one line on how far it got: the spp reached and the pass size (the
-/// most the last pass can overrun the budget by).
-fn budget_report(budget: Option<Duration>, spp: u64, pass_spp: u32) {
-    if let Some(b) = budget {
-        eprintln!("time budget {b:?}: {spp} spp reached in passes of {pass_spp} spp");
-    }
-}
-
-/// The render commands' progress bar over `spp` samples per pixel, a counter of samples
-/// when only a time budget bounds them (hidden when `quiet`).
-fn spp_progress_bar(spp: Option<u32>, quiet: bool) -> ProgressBar {
-    if quiet {
-        return ProgressBar::hidden();
-    }
-    let (bar, template) = match spp {
-        Some(n) => (
-            ProgressBar::new(n as u64),
-            "{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}",
-        ),
-        None => (
-            ProgressBar::new_spinner(),
-            "{spinner} {pos} spp  {elapsed_precise}",
-        ),
-    };
-    bar.set_style(
-        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
 }
 
 fn bench(args: &BenchArgs) -> Result<()> {
@@ -793,7 +389,7 @@ fn main() {
     }
     let cli = Cli::parse();
     let result = match cli.command {
-        Some(Command::Render(args)) => render(&args),
+        Some(Command::Render(args)) => cli_render::render(&args),
         Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::View(args)) => view(args),

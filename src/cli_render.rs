@@ -1,0 +1,152 @@
+//! The `render` command: the job on the GPU when it takes it, else on the CPU, and the
+//! progress and timing lines both backends print.
+
+use super::cli_job::{Job, prepare};
+use super::cli_layers::Layers;
+use super::{RenderArgs, thread_pool};
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use refract::cpu::Renderer;
+use refract::film;
+use refract::render::{Estimator, RenderOptions};
+use refract::scene::Scene;
+use std::time::Duration;
+
+/// The `render` command: prepare the job, then render on the GPU or the CPU.
+pub(crate) fn render(args: &RenderArgs) -> Result<()> {
+    // Before any work: a render whose image cannot be written is an error now, not after.
+    film::check_output_path(&args.out).context("--out")?;
+    let layers = Layers::parse(args.decompose.as_deref(), args.aov.as_deref())?;
+    if let Some(l) = &layers {
+        l.check_outputs(&args.out)?;
+    }
+    let (scene, mut job) = prepare(args)?;
+    if let Some(l) = &layers {
+        l.check(args.device, job.choice, job.filter.source())?;
+        let size = (scene.settings.width, scene.settings.height);
+        l.check_memory(size, job.max_film_bytes)?;
+        // The layers come from the path tracer's camera walk (`auto` path-traces then).
+        if job.estimator != Estimator::Path {
+            eprintln!(
+                "estimator auto: path (the layers need the path tracer; auto alone would \
+                 pick {})",
+                job.estimator
+            );
+        }
+        job.estimator = Estimator::Path;
+        job.choice = Estimator::Path;
+    } else if super::gpu_render::render(args, &scene, &job)? {
+        return Ok(());
+    }
+    render_cpu(args, scene, &job, layers.as_ref())
+}
+
+/// Render `scene` on the CPU (the path tracer's layers too, when asked) and write the image.
+fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers>) -> Result<()> {
+    let pool = thread_pool(args.threads)?;
+    let renderer = Renderer::new(scene)?;
+    let opts = cpu_options(&renderer, job);
+    log_start(args, &renderer, &opts, job.spp);
+    let bar = spp_progress_bar(job.spp, args.quiet);
+    let n = job.spp.unwrap_or(u32::MAX);
+    let (film, layer_film, stats) = pool.install(|| match layers {
+        Some(l) => {
+            let proto = l.proto();
+            let progress = |d| bar.set_position(d);
+            let (f, lf, s) =
+                renderer.render_layered(&opts, (n, args.time_budget), &proto, progress);
+            (f, Some(lf), s)
+        }
+        None => {
+            let (f, s) = renderer.render(&opts, n, args.time_budget, |d| bar.set_position(d));
+            (f, None, s)
+        }
+    });
+    bar.finish_and_clear();
+    let (w, h) = (opts.width, opts.height);
+    film::save_image(&args.out, w, h, &film.image(), job.exposure, job.tone)?;
+    eprintln!(
+        "wrote {} — {} spp in {:.2} s, {:.3} M samples/s, {} NaN/Inf/negative samples dropped",
+        args.out.display(),
+        stats.spp,
+        stats.elapsed.as_secs_f64(),
+        stats.samples_per_sec() / 1e6,
+        stats.dropped
+    );
+    if let (Some(l), Some(lf)) = (layers, &layer_film) {
+        l.save(&args.out, lf, film.spp)?;
+    }
+    budget_report(args.time_budget, stats.spp, opts.pass_spp());
+    Ok(())
+}
+
+/// The CPU renderer's options for `job`; logs what `auto` chose and why.
+fn cpu_options(renderer: &Renderer, job: &Job) -> RenderOptions {
+    let mut opts = RenderOptions::from_scene(&renderer.scene);
+    opts.max_film_bytes = job.max_film_bytes;
+    opts.seed = job.seed;
+    opts.set_filter(Some(&job.filter));
+    opts.estimator = job.estimator;
+    if job.choice == Estimator::Auto {
+        let (_, why) = job.choice.resolve_why(&renderer.scene);
+        eprintln!("estimator auto: {} ({why})", job.estimator);
+    }
+    if job.estimator == Estimator::LtPt {
+        eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
+    }
+    opts
+}
+
+/// One line on what is about to render: scene, triangles, BVH build time, size, spp, depth.
+fn log_start(args: &RenderArgs, renderer: &Renderer, opts: &RenderOptions, spp: Option<u32>) {
+    eprintln!(
+        "scene {}: {} triangles, BVH built in {:.1} ms; {}x{}, {}, max depth {}",
+        renderer.scene.name,
+        renderer.scene.mesh.triangle_count(),
+        renderer.bvh.build_time.as_secs_f64() * 1e3,
+        opts.width,
+        opts.height,
+        spp_text(spp, args.time_budget),
+        opts.max_depth
+    );
+}
+
+/// The samples asked for, as the render commands log them: "64 spp", or "spp until 2s" for a
+/// time budget alone.
+pub(crate) fn spp_text(spp: Option<u32>, budget: Option<Duration>) -> String {
+    match (spp, budget) {
+        (Some(n), _) => format!("{n} spp"),
+        (None, Some(b)) => format!("spp until {b:?}"),
+        (None, None) => "spp unbounded".to_owned(),
+    }
+}
+
+/// With a time budget, one line on how far it got: the spp reached and the pass size (the
+/// most the last pass can overrun the budget by).
+pub(crate) fn budget_report(budget: Option<Duration>, spp: u64, pass_spp: u32) {
+    if let Some(b) = budget {
+        eprintln!("time budget {b:?}: {spp} spp reached in passes of {pass_spp} spp");
+    }
+}
+
+/// The render commands' progress bar over `spp` samples per pixel, a counter of samples
+/// when only a time budget bounds them (hidden when `quiet`).
+pub(crate) fn spp_progress_bar(spp: Option<u32>, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let (bar, template) = match spp {
+        Some(n) => (
+            ProgressBar::new(n as u64),
+            "{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}",
+        ),
+        None => (
+            ProgressBar::new_spinner(),
+            "{spinner} {pos} spp  {elapsed_precise}",
+        ),
+    };
+    bar.set_style(
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
