@@ -2,17 +2,17 @@
 //! short passes that an edit can cancel mid-pass. Every edit bumps a generation counter:
 //! samples rendered for an older generation never reach the published image.
 
+mod render_loop;
+
 use super::{Accumulated, Backend, DisplayParams, DisplayTexture};
-use crate::app::layer_view::{self, ViewMode};
-use crate::cpu::Renderer;
-use crate::cpu::layers::LayerFilm;
-use crate::film::{Film, exposure_scale};
+use crate::app::layer_view::ViewMode;
+use crate::film::exposure_scale;
 use crate::math::color::linear_to_srgb;
 use crate::render::RenderOptions;
 use crate::scene::{Camera, Material, Scene};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 enum Command {
     Scene(Box<Scene>),
@@ -87,7 +87,7 @@ impl CpuBackend {
         let s = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
             .name("refract-render".into())
-            .spawn(move || render_thread(&s, repaint))
+            .spawn(move || render_loop::render_thread(&s, repaint))
             .ok();
         CpuBackend {
             shared,
@@ -287,201 +287,4 @@ fn tone_map_image(p: &Accumulated, d: &DisplayParams) -> eframe::egui::ColorImag
         .map(|c| eframe::egui::Color32::from_rgb(map(c.x), map(c.y), map(c.z)))
         .collect();
     eframe::egui::ColorImage::new([p.width as usize, p.height as usize], pixels)
-}
-
-/// Samples per pass: aim for ~40 ms passes (responsive, little per-pass overhead).
-fn pass_size(last_pass: Option<(u32, Duration)>) -> u32 {
-    match last_pass {
-        None => 1,
-        Some((n, t)) => {
-            let per = t.as_secs_f64() / n.max(1) as f64;
-            ((0.04 / per.max(1e-6)) as u32).clamp(1, 16)
-        }
-    }
-}
-
-fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Context>) {
-    let mut renderer: Option<Renderer> = None;
-    let mut film: Option<Film> = None;
-    // The layer views' layers, alongside `film` (None in the beauty view).
-    let mut layers: Option<LayerFilm> = None;
-    let mut film_gen = u64::MAX;
-    let mut elapsed = Duration::ZERO;
-    let mut last_pass: Option<(u32, Duration)> = None;
-    loop {
-        // Take the pending edits and the generation they make up, atomically.
-        let (commands, generation, options, interactive, paused, target, view) = {
-            let mut st = shared.lock();
-            if st.quit {
-                return;
-            }
-            (
-                std::mem::take(&mut st.commands),
-                shared.generation.load(Ordering::SeqCst),
-                st.options,
-                st.interactive,
-                st.paused,
-                st.spp_target,
-                st.view,
-            )
-        };
-        let mut applied_materials = None;
-        for c in commands {
-            apply_command(&mut renderer, c);
-            applied_materials = renderer.as_ref().map(|r| r.scene.materials.clone());
-        }
-        if let Some(m) = applied_materials {
-            shared.lock().materials = m;
-        }
-        let (Some(r), Some(mut opts)) = (renderer.as_ref(), options) else {
-            wait_for_edit(shared, generation);
-            continue;
-        };
-        if interactive {
-            // Quarter resolution while dragging: 1/16 of the work per pass.
-            opts.width = (opts.width / 4).max(1);
-            opts.height = (opts.height / 4).max(1);
-        }
-        let fresh = film_gen != generation
-            || film
-                .as_ref()
-                .is_none_or(|f| (f.width, f.height) != (opts.width, opts.height));
-        if view != ViewMode::Beauty {
-            // The layers come from the path tracer's walk over every path.
-            opts.estimator = crate::render::Estimator::Path;
-            opts.set_filter(None);
-        }
-        if fresh {
-            film = Some(Film::new(opts.width, opts.height));
-            layers = (view != ViewMode::Beauty)
-                .then(|| LayerFilm::new(opts.width, opts.height, layer_view::layer_count()));
-            film_gen = generation;
-            elapsed = Duration::ZERO;
-        }
-        let Some(f) = film.as_mut() else { continue };
-        let done = target > 0 && f.spp >= target;
-        if paused || done {
-            wait_for_edit_or_resume(shared, generation);
-            continue;
-        }
-        let mut n = pass_size(last_pass);
-        if f.spp == 0 {
-            n = 1; // show something as soon as possible after an edit
-        }
-        if target > 0 {
-            n = n.min((target - f.spp) as u32).max(1);
-        }
-        let start = Instant::now();
-        let cancelled = || shared.generation.load(Ordering::Relaxed) != generation;
-        let first = f.spp.min(u32::MAX as u64) as u32;
-        let complete = match layers.as_mut() {
-            Some(l) => {
-                let proto = layer_view::proto();
-                r.render_pass_layered(&opts, f, l, &proto, (first, n), &cancelled)
-            }
-            None => r.render_pass_cancellable(&opts, f, first, n, &cancelled),
-        };
-        if !complete {
-            film_gen = u64::MAX; // partial pass: discard
-            continue;
-        }
-        let pixels = layers
-            .as_ref()
-            .and_then(|l| layer_view::view_image(view, l, f.spp))
-            .unwrap_or_else(|| f.image());
-        let t = start.elapsed();
-        elapsed += t;
-        last_pass = Some((n, t));
-        let acc = Arc::new(Accumulated {
-            generation,
-            width: f.width,
-            height: f.height,
-            pixels,
-            spp: f.spp,
-            dropped: f.dropped,
-            elapsed,
-        });
-        {
-            let mut st = shared.lock();
-            if shared.generation.load(Ordering::SeqCst) == generation {
-                st.published = Some(acc);
-            }
-        }
-        if let Some(ctx) = &repaint {
-            ctx.request_repaint();
-        }
-    }
-}
-
-fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
-    match c {
-        Command::Scene(scene) => {
-            // The caller validated the scene; a failure here leaves the old one rendering.
-            if let Ok(r) = Renderer::new(*scene) {
-                *renderer = Some(r);
-            }
-        }
-        Command::Material(i, m) => {
-            if let Some(r) = renderer.as_mut()
-                && let Some(slot) = r.scene.materials.get_mut(i)
-                && m.validate().is_ok()
-            {
-                // Area lights carry their radiance and sidedness (scene::light::TriangleLight).
-                let light_changed =
-                    slot.emission != m.emission || slot.double_sided != m.double_sided;
-                *slot = *m;
-                r.refresh_features();
-                if light_changed {
-                    r.lights = crate::scene::light::LightSet::build(&r.scene);
-                }
-            }
-        }
-        Command::Lights(scene, geometry_changed) => {
-            if let Some(r) = renderer.as_mut() {
-                if geometry_changed {
-                    if let Ok(new) = Renderer::new(*scene) {
-                        *r = new;
-                    }
-                } else if scene.validate().is_ok() {
-                    r.scene.materials = scene.materials;
-                    r.scene.punctual_lights = scene.punctual_lights;
-                    r.scene.environment = scene.environment;
-                    r.scene.env_map = scene.env_map;
-                    r.scene.settings.light_line_nm = scene.settings.light_line_nm;
-                    r.refresh_features();
-                    r.lights = crate::scene::light::LightSet::build(&r.scene);
-                }
-            }
-        }
-        Command::Camera(c) => {
-            if let Some(r) = renderer.as_mut()
-                && c.validate().is_ok()
-            {
-                r.scene.camera = c;
-            }
-        }
-    }
-}
-
-/// Sleep until the generation moves on (or quit).
-fn wait_for_edit(shared: &Shared, generation: u64) {
-    let mut st = shared.lock();
-    st.idle = true;
-    while !st.quit && shared.generation.load(Ordering::SeqCst) == generation {
-        st = shared.wake.wait(st).unwrap_or_else(|e| e.into_inner());
-    }
-}
-
-/// Sleep until an edit, an unpause or a target change.
-fn wait_for_edit_or_resume(shared: &Shared, generation: u64) {
-    let mut st = shared.lock();
-    let (p0, t0) = (st.paused, st.spp_target);
-    st.idle = true;
-    while !st.quit
-        && shared.generation.load(Ordering::SeqCst) == generation
-        && st.paused == p0
-        && st.spp_target == t0
-    {
-        st = shared.wake.wait(st).unwrap_or_else(|e| e.into_inner());
-    }
 }
