@@ -1,6 +1,9 @@
 //! `refract render --device gpu|auto`: the GPU path of the render command (kept out of
 //! main.rs so the CLI stays small).
 
+use super::RenderArgs;
+use super::cli_job::Job;
+use super::cli_render::{budget_report, spp_progress_bar, spp_text};
 use anyhow::Result;
 use refract::film;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
@@ -9,40 +12,20 @@ use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
-pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::cli_job::Job) -> Result<bool> {
-    let (spp, tone) = (job.spp, job.tone);
+pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     let forced = match args.device {
         Device::Cpu => return Ok(false),
         Device::Gpu => true,
         Device::Auto => false,
     };
-    let filter = &job.filter;
     let estimator = match gpu_estimator(job.choice, scene) {
         Ok(e) => e,
         Err(e) if forced => return Err(e),
         Err(_) => return Ok(false),
     };
-    let ctx = match GpuContext::new() {
-        Ok(c) => c,
-        Err(e) if !forced => {
-            eprintln!("no GPU adapter ({e:#}); rendering on the CPU");
-            return Ok(false);
-        }
-        Err(e) => return Err(e),
+    let Some(ctx) = context(forced)? else {
+        return Ok(false);
     };
-    if ctx.is_software() {
-        if !forced {
-            eprintln!(
-                "only a software GPU adapter ({}); rendering on the CPU (use --device gpu to force it)",
-                ctx.describe()
-            );
-            return Ok(false);
-        }
-        eprintln!(
-            "note: {} is a software adapter (CPU-emulated), expect it to be slow",
-            ctx.describe()
-        );
-    }
     if job.choice == Estimator::Auto {
         let (_, why) = job.choice.resolve_gpu_why(scene);
         eprintln!("estimator auto: {estimator} ({why})");
@@ -50,27 +33,89 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::cli_job::Job
     let mut opts = RenderOptions::from_scene(scene);
     opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
-    opts.set_filter(Some(filter));
+    opts.set_filter(Some(&job.filter));
     opts.estimator = estimator;
     let name = ctx.describe();
-    let mut r = match GpuRenderer::with_context(ctx, scene.clone(), opts) {
-        Ok(r) => r,
-        Err(e) if !forced => {
-            eprintln!("GPU renderer unavailable ({e:#}); rendering on the CPU");
-            return Ok(false);
-        }
-        Err(e) => return Err(e),
+    let r = GpuRenderer::with_context(ctx, scene.clone(), opts);
+    let Some(mut r) = or_cpu(r, forced, "GPU renderer unavailable")? else {
+        return Ok(false);
     };
+    log_start(args, scene, job, &r, &name);
+    eprintln!("{}", pipeline_report(&r));
+    let bar = spp_progress_bar(job.spp, args.quiet);
+    let n = job.spp.unwrap_or(u32::MAX);
+    let img = r.render_with(n, args.time_budget, |d| bar.set_position(d));
+    bar.finish_and_clear();
+    let Some(img) = or_cpu(img, forced, "GPU render failed")? else {
+        return Ok(false);
+    };
+    let stats = r.stats()?;
+    let (w, h) = (img.width, img.height);
+    film::save_image(&args.out, w, h, &img.mean, job.exposure, job.tone)?;
+    eprintln!(
+        "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
+        args.out.display(),
+        stats.spp,
+        stats.elapsed.as_secs_f64(),
+        stats.samples_per_sec() / 1e6,
+        stats.segments_per_sec() / 1e6,
+        stats.dropped
+    );
+    budget_report(args.time_budget, stats.spp, r.batch_spp());
+    Ok(true)
+}
+
+/// The GPU to render on: None (render on the CPU, saying why) when `auto` finds no adapter
+/// or only a software one; `--device gpu` (`forced`) takes a software adapter with a note
+/// and makes a missing one an error.
+fn context(forced: bool) -> Result<Option<GpuContext>> {
+    let Some(ctx) = or_cpu(GpuContext::new(), forced, "no GPU adapter")? else {
+        return Ok(None);
+    };
+    if ctx.is_software() {
+        if !forced {
+            eprintln!(
+                "only a software GPU adapter ({}); rendering on the CPU (use --device gpu to force it)",
+                ctx.describe()
+            );
+            return Ok(None);
+        }
+        eprintln!(
+            "note: {} is a software adapter (CPU-emulated), expect it to be slow",
+            ctx.describe()
+        );
+    }
+    Ok(Some(ctx))
+}
+
+/// `r`'s value; for a failure, None (render on the CPU, saying "`what` (error)") unless the
+/// GPU was `forced`, which makes it the command's error.
+fn or_cpu<T>(r: Result<T>, forced: bool, what: &str) -> Result<Option<T>> {
+    match r {
+        Ok(v) => Ok(Some(v)),
+        Err(e) if !forced => {
+            eprintln!("{what} ({e:#}); rendering on the CPU");
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// One line on what is about to render: scene and adapter, BVH, size, spp, depth, estimator,
+/// path filter and spectral mode.
+fn log_start(args: &RenderArgs, scene: &Scene, job: &Job, r: &GpuRenderer, name: &str) {
     let (bvh_time, depth, nodes) = r.bvh_info();
+    let s = &scene.settings;
+    let filter = &job.filter;
     eprintln!(
         "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {}, max depth {}, estimator {}{}{}",
         scene.name,
         scene.mesh.triangle_count(),
         bvh_time.as_secs_f64() * 1e3,
-        opts.width,
-        opts.height,
-        super::cli_render::spp_text(spp, args.time_budget),
-        opts.max_depth,
+        s.width,
+        s.height,
+        spp_text(job.spp, args.time_budget),
+        s.max_depth,
         r.effective_estimator(),
         if filter.is_accept_all() {
             String::new()
@@ -83,40 +128,6 @@ pub fn render(args: &super::RenderArgs, scene: &Scene, job: &super::cli_job::Job
             ""
         }
     );
-    eprintln!("{}", pipeline_report(&r));
-    let bar = super::cli_render::spp_progress_bar(spp, args.quiet);
-    let img = match r.render_with(spp.unwrap_or(u32::MAX), args.time_budget, |d| {
-        bar.set_position(d)
-    }) {
-        Ok(img) => img,
-        Err(e) if !forced => {
-            bar.finish_and_clear();
-            eprintln!("GPU render failed ({e:#}); rendering on the CPU");
-            return Ok(false);
-        }
-        Err(e) => return Err(e),
-    };
-    bar.finish_and_clear();
-    let stats = r.stats()?;
-    film::save_image(
-        &args.out,
-        img.width,
-        img.height,
-        &img.mean,
-        job.exposure,
-        tone,
-    )?;
-    eprintln!(
-        "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
-        args.out.display(),
-        stats.spp,
-        stats.elapsed.as_secs_f64(),
-        stats.samples_per_sec() / 1e6,
-        stats.segments_per_sec() / 1e6,
-        stats.dropped
-    );
-    super::cli_render::budget_report(args.time_budget, stats.spp, r.batch_spp());
-    Ok(true)
 }
 
 /// "GPU pipelines compiled in … ms (pipeline cache …)": how long the kernels took to compile
