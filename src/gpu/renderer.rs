@@ -189,12 +189,12 @@ fn splat_film_bytes(light_tracing: bool, opts: &RenderOptions) -> u64 {
 
 /// A zeroed splat film of `bytes`.
 fn splat_film(ctx: &GpuContext, bytes: u64) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("light-tracing splats"),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
+    zeroed_storage(
+        ctx,
+        "light-tracing splats",
+        bytes,
+        wgpu::BufferUsages::COPY_DST,
+    )
 }
 
 /// Buffers, light count and the texture reference slots of each material.
@@ -209,6 +209,65 @@ fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
             contents: bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         })
+}
+
+/// A storage buffer holding `data`, or an error naming `what` when it is larger than one
+/// binding of this device.
+fn checked_storage<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    label: &str,
+    what: &str,
+    data: &[T],
+) -> Result<wgpu::Buffer> {
+    let bytes = upload::checked_bytes(what, data, ctx.max_binding_bytes())?;
+    Ok(storage(ctx, label, bytes))
+}
+
+/// A zeroed storage buffer of `size` bytes with the `extra` usages.
+fn zeroed_storage(
+    ctx: &GpuContext,
+    label: &str,
+    size: u64,
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | extra,
+        mapped_at_creation: false,
+    })
+}
+
+/// The accumulation film's and the splat film's sizes in bytes for `opts`, or an error when
+/// either is larger than one binding. Path tracing renders an image larger than one binding
+/// in tiles of rows (`tiles`); light tracing and photons need the whole image in every
+/// submission.
+fn film_bytes(
+    ctx: &GpuContext,
+    scene: &Scene,
+    opts: &RenderOptions,
+    tiles: bool,
+) -> Result<(u64, u64)> {
+    let light_tracing = light_tracing_for(opts, scene);
+    let splat_bytes = splat_film_bytes(light_tracing, opts);
+    let cap = ctx.max_binding_bytes();
+    let whole = !tiles || light_tracing || sppm_for(opts, scene);
+    let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
+    ensure!(
+        accum_bytes.max(splat_bytes) <= cap,
+        "image {}x{} too large for this GPU: its {} film needs {} MiB, the device binds at \
+         most {} MiB per buffer",
+        opts.width,
+        opts.height,
+        if splat_bytes > accum_bytes {
+            "light-tracing splat"
+        } else {
+            "accumulation"
+        },
+        accum_bytes.max(splat_bytes) >> 20,
+        cap >> 20
+    );
+    Ok((accum_bytes, splat_bytes))
 }
 
 /// The estimator the GPU kernels run for `estimator` on `scene`: path tracing, lt+pt or sppm.
@@ -361,27 +420,8 @@ impl GpuRenderer {
         let env_offset = upload::pack_environment(light_set, &mut texels);
         let mats = upload::pack_materials(scene, &tex_slots);
         let (lights, light_count) = upload::pack_lights(bvh, light_set, env_offset);
-        let light_tracing = light_tracing_for(opts, scene);
-        let splat_bytes = splat_film_bytes(light_tracing, opts);
-        let cap = ctx.max_binding_bytes();
-        // Path tracing renders an image larger than one binding in tiles of rows (`tiles`);
-        // light tracing and photons need the whole image in every submission.
-        let whole = !tiles || light_tracing || sppm_for(opts, scene);
-        let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
-        ensure!(
-            accum_bytes.max(splat_bytes) <= cap,
-            "image {}x{} too large for this GPU: its {} film needs {} MiB, the device binds at \
-             most {} MiB per buffer",
-            opts.width,
-            opts.height,
-            if splat_bytes > accum_bytes {
-                "light-tracing splat"
-            } else {
-                "accumulation"
-            },
-            accum_bytes.max(splat_bytes) >> 20,
-            cap >> 20
-        );
+        let (accum_bytes, splat_bytes) = film_bytes(ctx, scene, opts, tiles)?;
+        let copyable = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let buffers = Buffers {
             params: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("params"),
@@ -389,52 +429,14 @@ impl GpuRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            nodes: storage(
-                ctx,
-                "bvh nodes",
-                upload::checked_bytes("BVH", &bvh.nodes, ctx.max_binding_bytes())?,
-            ),
-            triangles: storage(
-                ctx,
-                "triangles",
-                upload::checked_bytes("triangles", &tris, ctx.max_binding_bytes())?,
-            ),
-            vertices: storage(
-                ctx,
-                "vertices",
-                upload::checked_bytes("vertices", &verts, ctx.max_binding_bytes())?,
-            ),
-            materials: storage(
-                ctx,
-                "materials",
-                upload::checked_bytes("materials", &mats, ctx.max_binding_bytes())?,
-            ),
-            lights: storage(
-                ctx,
-                "lights",
-                upload::checked_bytes("lights", &lights, ctx.max_binding_bytes())?,
-            ),
-            accum: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("accum"),
-                size: accum_bytes,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            stats: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("stats"),
-                size: STATS_BYTES,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            texels: storage(
-                ctx,
-                "texels",
-                upload::checked_bytes("textures", &texels, ctx.max_binding_bytes())?,
-            ),
+            nodes: checked_storage(ctx, "bvh nodes", "BVH", &bvh.nodes)?,
+            triangles: checked_storage(ctx, "triangles", "triangles", &tris)?,
+            vertices: checked_storage(ctx, "vertices", "vertices", &verts)?,
+            materials: checked_storage(ctx, "materials", "materials", &mats)?,
+            lights: checked_storage(ctx, "lights", "lights", &lights)?,
+            accum: zeroed_storage(ctx, "accum", accum_bytes, copyable),
+            stats: zeroed_storage(ctx, "stats", STATS_BYTES, copyable),
+            texels: checked_storage(ctx, "texels", "textures", &texels)?,
             filter: ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
