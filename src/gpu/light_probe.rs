@@ -3,6 +3,7 @@
 //! `light_set_area`) on a scene's packed lights, so `tests/light_twin.rs` can compare every
 //! light type with the Rust `scene::light::Light` methods.
 
+use super::buffers::{checked_storage, zeroed_storage};
 use super::layout::{GpuLayout, LightProbeCase, LightProbeOut, LightProbeParams};
 use super::pipeline::{create_module, dispatch_once, light_probe_source};
 use super::{GpuContext, upload};
@@ -39,57 +40,27 @@ pub fn run_light_probe(
         ..Default::default()
     };
     let module = create_module(ctx, "light_probe.wgsl", light_probe_source())?;
-    let init = |label: &str, bytes: &[u8], usage: wgpu::BufferUsages| {
-        ctx.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage,
-            })
-    };
-    let storage = wgpu::BufferUsages::STORAGE;
-    let params = init(
-        "light probe params",
-        bytemuck::bytes_of(&params),
-        wgpu::BufferUsages::UNIFORM,
-    );
-    let triangles = init(
-        "triangles",
-        upload::checked_bytes("triangles", &triangles, ctx.max_binding_bytes())?,
-        storage,
-    );
-    let vertices = init(
-        "vertices",
-        upload::checked_bytes(
-            "vertices",
-            &upload::pack_vertices(scene),
-            ctx.max_binding_bytes(),
-        )?,
-        storage,
-    );
-    let materials = init(
-        "materials",
-        upload::checked_bytes("materials", &materials, ctx.max_binding_bytes())?,
-        storage,
-    );
-    let lights = init(
-        "lights",
-        upload::checked_bytes("lights", &lights, ctx.max_binding_bytes())?,
-        storage,
-    );
-    let texels = init(
-        "texels",
-        upload::checked_bytes("textures", &texels, ctx.max_binding_bytes())?,
-        storage,
-    );
-    let input = init("light probe cases", bytemuck::cast_slice(cases), storage);
+    let params = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light probe params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    let triangles = checked_storage(ctx, "triangles", "triangles", &triangles)?;
+    let vertices = upload::pack_vertices(scene);
+    let vertices = checked_storage(ctx, "vertices", "vertices", &vertices)?;
+    let materials = checked_storage(ctx, "materials", "materials", &materials)?;
+    let lights = checked_storage(ctx, "lights", "lights", &lights)?;
+    let texels = checked_storage(ctx, "texels", "textures", &texels)?;
+    let input = checked_storage(ctx, "light probe cases", "light probe cases", cases)?;
     let out_size = (cases.len() * LightProbeOut::size() as usize) as u64;
-    let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("light probe out"),
-        size: out_size,
-        usage: storage | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let output = zeroed_storage(
+        ctx,
+        "light probe out",
+        out_size,
+        wgpu::BufferUsages::COPY_SRC,
+    );
     // Binding numbers of scene.wgsl (triangles 2, vertices 3 (emissive textures' uv),
     // materials 4, lights 5, texels 8) and light_probe.wgsl.
     dispatch_once(

@@ -18,6 +18,7 @@
 //! - [`submissions`]: batch and row-band sizes bounded in time per submission.
 //! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
+pub mod buffers;
 pub mod context;
 pub mod kernels;
 pub mod layout;

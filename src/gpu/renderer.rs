@@ -4,6 +4,7 @@
 //! Non-finite and negative samples are dropped and counted by an atomic counter.
 
 use super::GpuContext;
+use super::buffers::{checked_bytes, checked_storage, storage, zeroed_storage};
 use super::layout::{self, GpuLayout, Params};
 use super::photons::{self, PhotonStore};
 use super::pipeline::{Kernel, Pipelines, Specialization};
@@ -201,42 +202,6 @@ fn splat_film(ctx: &GpuContext, bytes: u64) -> wgpu::Buffer {
 type BuiltBuffers = (Buffers, u32, Vec<upload::TexSlots>);
 
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
-
-fn storage(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        })
-}
-
-/// A storage buffer holding `data`, or an error naming `what` when it is larger than one
-/// binding of this device.
-fn checked_storage<T: bytemuck::Pod>(
-    ctx: &GpuContext,
-    label: &str,
-    what: &str,
-    data: &[T],
-) -> Result<wgpu::Buffer> {
-    let bytes = upload::checked_bytes(what, data, ctx.max_binding_bytes())?;
-    Ok(storage(ctx, label, bytes))
-}
-
-/// A zeroed storage buffer of `size` bytes with the `extra` usages.
-fn zeroed_storage(
-    ctx: &GpuContext,
-    label: &str,
-    size: u64,
-    extra: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | extra,
-        mapped_at_creation: false,
-    })
-}
 
 /// The accumulation film's and the splat film's sizes in bytes for `opts`, or an error when
 /// either is larger than one binding. Path tracing renders an image larger than one binding
@@ -1004,13 +969,13 @@ impl GpuRenderer {
             self.buffers.texels = storage(
                 &self.ctx,
                 "texels",
-                upload::checked_bytes("textures", &texels, self.ctx.max_binding_bytes())?,
+                checked_bytes("textures", &texels, self.ctx.max_binding_bytes())?,
             );
             let mats = upload::pack_materials(&self.scene, &slots);
             self.ctx.queue.write_buffer(
                 &self.buffers.materials,
                 0,
-                upload::checked_bytes("materials", &mats, self.ctx.max_binding_bytes())?,
+                checked_bytes("materials", &mats, self.ctx.max_binding_bytes())?,
             );
             self.tex_slots = slots;
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
@@ -1185,11 +1150,11 @@ impl GpuRenderer {
         self.ctx.queue.write_buffer(
             &self.buffers.triangles,
             0,
-            upload::checked_bytes("triangles", &tris, self.ctx.max_binding_bytes())?,
+            checked_bytes("triangles", &tris, self.ctx.max_binding_bytes())?,
         );
         let (lights, count) =
             upload::pack_lights(&self.bvh, &self.light_set, self.buffers.env_offset);
-        let bytes = upload::checked_bytes("lights", &lights, self.ctx.max_binding_bytes())?;
+        let bytes = checked_bytes("lights", &lights, self.ctx.max_binding_bytes())?;
         if bytes.len() as u64 <= self.buffers.lights.size() {
             self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);
         } else {

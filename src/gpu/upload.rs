@@ -478,24 +478,6 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
     (out, count)
 }
 
-/// Bytes of a slice, checked against `cap`, the device's largest storage binding
-/// ([`super::GpuContext::max_binding_bytes`]).
-pub fn checked_bytes<'a, T: bytemuck::Pod>(
-    what: &str,
-    data: &'a [T],
-    cap: u64,
-) -> Result<&'a [u8]> {
-    let bytes: &[u8] = bytemuck::cast_slice(data);
-    ensure!(
-        (bytes.len() as u64) <= cap,
-        "scene too large for this GPU: {what} needs {} MiB, the device binds at most {} MiB \
-         per buffer",
-        bytes.len() >> 20,
-        cap >> 20
-    );
-    Ok(bytes)
-}
-
 /// Append the environment image of `lights` (if any) to the `texels` array (scene.wgsl) and
 /// return the offset of its block (0 when there is none): a header `[W, H, texel offset,
 /// float offset]` (u32 bits); W·H texels `(r, g, b, p(u,t))` row-major from the top, p the
