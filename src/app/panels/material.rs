@@ -119,6 +119,45 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
         );
     }
     let before = m.kind;
+    kind_combo(ui, m);
+    if m.kind != before {
+        fit_fields_to_kind(m, before);
+    }
+    if m.kind == MaterialKind::ThinGlass
+        && ui
+            .button("Make solid glass")
+            .on_hover_text(
+                "Blender exports glass as a thin sheet; a solid bends light by Snell's law.",
+            )
+            .clicked()
+    {
+        m.kind = MaterialKind::Glass;
+    }
+    let transmissive = m.is_transmissive();
+    if transmissive {
+        ior_controls(ui, m);
+    }
+    if matches!(
+        m.kind,
+        MaterialKind::GlossyMetal
+            | MaterialKind::Glass
+            | MaterialKind::ThinGlass
+            | MaterialKind::MetalRough
+    ) {
+        roughness_controls(ui, m);
+    }
+    if transmissive {
+        dispersion_controls(ui, m);
+    }
+    base_color_control(ui, m);
+    if m.kind == MaterialKind::Glass {
+        absorption_controls(ui, m);
+    }
+}
+
+/// The material type: the four kinds a user picks from, plus thin glass and the glTF
+/// metallic-roughness material when the material already is one.
+fn kind_combo(ui: &mut egui::Ui, m: &mut Material) {
     egui::ComboBox::from_label("Type")
         .selected_text(kind_label(m.kind))
         .show_ui(ui, |ui| {
@@ -140,61 +179,40 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
         })
         .response
         .on_hover_text(kind_tip(m.kind));
-    if m.kind != before {
-        // Keep the glTF fields consistent with the chosen kind (scene contract).
-        match m.kind {
-            MaterialKind::Diffuse => {
-                m.metallic = 0.0;
-                m.roughness = 1.0;
-            }
-            MaterialKind::Mirror => {
-                m.metallic = 1.0;
-                m.roughness = 0.0;
-            }
-            MaterialKind::GlossyMetal => {
-                m.metallic = 1.0;
-                if m.roughness <= 0.0 || m.roughness >= 1.0 {
-                    m.roughness = 0.3;
-                }
-            }
-            MaterialKind::Glass | MaterialKind::ThinGlass => {
-                m.metallic = 0.0;
-                if before != MaterialKind::Glass && before != MaterialKind::ThinGlass {
-                    m.roughness = 0.0;
-                    m.base_color = glam::Vec3::ONE;
-                }
-            }
-            MaterialKind::MetalRough => {}
+}
+
+/// After a change of kind from `before`: the glTF fields made consistent with the new kind
+/// (the scene contract), so that an export reloads as the same material.
+fn fit_fields_to_kind(m: &mut Material, before: MaterialKind) {
+    match m.kind {
+        MaterialKind::Diffuse => {
+            m.metallic = 0.0;
+            m.roughness = 1.0;
         }
+        MaterialKind::Mirror => {
+            m.metallic = 1.0;
+            m.roughness = 0.0;
+        }
+        MaterialKind::GlossyMetal => {
+            m.metallic = 1.0;
+            if m.roughness <= 0.0 || m.roughness >= 1.0 {
+                m.roughness = 0.3;
+            }
+        }
+        MaterialKind::Glass | MaterialKind::ThinGlass => {
+            m.metallic = 0.0;
+            if before != MaterialKind::Glass && before != MaterialKind::ThinGlass {
+                m.roughness = 0.0;
+                m.base_color = glam::Vec3::ONE;
+            }
+        }
+        MaterialKind::MetalRough => {}
     }
-    if m.kind == MaterialKind::ThinGlass
-        && ui
-            .button("Make solid glass")
-            .on_hover_text(
-                "Blender exports glass as a thin sheet; a solid bends light by Snell's law.",
-            )
-            .clicked()
-    {
-        m.kind = MaterialKind::Glass;
-    }
+}
 
-    let transmissive = m.is_transmissive();
-    if transmissive {
-        ior_controls(ui, m);
-    }
-    if matches!(
-        m.kind,
-        MaterialKind::GlossyMetal
-            | MaterialKind::Glass
-            | MaterialKind::ThinGlass
-            | MaterialKind::MetalRough
-    ) {
-        roughness_controls(ui, m);
-    }
-    if transmissive {
-        dispersion_controls(ui, m);
-    }
-
+/// The base colour picker, its tooltip saying what the colour means for the kind; the value
+/// kept finite and in [0, 1].
+fn base_color_control(ui: &mut egui::Ui, m: &mut Material) {
     let mut c = m.base_color.to_array();
     let mut changed = false;
     ui.horizontal(|ui| {
@@ -207,10 +225,6 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     });
     if changed && c.iter().all(|v| v.is_finite()) {
         m.base_color = glam::Vec3::from_array(c).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
-    }
-
-    if m.kind == MaterialKind::Glass {
-        absorption_controls(ui, m);
     }
 }
 
@@ -368,5 +382,51 @@ fn absorption_controls(ui: &mut egui::Ui, m: &mut Material) {
         );
     if (r.changed() || !m.attenuation_distance.is_finite()) && d.is_finite() && d > 0.0 {
         m.attenuation_distance = d;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn changed(mut m: Material, to: MaterialKind) -> Material {
+        let before = m.kind;
+        m.kind = to;
+        fit_fields_to_kind(&mut m, before);
+        m
+    }
+
+    #[test]
+    fn a_change_of_kind_keeps_the_gltf_fields_consistent() {
+        let rough_red = Material {
+            kind: MaterialKind::Diffuse,
+            base_color: glam::Vec3::new(0.8, 0.1, 0.1),
+            roughness: 0.7,
+            ..Material::default()
+        };
+        let glass = changed(rough_red.clone(), MaterialKind::Glass);
+        assert_eq!((glass.metallic, glass.roughness), (0.0, 0.0));
+        assert_eq!(
+            glass.base_color,
+            glam::Vec3::ONE,
+            "clear glass from a diffuse"
+        );
+        // Glass to thin glass keeps the glass's own roughness and tint.
+        let frosted = Material {
+            roughness: 0.2,
+            base_color: glam::Vec3::splat(0.9),
+            ..glass
+        };
+        let thin = changed(frosted, MaterialKind::ThinGlass);
+        assert_eq!(
+            (thin.roughness, thin.base_color),
+            (0.2, glam::Vec3::splat(0.9))
+        );
+        let mirror = changed(rough_red.clone(), MaterialKind::Mirror);
+        assert_eq!((mirror.metallic, mirror.roughness), (1.0, 0.0));
+        let metal = changed(mirror, MaterialKind::GlossyMetal);
+        assert_eq!((metal.metallic, metal.roughness), (1.0, 0.3));
+        let diffuse = changed(metal, MaterialKind::Diffuse);
+        assert_eq!((diffuse.metallic, diffuse.roughness), (0.0, 1.0));
     }
 }
