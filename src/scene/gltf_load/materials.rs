@@ -131,21 +131,7 @@ impl Loader<'_> {
             priority,
             conductor,
         };
-        if mat.conductor.is_some() && !mat.is_metal_kind() {
-            anyhow::bail!(
-                "material '{}': extras.conductor needs a metallic material (metallicFactor 1, no metallic-roughness texture, no transmission)",
-                mat.name
-            );
-        }
-        if mat.is_emissive() {
-            // Contract: an emitter's surface is otherwise black.
-            mat.kind = MaterialKind::Diffuse;
-            mat.base_color = Vec3::ZERO;
-            mat.base_color_texture = None;
-            mat.metallic_roughness_texture = None;
-            mat.normal_texture = None;
-            mat.transmission_texture = None;
-        }
+        enforce_contract(&mut mat)?;
         Ok(mat)
     }
 
@@ -574,4 +560,25 @@ fn clamp01(x: f32, mat: &str, what: &str, w: &mut Warnings) -> f32 {
         w.push(format!("material '{mat}': {what} {x} clamped to [0, 1]"));
         if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
     }
+}
+
+/// The scene contract's rules on a converted material: `extras.conductor` needs a metal (an
+/// error naming the material); an emitter's surface is otherwise black (its textures
+/// dropped).
+fn enforce_contract(mat: &mut Material) -> anyhow::Result<()> {
+    if mat.conductor.is_some() && !mat.is_metal_kind() {
+        anyhow::bail!(
+            "material '{}': extras.conductor needs a metallic material (metallicFactor 1, no metallic-roughness texture, no transmission)",
+            mat.name
+        );
+    }
+    if mat.is_emissive() {
+        mat.kind = MaterialKind::Diffuse;
+        mat.base_color = Vec3::ZERO;
+        mat.base_color_texture = None;
+        mat.metallic_roughness_texture = None;
+        mat.normal_texture = None;
+        mat.transmission_texture = None;
+    }
+    Ok(())
 }
