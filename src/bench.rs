@@ -259,30 +259,28 @@ fn bench_class(
     let o = &ro;
     let (a, b) = reference(r, spec, &opts, o)?;
     let reference: Vec<Vec3> = a.iter().zip(&b).map(|(x, y)| 0.5 * (*x + *y)).collect();
-    // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
-    let ref_noise = rel_mse(&a, &b) / 4.0;
+    let target = Target {
+        spec,
+        class: label,
+        o,
+        reference: &reference,
+        // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
+        ref_noise: rel_mse(&a, &b) / 4.0,
+    };
     let mut points = Vec::new();
     let mut sums = Vec::new();
+    let mut keep = |(p, s): (Vec<BenchPoint>, BenchSummary)| {
+        points.extend(p);
+        sums.push(s);
+    };
     let gpu_runs = if o.gpu {
         runs(&o.estimators, &r.scene, true)
     } else {
         Vec::new()
     };
     for run in &gpu_runs {
-        match measure_gpu(
-            &r.scene,
-            spec,
-            o,
-            filter.as_ref(),
-            run,
-            &reference,
-            ref_noise,
-        ) {
-            Ok((mut p, mut s)) => {
-                label_class(&mut p, &mut s, label);
-                points.extend(p);
-                sums.push(s);
-            }
+        match measure_gpu(&r.scene, filter.as_ref(), run, &target) {
+            Ok(m) => keep(m),
             Err(e) => eprintln!("  GPU {} skipped on {spec}: {e:#}", run.label()),
         }
     }
@@ -293,10 +291,7 @@ fn bench_class(
     };
     for run in &cpu_runs {
         eprintln!("  measuring {} …", run.label());
-        let (mut p, mut s) = measure(r, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
-        label_class(&mut p, &mut s, label);
-        points.extend(p);
-        sums.push(s);
+        keep(measure(r, opts, run, &target, ""));
     }
     // The same runs with the environment image sampled uniformly (same reference).
     for run in cpu_runs.iter().filter(|_| uniform.is_some()) {
@@ -305,16 +300,56 @@ fn bench_class(
             "  measuring {} with a uniformly sampled environment …",
             run.label()
         );
-        let (mut p, mut s) = measure(u, spec, o, opts, run, &reference, ref_noise, o.ref_spp);
-        label_class(&mut p, &mut s, label);
-        s.estimator.push_str(" env uniform");
-        for q in &mut p {
-            q.estimator.push_str(" env uniform");
-        }
-        points.extend(p);
-        sums.push(s);
+        keep(measure(u, opts, run, &target, " env uniform"));
     }
     Ok((points, sums))
+}
+
+/// What every run of one scene and path class is measured against.
+struct Target<'a> {
+    spec: &'a str,
+    /// The Heckbert class (`all` without a filter).
+    class: &'a str,
+    o: &'a BenchOptions,
+    /// The reference image (mean of its two halves) and its own relMSE.
+    reference: &'a [Vec3],
+    ref_noise: f64,
+}
+
+impl Target<'_> {
+    /// The curve's point after `spp` samples per pixel in `seconds`, for `img`.
+    fn point(&self, run: (&str, &str), spp: u64, seconds: f64, img: &[Vec3]) -> BenchPoint {
+        let (device, estimator) = run;
+        let pixels = img.len() as f64;
+        BenchPoint {
+            scene: self.spec.to_string(),
+            paths: self.class.to_string(),
+            device: device.to_string(),
+            estimator: estimator.to_string(),
+            spp,
+            seconds,
+            samples_per_sec: spp as f64 * pixels / seconds.max(1e-9),
+            rel_mse: rel_mse(img, self.reference),
+            rmse: rmse(img, self.reference),
+            lum_ratio: mean_luminance(img) / mean_luminance(self.reference).max(1e-12),
+        }
+    }
+
+    /// The run's summary row from its curve.
+    fn summary(&self, run: (&str, &str), points: &[BenchPoint]) -> BenchSummary {
+        let (device, estimator) = run;
+        BenchSummary {
+            scene: self.spec.to_string(),
+            paths: self.class.to_string(),
+            device: device.to_string(),
+            estimator: estimator.to_string(),
+            samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
+            t_rel_01: time_to(points, 0.01),
+            t_rel_001: time_to(points, 0.001),
+            ref_noise: self.ref_noise,
+            ref_spp: self.o.ref_spp,
+        }
+    }
 }
 
 /// One measured run: the estimator the device runs, asked for by name, by `auto`, or both
@@ -383,25 +418,13 @@ pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
     runs
 }
 
-/// Tag a measured curve and its summary with the path class it measured.
-fn label_class(points: &mut [BenchPoint], summary: &mut BenchSummary, class: &str) {
-    for p in points {
-        p.paths = class.to_string();
-    }
-    summary.paths = class.to_string();
-}
-
 /// A GPU estimator's curve: batches up to each power of two, image read back at each point
 /// (the readback time is included in the wall time).
-#[allow(clippy::too_many_arguments)]
 fn measure_gpu(
     scene: &Scene,
-    spec: &str,
-    o: &BenchOptions,
     filter: Option<&crate::paths::PathFilter>,
     run: &Run,
-    reference: &[Vec3],
-    ref_noise: f64,
+    t: &Target,
 ) -> Result<(Vec<BenchPoint>, BenchSummary)> {
     let mut go = RenderOptions::from_scene(scene);
     go.seed = RUN_SEED;
@@ -411,100 +434,52 @@ fn measure_gpu(
     let device = format!("gpu ({})", r.adapter_info().name);
     let name = run.label();
     eprintln!("  measuring {name} on {device} …");
-    let pixels = (o.width * o.height) as f64;
     let mut points = Vec::new();
     let start = Instant::now();
     let (mut done, mut next) = (0u64, 1u64);
-    while start.elapsed() < o.budget || done < 1 {
+    while start.elapsed() < t.o.budget || done < 1 {
         let img = r.render((next - done) as u32)?;
         done = next;
         let secs = start.elapsed().as_secs_f64();
-        points.push(BenchPoint {
-            scene: spec.to_string(),
-            paths: String::new(),
-            device: device.clone(),
-            estimator: name.clone(),
-            spp: done,
-            seconds: secs,
-            samples_per_sec: done as f64 * pixels / secs.max(1e-9),
-            rel_mse: rel_mse(&img.mean, reference),
-            rmse: rmse(&img.mean, reference),
-            lum_ratio: mean_luminance(&img.mean) / mean_luminance(reference).max(1e-12),
-        });
+        points.push(t.point((&device, &name), done, secs, &img.mean));
         next *= 2;
         if done >= 1 << 20 {
             break;
         }
     }
-    let summary = BenchSummary {
-        scene: spec.to_string(),
-        paths: String::new(),
-        device,
-        estimator: name,
-        samples_per_sec: points.last().map(|p| p.samples_per_sec).unwrap_or(0.0),
-        t_rel_01: time_to(&points, 0.01),
-        t_rel_001: time_to(&points, 0.001),
-        ref_noise,
-        ref_spp: o.ref_spp,
-    };
+    let summary = t.summary((&device, &name), &points);
     Ok((points, summary))
 }
 
-#[allow(clippy::too_many_arguments)]
+/// A CPU estimator's curve: passes up to each power of two of spp, `suffix` appended to the
+/// estimator's label.
 fn measure(
     r: &Renderer,
-    spec: &str,
-    o: &BenchOptions,
     mut opts: RenderOptions,
     run: &Run,
-    reference: &[Vec3],
-    ref_noise: f64,
-    ref_spp: u32,
+    t: &Target,
+    suffix: &str,
 ) -> (Vec<BenchPoint>, BenchSummary) {
-    let estimator = run.label();
+    let estimator = format!("{}{suffix}", run.label());
     opts.estimator = run.estimator;
     opts.seed = RUN_SEED;
-    let pixels = (opts.width * opts.height) as f64;
     let mut film = Film::new(opts.width, opts.height);
     let mut points = Vec::new();
     let start = Instant::now();
     let mut next_record = 1u64;
     let mut done = 0u64;
-    while start.elapsed() < o.budget || done < 1 {
+    while start.elapsed() < t.o.budget || done < 1 {
         let n = (next_record - done) as u32;
         r.render_pass(&opts, &mut film, done as u32, n);
         done = next_record;
         let secs = start.elapsed().as_secs_f64();
-        let img = film.image();
-        points.push(BenchPoint {
-            scene: spec.to_string(),
-            paths: String::new(),
-            device: "cpu".into(),
-            estimator: estimator.clone(),
-            spp: done,
-            seconds: secs,
-            samples_per_sec: done as f64 * pixels / secs.max(1e-9),
-            rel_mse: rel_mse(&img, reference),
-            rmse: rmse(&img, reference),
-            lum_ratio: mean_luminance(&img) / mean_luminance(reference).max(1e-12),
-        });
+        points.push(t.point(("cpu", &estimator), done, secs, &film.image()));
         next_record *= 2;
         if done >= 1 << 20 {
             break;
         }
     }
-    let sps = points.last().map(|p| p.samples_per_sec).unwrap_or(0.0);
-    let summary = BenchSummary {
-        scene: spec.to_string(),
-        paths: String::new(),
-        device: "cpu".into(),
-        estimator,
-        samples_per_sec: sps,
-        t_rel_01: time_to(&points, 0.01),
-        t_rel_001: time_to(&points, 0.001),
-        ref_noise,
-        ref_spp,
-    };
+    let summary = t.summary(("cpu", &estimator), &points);
     (points, summary)
 }
 
