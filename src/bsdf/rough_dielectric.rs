@@ -39,33 +39,9 @@ impl RoughDielectric {
             return (0.0, 0.0);
         }
         let reflect = cos_o * cos_i > 0.0;
-        // eta' = n(wi side) / n(wo side).
-        let etap = if reflect {
-            1.0
-        } else if cos_o > 0.0 {
-            self.eta
-        } else {
-            1.0 / self.eta
-        };
-        // Generalised half vector m ∝ n_o wo + n_i wi, Walter 2007 eq. 16 (eq. 13 for
-        // reflection), face-forwarded to the outside (m.z > 0). Built in a canonical order
-        // (outside direction + eta · inside direction) so that swapping wo and wi gives a
-        // bit-identical m: reciprocity then holds to rounding even at grazing microfacets.
-        let h = if reflect {
-            wo + wi
-        } else if cos_o > 0.0 {
-            wo + wi * self.eta
-        } else {
-            wi + wo * self.eta
-        };
-        let len2 = h.length_squared();
-        if len2 <= 0.0 || !len2.is_finite() {
+        let Some(m) = self.half_vector(wo, wi, reflect) else {
             return (0.0, 0.0);
-        }
-        let mut m = h / len2.sqrt();
-        if m.z < 0.0 {
-            m = -m;
-        }
+        };
         let dot_o = wo.dot(m);
         let dot_i = wi.dot(m);
         // Back-facing microfacets contribute nothing: each direction must be on the same side of
@@ -80,46 +56,122 @@ impl RoughDielectric {
         }
         // Visible normals of the side wo is on (wo mirrored to the upper hemisphere).
         let wo_up = if cos_o > 0.0 { wo } else { -wo };
-        let pdf_m = mf.pdf_visible(wo_up, m);
-        let g = mf.g2(wo, wi);
-        // Fresnel at the microfacet, from a symmetric argument: the mean cosine for reflection
-        // (wo·m = wi·m analytically) and the outside direction's cosine for transmission
-        // (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo) share it.
-        let fr = if reflect {
+        let facet = Facet {
+            cos: (cos_o, cos_i),
+            dot: (dot_o, dot_i),
+            pdf_m: mf.pdf_visible(wo_up, m),
+            g: mf.g2(wo, wi),
+            d,
+            fr: self.facet_fresnel(reflect, cos_o, (dot_o, dot_i)),
+        };
+        if reflect {
+            facet.reflection()
+        } else {
+            self.transmission(&facet, mode)
+        }
+    }
+
+    /// The microfacet normal of the pair (wo, wi): the generalised half vector
+    /// m ∝ n_o wo + n_i wi, Walter 2007 eq. 16 (eq. 13 for reflection), face-forwarded to the
+    /// outside (m.z > 0); `None` when it is degenerate. Built in a canonical order (outside
+    /// direction + eta · inside direction) so that swapping wo and wi gives a bit-identical m:
+    /// reciprocity then holds to rounding even at grazing microfacets.
+    #[inline(always)]
+    fn half_vector(&self, wo: Vec3, wi: Vec3, reflect: bool) -> Option<Vec3> {
+        let h = if reflect {
+            wo + wi
+        } else if wo.z > 0.0 {
+            wo + wi * self.eta
+        } else {
+            wi + wo * self.eta
+        };
+        let len2 = h.length_squared();
+        if len2 <= 0.0 || !len2.is_finite() {
+            return None;
+        }
+        let m = h / len2.sqrt();
+        Some(if m.z < 0.0 { -m } else { m })
+    }
+
+    /// Fresnel at the microfacet, from a symmetric argument: the mean cosine for reflection
+    /// (wo·m = wi·m analytically) and the outside direction's cosine for transmission
+    /// (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo) share it.
+    #[inline(always)]
+    fn facet_fresnel(&self, reflect: bool, cos_o: f32, (dot_o, dot_i): (f32, f32)) -> f32 {
+        if reflect {
             fresnel_dielectric(0.5 * (dot_o + dot_i), self.eta)
         } else if cos_o > 0.0 {
             fresnel_dielectric(dot_o, self.eta)
         } else {
             fresnel_dielectric(dot_i, self.eta)
-        };
-        if reflect {
-            // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
-            let f = fr * g * d / (4.0 * cos_o.abs() * cos_i.abs());
-            // dω_m/dω_i = 1/(4 |wi·m|), Walter 2007 eq. 14 (|wi·m| = |wo·m| for reflection).
-            let pdf = pdf_m * fr / (4.0 * dot_o.abs());
-            (f, pdf)
-        } else {
-            // (wo·m + eta' wi·m)², from the canonical (outside + eta · inside) sum.
-            let denom = if cos_o > 0.0 {
-                dot_o + self.eta * dot_i
-            } else {
-                (dot_i + self.eta * dot_o) / self.eta
-            };
-            let denom2 = denom * denom;
-            // f_t = |wi·m||wo·m| / (|wi·n||wo·n|) · n_o² (1 − F) G D / (n_i wi·m + n_o wo·m)²,
-            // Walter 2007 eq. 21 (wo = Walter's o, wi = i), divided through by n_o².
-            let f_rad =
-                (dot_i * dot_o).abs() * (1.0 - fr) * g * d / ((cos_i * cos_o).abs() * denom2);
-            // Radiance mode keeps the 1/eta'² (Walter's n_o²); importance mode removes it
-            // (Veach 1997 §5.2, non-symmetric BSDF due to refraction).
-            let f = match mode {
-                TransportMode::Radiance => f_rad,
-                TransportMode::Importance => f_rad * etap * etap,
-            };
-            // dω_m/dω_i = eta'² |wi·m| / (wo·m + eta' wi·m)², Walter 2007 eq. 17.
-            let pdf = pdf_m * (1.0 - fr) * etap * etap * dot_i.abs() / denom2;
-            (f, pdf)
         }
+    }
+
+    /// f and pdf of refraction through the facet (wo and wi on opposite sides).
+    #[inline(always)]
+    fn transmission(&self, facet: &Facet, mode: TransportMode) -> (f32, f32) {
+        let Facet {
+            cos: (cos_o, cos_i),
+            dot: (dot_o, dot_i),
+            pdf_m,
+            g,
+            d,
+            fr,
+        } = *facet;
+        // eta' = n(wi side) / n(wo side).
+        let etap = if cos_o > 0.0 {
+            self.eta
+        } else {
+            1.0 / self.eta
+        };
+        // (wo·m + eta' wi·m)², from the canonical (outside + eta · inside) sum.
+        let denom = if cos_o > 0.0 {
+            dot_o + self.eta * dot_i
+        } else {
+            (dot_i + self.eta * dot_o) / self.eta
+        };
+        let denom2 = denom * denom;
+        // f_t = |wi·m||wo·m| / (|wi·n||wo·n|) · n_o² (1 − F) G D / (n_i wi·m + n_o wo·m)²,
+        // Walter 2007 eq. 21 (wo = Walter's o, wi = i), divided through by n_o².
+        let f_rad = (dot_i * dot_o).abs() * (1.0 - fr) * g * d / ((cos_i * cos_o).abs() * denom2);
+        // Radiance mode keeps the 1/eta'² (Walter's n_o²); importance mode removes it
+        // (Veach 1997 §5.2, non-symmetric BSDF due to refraction).
+        let f = match mode {
+            TransportMode::Radiance => f_rad,
+            TransportMode::Importance => f_rad * etap * etap,
+        };
+        // dω_m/dω_i = eta'² |wi·m| / (wo·m + eta' wi·m)², Walter 2007 eq. 17.
+        let pdf = pdf_m * (1.0 - fr) * etap * etap * dot_i.abs() / denom2;
+        (f, pdf)
+    }
+}
+
+/// What `eval_pdf` knows of one microfacet m between wo and wi.
+#[derive(Clone, Copy)]
+struct Facet {
+    /// (wo·n, wi·n).
+    cos: (f32, f32),
+    /// (wo·m, wi·m).
+    dot: (f32, f32),
+    /// Density of m among the visible normals of wo's side.
+    pdf_m: f32,
+    /// Smith G2(wo, wi) and D(m).
+    g: f32,
+    d: f32,
+    /// Fresnel reflectance at m.
+    fr: f32,
+}
+
+impl Facet {
+    /// f and pdf of reflection off the facet (wo and wi on the same side).
+    #[inline(always)]
+    fn reflection(&self) -> (f32, f32) {
+        let ((cos_o, cos_i), (dot_o, _)) = (self.cos, self.dot);
+        // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
+        let f = self.fr * self.g * self.d / (4.0 * cos_o.abs() * cos_i.abs());
+        // dω_m/dω_i = 1/(4 |wi·m|), Walter 2007 eq. 14 (|wi·m| = |wo·m| for reflection).
+        let pdf = self.pdf_m * self.fr / (4.0 * dot_o.abs());
+        (f, pdf)
     }
 }
 
