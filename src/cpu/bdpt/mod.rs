@@ -38,6 +38,7 @@ use crate::paths::{DfaTable, Symbol};
 use camera::CameraModel;
 use glam::Vec3;
 use vertex::{Kind, Vertex};
+use walk::WalkStart;
 
 /// Which strategies contribute.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,16 +130,13 @@ impl<'a> Bdpt<'a> {
         }
         // Camera subpath: at most max_depth + 1 vertices (max_depth segments).
         let cam_max = (max_depth + 1).min(MAX_VERTS);
-        let escaped = self.walk(
-            cam,
-            (self.cam.pos, dir),
-            PathState::new(Color::ONE, false, self.pt.nested),
-            self.cam.pdf_dir(dir),
-            cam_max,
-            TransportMode::Radiance,
-            sampler,
-            sp,
-        );
+        let start = WalkStart {
+            ray: (self.cam.pos, dir),
+            st: PathState::new(Color::ONE, false, self.pt.nested),
+            pdf_w: self.cam.pdf_dir(dir),
+            mode: TransportMode::Radiance,
+        };
+        let escaped = self.walk(cam, start, cam_max, sampler, sp);
         self.camera_suffix_masks(cam);
         let Some((b, collapsed, d)) = escaped else {
             return Color::ZERO;

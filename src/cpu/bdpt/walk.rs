@@ -4,30 +4,44 @@
 use super::vertex::{Kind, Vertex, to_area};
 use super::{Bdpt, BdptMode};
 use crate::bsdf::{BxDF, TransportMode};
-use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards, surface_with};
+use crate::cpu::interaction::{
+    Bounce, Interaction, SurfaceHit, offset_ray_origin_towards, surface_with,
+};
 use crate::cpu::path_state::{Interface, PathState};
 use crate::cpu::spectral::Spectral;
 use crate::math::{Color, rng::Sampler};
 use crate::paths::Symbol;
+use crate::scene::light::LeSample;
 use glam::Vec3;
 
+/// Where a subpath's walk starts: its first ray, the path state there, the solid-angle
+/// density of the ray's direction, and the kind of transport.
+pub(super) struct WalkStart {
+    pub ray: (Vec3, Vec3),
+    pub st: PathState,
+    pub pdf_w: f32,
+    pub mode: TransportMode,
+}
+
 impl<'a> Bdpt<'a> {
-    /// Random walk from `o` in direction `d` with state `st` and solid-angle pdf `pdf_w` of
-    /// that direction (PBR 3rd ed. §16.3.2 structure). Appends vertices to `path`; returns the
-    /// throughput, collapse flag and direction of a ray that escaped the scene.
-    #[allow(clippy::too_many_arguments)]
+    /// Random walk from `start` (PBR 3rd ed. §16.3.2 structure). Appends vertices to `path`
+    /// (at most `max_verts` in all); returns the throughput, collapse flag and direction of a
+    /// ray that escaped the scene.
     pub(super) fn walk(
         &self,
         path: &mut Vec<Vertex<'a>>,
-        (mut o, mut d): (Vec3, Vec3),
-        mut st: PathState,
-        mut pdf_w: f32,
+        start: WalkStart,
         max_verts: usize,
-        mode: TransportMode,
         sampler: &mut Sampler,
         sp: &Spectral,
     ) -> Option<(Color, bool, Vec3)> {
         let scene = self.pt.scene;
+        let WalkStart {
+            ray: (mut o, mut d),
+            mut st,
+            mut pdf_w,
+            mode,
+        } = start;
         while path.len() < max_verts {
             let Some(h) = self.pt.bvh.intersect(o, d, f32::INFINITY) else {
                 return Some((st.beta, st.collapsed, d));
@@ -47,50 +61,21 @@ impl<'a> Bdpt<'a> {
                     Interface::Lost => break,
                 };
             }
-            let prev = path.len() - 1;
             let offset = self.pt.bvh.offset_scale();
             let Some(it) = Interaction::new(scene, &hit, d, sp, offset, enclosing) else {
-                // Emitters and black back faces end the walk but an emitter still counts as
-                // a vertex (s = 0 strategies hit it), with its raw normals.
-                if scene.materials[hit.material as usize].is_emissive() {
-                    let mut v = Vertex {
-                        ng: hit.ng,
-                        ns: hit.ns,
-                        w_prev: -d,
-                        tri: hit.tri,
-                        collapsed: st.collapsed,
-                        medium: st.medium(scene),
-                        medium_across: st.medium(scene),
-                        ..Vertex::new(Kind::Surface, hit.p, st.beta, 0.0, Symbol::D)
-                    };
-                    v.pdf_fwd = to_area(pdf_w, &path[prev], &v);
-                    path.push(v);
-                }
+                self.push_emitter(path, &hit, d, &st, pdf_w);
                 break;
             };
             st.arrive(&it);
             let mut v = Vertex::surface(scene, &it, &st, self.media);
-            v.pdf_fwd = to_area(pdf_w, &path[prev], &v);
+            v.pdf_fwd = to_area(pdf_w, &path[path.len() - 1], &v);
             path.push(v);
             if path.len() >= max_verts {
                 break;
             }
-            let cur = path.len() - 1;
-            let (s, wi) = match it.sample(sampler.next_1d(), sampler.next_2d(), mode) {
-                Bounce::Continue { s, wi } => (s, wi),
-                Bounce::Absorbed | Bounce::Poisoned => break,
+            let Some(wi) = self.bounce(path, &it, &mut st, (&mut pdf_w, mode), sampler) else {
+                break;
             };
-            st.scatter_with(scene, &it, (&s, wi), mode, self.media);
-            path[cur].class = Symbol::from(s.lobe);
-            if s.is_delta {
-                path[cur].delta = true;
-                pdf_w = 0.0;
-                path[cur - 1].pdf_rev = 0.0;
-            } else {
-                pdf_w = s.pdf;
-                let rev = it.bsdf.pdf(s.wi, it.wo);
-                path[cur - 1].pdf_rev = to_area(rev, &path[cur], &path[cur - 1]);
-            }
             o = it.spawn(wi);
             d = wi;
             if !st.survives(self.pt.rr_depth, || sampler.next_1d()) {
@@ -98,6 +83,67 @@ impl<'a> Bdpt<'a> {
             }
         }
         None
+    }
+
+    /// The walk ended on a surface that does not scatter: an emitter still counts as a vertex
+    /// (s = 0 strategies hit it), with its raw normals; a black back face does not.
+    #[inline(always)]
+    fn push_emitter(
+        &self,
+        path: &mut Vec<Vertex<'a>>,
+        hit: &SurfaceHit,
+        d: Vec3,
+        st: &PathState,
+        pdf_w: f32,
+    ) {
+        let scene = self.pt.scene;
+        if !scene.materials[hit.material as usize].is_emissive() {
+            return;
+        }
+        let mut v = Vertex {
+            ng: hit.ng,
+            ns: hit.ns,
+            w_prev: -d,
+            tri: hit.tri,
+            collapsed: st.collapsed,
+            medium: st.medium(scene),
+            medium_across: st.medium(scene),
+            ..Vertex::new(Kind::Surface, hit.p, st.beta, 0.0, Symbol::D)
+        };
+        v.pdf_fwd = to_area(pdf_w, &path[path.len() - 1], &v);
+        path.push(v);
+    }
+
+    /// Sample the BSDF at the path's last vertex `it` and scatter: records the vertex's class
+    /// and delta flag and the previous vertex's reverse density, sets `pdf_w` to the new
+    /// direction's density (0 for a delta lobe) and returns that direction; `None` ends the
+    /// walk (absorbed, or a broken BSDF value).
+    #[inline(always)]
+    fn bounce(
+        &self,
+        path: &mut [Vertex<'a>],
+        it: &Interaction,
+        st: &mut PathState,
+        (pdf_w, mode): (&mut f32, TransportMode),
+        sampler: &mut Sampler,
+    ) -> Option<Vec3> {
+        let cur = path.len() - 1;
+        let (s, wi) = match it.sample(sampler.next_1d(), sampler.next_2d(), mode) {
+            Bounce::Continue { s, wi } => (s, wi),
+            Bounce::Absorbed | Bounce::Poisoned => return None,
+        };
+        st.scatter_with(self.pt.scene, it, (&s, wi), mode, self.media);
+        path[cur].class = Symbol::from(s.lobe);
+        if s.is_delta {
+            path[cur].delta = true;
+            *pdf_w = 0.0;
+            path[cur - 1].pdf_rev = 0.0;
+        } else {
+            *pdf_w = s.pdf;
+            let rev = it.bsdf.pdf(s.wi, it.wo);
+            path[cur - 1].pdf_rev = to_area(rev, &path[cur], &path[cur - 1]);
+        }
+        Some(wi)
     }
 
     /// Start a light subpath: pick a light, sample an emitted ray from it and walk.
@@ -152,6 +198,12 @@ impl<'a> Bdpt<'a> {
         if le.pdf_dir <= 0.0 || le.l.max_element() <= 0.0 {
             return;
         }
+        let start = self.emitted_ray(&le, v0.beta, sp);
+        self.walk(path, start, max_verts, sampler, sp);
+    }
+
+    /// The walk that leaves the light sample `le` (its vertex carries `beta0`).
+    fn emitted_ray(&self, le: &LeSample, beta0: Color, sp: &Spectral) -> WalkStart {
         let (o, cos) = if le.delta_pos || le.infinite {
             (le.p, 1.0)
         } else {
@@ -161,16 +213,12 @@ impl<'a> Bdpt<'a> {
             )
         };
         // β₁ = Le cosθ / (p_pos p_dir) (Veach 1997 §10.2; PBR 3rd ed. eq. 16.15).
-        let beta = v0.beta * sp.c(le.l) * (cos / le.pdf_dir);
-        self.walk(
-            path,
-            (o, le.dir),
-            PathState::new(beta, false, self.pt.nested),
-            le.pdf_dir,
-            max_verts,
-            TransportMode::Importance,
-            sampler,
-            sp,
-        );
+        let beta = beta0 * sp.c(le.l) * (cos / le.pdf_dir);
+        WalkStart {
+            ray: (o, le.dir),
+            st: PathState::new(beta, false, self.pt.nested),
+            pdf_w: le.pdf_dir,
+            mode: TransportMode::Importance,
+        }
     }
 }
