@@ -153,30 +153,12 @@ impl Bdpt<'_> {
             return Color::ZERO;
         }
         let infinite = y.is_infinite_light();
-        let (w_zy, d2) = if infinite {
-            (-y.ng, 1.0)
-        } else {
-            let d = y.p - z.p;
-            let d2 = d.length_squared();
-            if d2 <= 0.0 {
-                return Color::ZERO;
-            }
-            (d / d2.sqrt(), d2)
+        let Some((w_zy, d2)) = Self::segment(y, z, infinite) else {
+            return Color::ZERO;
         };
         let ez = End::new(z, w_zy);
         let ey = if s >= 2 { End::new(y, -w_zy) } else { None };
-        let fz = lobes_of(ez.as_ref(), z, w_zy, TransportMode::Radiance);
-        let mut sum = Color::ZERO;
-        for (cy, fyv) in Self::light_end(y, s, -w_zy, sp, ey.as_ref()) {
-            for (cz, fzv) in fz {
-                if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
-                    continue;
-                }
-                if self.accepted(&light[..s - 1], cy, Some(cz), &cam[..t - 1]) {
-                    sum += fyv * fzv;
-                }
-            }
-        }
+        let sum = self.accepted_lobes(light, cam, w_zy, (ey.as_ref(), ez.as_ref()), sp);
         if sum.max_element() <= 0.0 {
             return Color::ZERO;
         }
@@ -187,17 +169,7 @@ impl Bdpt<'_> {
             1.0
         };
         let mut v = y.beta * sum * z.beta * (cos_z * cos_y / d2);
-        if v.max_element() <= 0.0 {
-            return Color::ZERO;
-        }
-        let vis = if infinite {
-            let o =
-                offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy), self.pt.bvh.offset_scale());
-            !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
-        } else {
-            self.visible(z, y)
-        };
-        if !vis {
+        if v.max_element() <= 0.0 || !self.connected(z, y, w_zy, infinite) {
             return Color::ZERO;
         }
         if !infinite && let Some(tr) = self.connection_transmittance(z, w_zy, d2, sp) {
@@ -214,5 +186,61 @@ impl Bdpt<'_> {
         }
         let p = self.connection_pdfs_at(light, cam, None, ez.as_ref(), ey.as_ref());
         Self::finish(v * mis::weight(light, cam, &p), collapse)
+    }
+
+    /// The unit direction from the camera end `z` to the light end `y` and the squared
+    /// distance (1 towards a light at infinity, which is reached along −n); `None` when the
+    /// two coincide.
+    #[inline(always)]
+    fn segment(y: &Vertex, z: &Vertex, infinite: bool) -> Option<(Vec3, f32)> {
+        if infinite {
+            return Some((-y.ng, 1.0));
+        }
+        let d = y.p - z.p;
+        let d2 = d.length_squared();
+        if d2 <= 0.0 {
+            return None;
+        }
+        Some((d / d2.sqrt(), d2))
+    }
+
+    /// f_y · f_z summed over the pairs of lobes (the classes each end scatters the
+    /// connection into) whose whole path the Heckbert filter accepts.
+    #[inline(always)]
+    fn accepted_lobes(
+        &self,
+        light: &[Vertex],
+        cam: &[Vertex],
+        w_zy: Vec3,
+        (ey, ez): (Option<&End>, Option<&End>),
+        sp: &Spectral,
+    ) -> Color {
+        let (s, t) = (light.len(), cam.len());
+        let (y, z) = (&light[s - 1], &cam[t - 1]);
+        let fz = lobes_of(ez, z, w_zy, TransportMode::Radiance);
+        let mut sum = Color::ZERO;
+        for (cy, fyv) in Self::light_end(y, s, -w_zy, sp, ey) {
+            for (cz, fzv) in fz {
+                if fyv.max_element() <= 0.0 || fzv.max_element() <= 0.0 {
+                    continue;
+                }
+                if self.accepted(&light[..s - 1], cy, Some(cz), &cam[..t - 1]) {
+                    sum += fyv * fzv;
+                }
+            }
+        }
+        sum
+    }
+
+    /// Is the connection from `z` towards `y` (along `w_zy`) unoccluded?
+    #[inline(always)]
+    fn connected(&self, z: &Vertex, y: &Vertex, w_zy: Vec3, infinite: bool) -> bool {
+        if infinite {
+            let o =
+                offset_ray_origin_towards(z.p, z.ng, z.ng.dot(w_zy), self.pt.bvh.offset_scale());
+            !self.pt.bvh.occluded(o, w_zy, f32::INFINITY)
+        } else {
+            self.visible(z, y)
+        }
     }
 }
