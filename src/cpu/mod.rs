@@ -16,6 +16,7 @@ pub mod observer;
 pub mod path_state;
 pub mod render;
 pub mod spectral;
+mod splat_buffer;
 pub mod sppm;
 pub mod walk_spec;
 

@@ -2,8 +2,10 @@
 //! (pixel, sample, dimension, seed) so images are identical across thread counts.
 
 use super::Integrator;
+use super::bdpt::{Bdpt, BdptMode, Scratch};
 use super::layers::{LayerFilm, LayerObserver};
 use super::spectral::LightLine;
+use super::splat_buffer::SplatBuffer;
 use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
@@ -253,8 +255,6 @@ impl Renderer {
         first_spp: u32,
         count: u32,
     ) {
-        use super::bdpt::{Bdpt, BdptMode};
-        use std::sync::atomic::{AtomicU64, Ordering};
         let integ = self.integrator(opts);
         let mode = if estimator == Estimator::Lt {
             BdptMode::LightTracing
@@ -263,68 +263,22 @@ impl Renderer {
         };
         let (w, h) = (opts.width, opts.height);
         let bd = Bdpt::new(&integ, mode, opts.filter_forward.as_ref(), w, h);
-        let splats: Vec<AtomicU64> = (0..(w as usize * h as usize * 3))
-            .map(|_| AtomicU64::new(0f64.to_bits()))
-            .collect();
-        let add = |i: usize, v: f64| {
-            let a = &splats[i];
-            let mut cur = a.load(Ordering::Relaxed);
-            loop {
-                let new = (f64::from_bits(cur) + v).to_bits();
-                match a.compare_exchange_weak(cur, new, Ordering::Relaxed, Ordering::Relaxed) {
-                    Ok(_) => break,
-                    Err(x) => cur = x,
-                }
-            }
+        let splats = SplatBuffer::new(w, h);
+        let pass = BdptPass {
+            bd: &bd,
+            splats: &splats,
+            samples: (first_spp, count),
+            seed: opts.seed,
+            width: w,
+            spectral: integ.spectral,
         };
-        let seed = opts.seed;
         let dropped: u64 = film
             .sums_mut()
             .par_chunks_mut(w as usize)
             .enumerate()
-            .map(|(y, row)| {
-                let mut dropped = 0u64;
-                let mut scratch = super::bdpt::Scratch::new();
-                for (x, px) in row.iter_mut().enumerate() {
-                    let pixel = y as u32 * w + x as u32;
-                    for s in first_spp..first_spp + count {
-                        let mut sampler = Sampler::new(pixel, s, seed);
-                        let mut bad_splat = false;
-                        let v = bd.sample(
-                            x as u32,
-                            y as u32,
-                            &mut sampler,
-                            &mut |sx, sy, v| {
-                                let ok = if integ.spectral {
-                                    v.is_finite()
-                                } else {
-                                    crate::film::sample_is_valid(v)
-                                };
-                                if ok {
-                                    let i = 3 * (sy as usize * w as usize + sx as usize);
-                                    add(i, v.x as f64);
-                                    add(i + 1, v.y as f64);
-                                    add(i + 2, v.z as f64);
-                                } else {
-                                    bad_splat = true;
-                                }
-                            },
-                            &mut scratch,
-                        );
-                        let ok = Film::add_sample_to(px, v, integ.spectral);
-                        if !ok || bad_splat {
-                            dropped += 1;
-                        }
-                    }
-                }
-                dropped
-            })
+            .map(|(y, row)| pass.row(y as u32, row))
             .sum();
-        for (i, px) in film.sums_mut().iter_mut().enumerate() {
-            for k in 0..3 {
-                px[k] += f64::from_bits(splats[3 * i + k].load(Ordering::Relaxed));
-            }
-        }
+        splats.fold_into(film);
         film.spp += count as u64;
         film.dropped += dropped;
     }
@@ -397,5 +351,65 @@ impl Renderer {
             pixels: opts.pixels(),
             segments: None,
         }
+    }
+}
+
+/// One BDPT pass over the image: what every row's task shares.
+struct BdptPass<'p, 'a> {
+    bd: &'p Bdpt<'a>,
+    splats: &'p SplatBuffer,
+    /// (first sample index, number of samples per pixel).
+    samples: (u32, u32),
+    seed: u32,
+    width: u32,
+    spectral: bool,
+}
+
+impl<'a> BdptPass<'_, 'a> {
+    /// Every sample of row `y` (its film sums `row`); returns the samples dropped.
+    fn row(&self, y: u32, row: &mut [[f64; 3]]) -> u64 {
+        let mut dropped = 0u64;
+        let mut scratch = Scratch::new();
+        let (first, count) = self.samples;
+        for (x, px) in row.iter_mut().enumerate() {
+            let pixel = y * self.width + x as u32;
+            for s in first..first + count {
+                if !self.sample(
+                    px,
+                    (x as u32, y),
+                    Sampler::new(pixel, s, self.seed),
+                    &mut scratch,
+                ) {
+                    dropped += 1;
+                }
+            }
+        }
+        dropped
+    }
+
+    /// One sample of pixel (x, y): its camera-side value into `px`, its light-tracing splats
+    /// into the shared buffer; false when the value or a splat was invalid (dropped).
+    fn sample(
+        &self,
+        px: &mut [f64; 3],
+        (x, y): (u32, u32),
+        mut sampler: Sampler,
+        scratch: &mut Scratch<'a>,
+    ) -> bool {
+        let mut bad_splat = false;
+        let mut splat = |sx: u32, sy: u32, v: Vec3| {
+            let ok = if self.spectral {
+                v.is_finite()
+            } else {
+                crate::film::sample_is_valid(v)
+            };
+            if ok {
+                self.splats.add_rgb(sx, sy, v);
+            } else {
+                bad_splat = true;
+            }
+        };
+        let v = self.bd.sample(x, y, &mut sampler, &mut splat, scratch);
+        Film::add_sample_to(px, v, self.spectral) && !bad_splat
     }
 }
