@@ -633,42 +633,9 @@ fn compile(ast: &Ast, direction: &'static str) -> Result<DfaTable, PathRegexErro
     let g = Glushkov::build(ast);
     let raw = determinise(&g, direction)?;
     let (block, nblocks) = minimise(&raw);
-
-    // Quotient automaton.
-    let mut trans = vec![[0usize; NUM_SYMBOLS]; nblocks];
-    let mut accepting = vec![false; nblocks];
-    for s in 0..raw.trans.len() {
-        trans[block[s]] = raw.trans[s].map(|t| block[t]);
-        accepting[block[s]] = raw.accepting[s];
-    }
-    let live = live_states(&trans, &accepting);
-    // In a minimal complete DFA all states that cannot reach acceptance are equivalent,
-    // so there is at most one; add it when the language needs none (e.g. all paths).
-    let dead_block = (0..nblocks).find(|&b| !live[b]);
-
-    // Canonical renumbering by breadth-first search from the start state.
-    let mut new_id: Vec<Option<usize>> = vec![None; nblocks];
-    let mut order: Vec<usize> = Vec::new(); // blocks in new order, excluding dead
-    if let Some(d) = dead_block {
-        new_id[d] = Some(0);
-    }
-    let start_block = block[raw.start];
-    let mut queue = VecDeque::new();
-    if new_id[start_block].is_none() {
-        new_id[start_block] = Some(order.len() + 1);
-        order.push(start_block);
-        queue.push_back(start_block);
-    }
-    while let Some(b) = queue.pop_front() {
-        for t in trans[b] {
-            if new_id[t].is_none() {
-                new_id[t] = Some(order.len() + 1);
-                order.push(t);
-                queue.push_back(t);
-            }
-        }
-    }
-    let num_states = order.len() + 1;
+    let q = Quotient::new(&raw, &block, nblocks);
+    let numbering = Numbering::canonical(&q);
+    let num_states = numbering.order.len() + 1;
     if num_states > MAX_STATES {
         return Err(PathRegexError::TooManyStates {
             states: num_states,
@@ -676,29 +643,101 @@ fn compile(ast: &Ast, direction: &'static str) -> Result<DfaTable, PathRegexErro
             direction,
         });
     }
+    Ok(dfa_table(&q, &numbering))
+}
 
+/// The quotient automaton of a DFA by its minimisation blocks (one state per block).
+struct Quotient {
+    trans: Vec<[usize; NUM_SYMBOLS]>,
+    accepting: Vec<bool>,
+    /// Blocks from which acceptance is reachable.
+    live: Vec<bool>,
+    /// The block of the start state.
+    start: usize,
+}
+
+impl Quotient {
+    /// Merge the states of `raw` by `block` (as `minimise` returns it, `nblocks` blocks).
+    fn new(raw: &RawDfa, block: &[usize], nblocks: usize) -> Quotient {
+        let mut trans = vec![[0usize; NUM_SYMBOLS]; nblocks];
+        let mut accepting = vec![false; nblocks];
+        for s in 0..raw.trans.len() {
+            trans[block[s]] = raw.trans[s].map(|t| block[t]);
+            accepting[block[s]] = raw.accepting[s];
+        }
+        let live = live_states(&trans, &accepting);
+        Quotient {
+            trans,
+            accepting,
+            live,
+            start: block[raw.start],
+        }
+    }
+}
+
+/// The canonical numbering of a quotient automaton's blocks.
+struct Numbering {
+    /// New state id of each block (None: unreachable from the start).
+    new_id: Vec<Option<usize>>,
+    /// Blocks in new order (state `i + 1`), excluding the dead block (state 0).
+    order: Vec<usize>,
+}
+
+impl Numbering {
+    /// Dead block 0, then breadth-first order from the start block.
+    fn canonical(q: &Quotient) -> Numbering {
+        let nblocks = q.trans.len();
+        // In a minimal complete DFA all states that cannot reach acceptance are equivalent,
+        // so there is at most one; add it when the language needs none (e.g. all paths).
+        let dead_block = (0..nblocks).find(|&b| !q.live[b]);
+        let mut new_id: Vec<Option<usize>> = vec![None; nblocks];
+        let mut order: Vec<usize> = Vec::new();
+        if let Some(d) = dead_block {
+            new_id[d] = Some(0);
+        }
+        let mut queue = VecDeque::new();
+        if new_id[q.start].is_none() {
+            new_id[q.start] = Some(order.len() + 1);
+            order.push(q.start);
+            queue.push_back(q.start);
+        }
+        while let Some(b) = queue.pop_front() {
+            for t in q.trans[b] {
+                if new_id[t].is_none() {
+                    new_id[t] = Some(order.len() + 1);
+                    order.push(t);
+                    queue.push_back(t);
+                }
+            }
+        }
+        Numbering { new_id, order }
+    }
+}
+
+/// The GPU table of quotient `q` in numbering `n` (at most `MAX_STATES` states).
+fn dfa_table(q: &Quotient, n: &Numbering) -> DfaTable {
     let mut table = DfaTable {
         transitions: [0; MAX_STATES * NUM_SYMBOLS],
         accepting: 0,
         live: 0,
-        start: new_id[start_block].unwrap_or(0) as u32,
+        start: n.new_id[q.start].unwrap_or(0) as u32,
         dead: 0,
-        num_states: num_states as u32,
+        num_states: (n.order.len() + 1) as u32,
         _pad: [0; 3],
     };
-    for (i, &b) in order.iter().enumerate() {
+    for (i, &b) in n.order.iter().enumerate() {
         let s = i + 1;
-        for (c, &t) in trans[b].iter().enumerate() {
-            table.transitions[s * NUM_SYMBOLS + c] = new_id[t].unwrap_or(0) as u32;
+        for (c, &t) in q.trans[b].iter().enumerate() {
+            table.transitions[s * NUM_SYMBOLS + c] = n.new_id[t].unwrap_or(0) as u32;
         }
-        if accepting[b] {
+        if q.accepting[b] {
             table.accepting |= 1 << s;
         }
-        if live[b] {
+        if q.live[b] {
             table.live |= 1 << s;
         }
     }
-    Ok(table)
+    table
 }
 
 /// States from which an accepting state is reachable (backward closure of the accepting set).

@@ -217,8 +217,28 @@ impl LightEdit {
 
     /// Write the light edits into `scene`, a copy of `base` (as loaded) with other edits.
     pub fn apply(&self, base: &Scene, scene: &mut Scene) {
-        let l = self;
-        scene.settings.light_line_nm = match l.spectrum {
+        scene.settings.light_line_nm = self.light_line(base);
+        tint_lights(self.tint(), base, scene);
+        self.apply_environment(base, scene);
+        let size = self.size_factor();
+        let moved = self.elevation_deg.is_some() || self.azimuth_deg.is_some();
+        if size == 1.0 && !moved {
+            return;
+        }
+        let Some(main) = MainLight::find(base) else {
+            return;
+        };
+        let rot = if moved {
+            self.rotation(&main)
+        } else {
+            Quat::IDENTITY
+        };
+        place_main_light(base, scene, &main, size, rot);
+    }
+
+    /// The light line (nm) the edit asks for, `base`'s when it keeps the loaded one.
+    fn light_line(&self, base: &Scene) -> Option<f32> {
+        match self.spectrum {
             LightSpectrum::AsLoaded => base.settings.light_line_nm,
             LightSpectrum::White => None,
             // The viewer keeps sanitising: an impossible wavelength is clamped into range.
@@ -227,21 +247,13 @@ impl LightEdit {
                 crate::math::spectrum::LIGHT_LINE_MAX_NM,
             )),
             LightSpectrum::Line(_) => base.settings.light_line_nm,
-        };
-        let tint = l.tint();
-        for (m, b) in scene.materials.iter_mut().zip(&base.materials) {
-            if b.is_emissive() {
-                m.emission = b.emission * tint;
-            }
         }
-        for p in &mut scene.punctual_lights {
-            use super::PunctualLight as P;
-            match p {
-                P::Point { intensity, .. } | P::Spot { intensity, .. } => *intensity *= tint,
-                P::Directional { irradiance, .. } => *irradiance *= tint,
-            }
-        }
-        if let Some(env) = l.environment.filter(|e| e.is_finite() && *e >= 0.0) {
+    }
+
+    /// Scale the environment to the edited luminance (a finite, non-negative one), keeping
+    /// `base`'s colour.
+    fn apply_environment(&self, base: &Scene, scene: &mut Scene) {
+        if let Some(env) = self.environment.filter(|e| e.is_finite() && *e >= 0.0) {
             let lum = luminance(base.environment);
             scene.environment = if lum > 0.0 {
                 base.environment / lum * env
@@ -249,45 +261,68 @@ impl LightEdit {
                 Vec3::splat(env)
             };
         }
-        let size = if l.size.is_finite() {
-            l.size.clamp(0.01, 100.0)
+    }
+
+    /// The main light's size factor, clamped to 0.01..=100 (1 when not finite).
+    fn size_factor(&self) -> f32 {
+        if self.size.is_finite() {
+            self.size.clamp(0.01, 100.0)
         } else {
             1.0
-        };
-        let moved = l.elevation_deg.is_some() || l.azimuth_deg.is_some();
-        if size == 1.0 && !moved {
-            return;
         }
-        let Some(main) = MainLight::find(base) else {
-            return;
-        };
-        let rot = if moved {
-            let el = l.elevation_deg.unwrap_or(main.elevation_deg).to_radians();
-            let az = l.azimuth_deg.unwrap_or(main.azimuth_deg).to_radians();
-            let d0 = (main.centroid - main.centre).normalize_or(Vec3::Y);
-            let d1 = Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
-            if d1.is_finite() {
-                Quat::from_rotation_arc(d0, d1.normalize_or(d0))
-            } else {
-                Quat::IDENTITY
-            }
+    }
+
+    /// The rotation about the scene centre that moves `main` to the edited elevation and
+    /// azimuth (those not edited keep the light's own); identity when not finite.
+    fn rotation(&self, main: &MainLight) -> Quat {
+        let el = self
+            .elevation_deg
+            .unwrap_or(main.elevation_deg)
+            .to_radians();
+        let az = self.azimuth_deg.unwrap_or(main.azimuth_deg).to_radians();
+        let d0 = (main.centroid - main.centre).normalize_or(Vec3::Y);
+        let d1 = Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
+        if d1.is_finite() {
+            Quat::from_rotation_arc(d0, d1.normalize_or(d0))
         } else {
             Quat::IDENTITY
-        };
-        let mut verts: Vec<u32> = main
-            .triangles
-            .iter()
-            .flat_map(|&t| base.mesh.indices[t as usize])
-            .collect();
-        verts.sort_unstable();
-        verts.dedup();
-        for v in verts {
-            let p = base.mesh.positions[v as usize];
-            let scaled = main.centroid + (p - main.centroid) * size;
-            scene.mesh.positions[v as usize] = main.centre + rot * (scaled - main.centre);
-            scene.mesh.normals[v as usize] =
-                (rot * base.mesh.normals[v as usize]).normalize_or(Vec3::Y);
         }
+    }
+}
+
+/// Multiply every emissive material's and punctual light's emission in `base` by `tint`
+/// into `scene`.
+fn tint_lights(tint: Vec3, base: &Scene, scene: &mut Scene) {
+    for (m, b) in scene.materials.iter_mut().zip(&base.materials) {
+        if b.is_emissive() {
+            m.emission = b.emission * tint;
+        }
+    }
+    for p in &mut scene.punctual_lights {
+        use super::PunctualLight as P;
+        match p {
+            P::Point { intensity, .. } | P::Spot { intensity, .. } => *intensity *= tint,
+            P::Directional { irradiance, .. } => *irradiance *= tint,
+        }
+    }
+}
+
+/// Scale `main`'s vertices (from `base`) by `size` about its centroid and rotate them by
+/// `rot` about the scene centre, normals with them, into `scene`.
+fn place_main_light(base: &Scene, scene: &mut Scene, main: &MainLight, size: f32, rot: Quat) {
+    let mut verts: Vec<u32> = main
+        .triangles
+        .iter()
+        .flat_map(|&t| base.mesh.indices[t as usize])
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    for v in verts {
+        let p = base.mesh.positions[v as usize];
+        let scaled = main.centroid + (p - main.centroid) * size;
+        scene.mesh.positions[v as usize] = main.centre + rot * (scaled - main.centre);
+        scene.mesh.normals[v as usize] =
+            (rot * base.mesh.normals[v as usize]).normalize_or(Vec3::Y);
     }
 }
 

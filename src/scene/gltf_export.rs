@@ -297,13 +297,7 @@ fn split_color(v: Vec3) -> (Vec3, f32) {
 
 /// glTF material of `m` (metallic-roughness + KHR extensions, recorded in `used`).
 fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
-    let (metallic, roughness) = match m.kind {
-        MaterialKind::Diffuse => (0.0, 1.0),
-        MaterialKind::Mirror => (1.0, 0.0),
-        MaterialKind::GlossyMetal => (1.0, m.roughness),
-        MaterialKind::Glass | MaterialKind::ThinGlass => (0.0, m.roughness),
-        MaterialKind::MetalRough => (m.metallic, m.roughness),
-    };
+    let (metallic, roughness) = metallic_roughness(m);
     let bc = m.base_color;
     let mut j = json!({
         "name": m.name,
@@ -318,21 +312,57 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
     }
     let mut ext = Map::new();
     if m.is_emissive() {
-        let (c, s) = split_color(m.emission);
-        if s <= 1.0 {
-            j["emissiveFactor"] = json!(m.emission.to_array());
-        } else {
-            j["emissiveFactor"] = json!(c.to_array());
-            ext.insert(
-                "KHR_materials_emissive_strength".into(),
-                json!({ "emissiveStrength": s }),
-            );
-            used.push("KHR_materials_emissive_strength");
-        }
+        emission_json(m, &mut j, &mut ext, used);
     }
     if m.is_transmissive() {
         transmission_extensions(m, &mut ext, used);
     }
+    specular_extension(m, &mut ext, used);
+    if !ext.is_empty() {
+        j["extensions"] = Value::Object(ext);
+    }
+    let extras = material_extras(m);
+    if !extras.is_empty() {
+        j["extras"] = Value::Object(extras);
+    }
+    j
+}
+
+/// The glTF (metallicFactor, roughnessFactor) that the loader maps back to `m`'s kind.
+fn metallic_roughness(m: &Material) -> (f32, f32) {
+    match m.kind {
+        MaterialKind::Diffuse => (0.0, 1.0),
+        MaterialKind::Mirror => (1.0, 0.0),
+        MaterialKind::GlossyMetal => (1.0, m.roughness),
+        MaterialKind::Glass | MaterialKind::ThinGlass => (0.0, m.roughness),
+        MaterialKind::MetalRough => (m.metallic, m.roughness),
+    }
+}
+
+/// `emissiveFactor` of an emissive material, with KHR_materials_emissive_strength (recorded
+/// in `used`) when a component exceeds 1.
+fn emission_json(
+    m: &Material,
+    j: &mut Value,
+    ext: &mut Map<String, Value>,
+    used: &mut Vec<&'static str>,
+) {
+    let (c, s) = split_color(m.emission);
+    if s <= 1.0 {
+        j["emissiveFactor"] = json!(m.emission.to_array());
+    } else {
+        j["emissiveFactor"] = json!(c.to_array());
+        ext.insert(
+            "KHR_materials_emissive_strength".into(),
+            json!({ "emissiveStrength": s }),
+        );
+        used.push("KHR_materials_emissive_strength");
+    }
+}
+
+/// KHR_materials_specular of a metallic-roughness material whose specular factor or colour
+/// is not the default, recorded in `used`.
+fn specular_extension(m: &Material, ext: &mut Map<String, Value>, used: &mut Vec<&'static str>) {
     if m.kind == MaterialKind::MetalRough
         && (m.specular_factor != 1.0 || m.specular_color != Vec3::ONE)
     {
@@ -345,9 +375,12 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
         );
         used.push("KHR_materials_specular");
     }
-    if !ext.is_empty() {
-        j["extensions"] = Value::Object(ext);
-    }
+}
+
+/// The material's `extras` (the loader's contract): the microfacet distribution of glass and
+/// glossy metal, a tabulated `conductor`, and a non-zero `priority` (nested dielectrics).
+fn material_extras(m: &Material) -> Map<String, Value> {
+    let mut extras = Map::new();
     if matches!(
         m.kind,
         MaterialKind::Glass | MaterialKind::ThinGlass | MaterialKind::GlossyMetal
@@ -356,23 +389,15 @@ fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value {
             MicrofacetDistribution::Ggx => "ggx",
             MicrofacetDistribution::Beckmann => "beckmann",
         };
-        j["extras"] = json!({ "microfacet_distribution": d });
+        extras.insert("microfacet_distribution".into(), json!(d));
     }
     if let Some(metal) = m.conductor {
-        // Tabulated metal (material.extras.conductor, the loader's contract).
-        if !j["extras"].is_object() {
-            j["extras"] = json!({});
-        }
-        j["extras"]["conductor"] = json!(metal.symbol());
+        extras.insert("conductor".into(), json!(metal.symbol()));
     }
     if m.priority != 0 {
-        // Nested dielectrics (material.extras.priority, the loader's contract).
-        if !j["extras"].is_object() {
-            j["extras"] = json!({});
-        }
-        j["extras"]["priority"] = json!(m.priority);
+        extras.insert("priority".into(), json!(m.priority));
     }
-    j
+    extras
 }
 
 /// KHR_materials_transmission, _ior, _volume (solid glass) and _dispersion of a transmissive

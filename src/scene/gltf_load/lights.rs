@@ -3,7 +3,7 @@
 use super::Loader;
 use crate::scene::PunctualLight;
 use glam::{Mat4, Vec3};
-use gltf::json;
+use gltf::json::extensions::scene::khr_lights_punctual::{Light, Type as LT};
 use gltf::json::validation::Checked;
 
 impl Loader<'_> {
@@ -22,7 +22,27 @@ impl Loader<'_> {
             ));
             return Ok(());
         };
-        use json::extensions::scene::khr_lights_punctual::Type as LT;
+        let Some(intensity) = self.light_intensity(li, light)? else {
+            return Ok(());
+        };
+        if light.range.is_some() {
+            self.warnings.once("light-range", || {
+                "KHR_lights_punctual 'range' is ignored (lights fall off with inverse square)"
+                    .into()
+            });
+        }
+        let Some((position, direction)) = self.light_placement(ni, li, light, world) else {
+            return Ok(());
+        };
+        if let Some(l) = self.punctual_light(li, light, position, direction, intensity) {
+            self.lights.push(l);
+        }
+        Ok(())
+    }
+
+    /// Colour × intensity of light `li`: an error when it overflows f32 light power, None
+    /// (with a warning) when it is not finite and non-negative.
+    fn light_intensity(&mut self, li: usize, light: &Light) -> anyhow::Result<Option<Vec3>> {
         let color = Vec3::from(light.color);
         let intensity = color * light.intensity;
         // As for emissive materials: beyond 1e20 the light's power (4π·I) overflows f32.
@@ -36,14 +56,20 @@ impl Loader<'_> {
             self.warnings.push(format!(
                 "light {li}: colour × intensity must be finite and non-negative; ignored"
             ));
-            return Ok(());
+            return Ok(None);
         }
-        if light.range.is_some() {
-            self.warnings.once("light-range", || {
-                "KHR_lights_punctual 'range' is ignored (lights fall off with inverse square)"
-                    .into()
-            });
-        }
+        Ok(Some(intensity))
+    }
+
+    /// The world position and direction (−Z) of light `li` on node `ni`; None (with a
+    /// warning) when a light that needs a direction has a degenerate one.
+    fn light_placement(
+        &mut self,
+        ni: usize,
+        li: usize,
+        light: &Light,
+        world: Mat4,
+    ) -> Option<(Vec3, Vec3)> {
         let position = world.transform_point3(Vec3::ZERO);
         let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let needs_dir = !matches!(light.type_, Checked::Valid(LT::Point));
@@ -51,8 +77,21 @@ impl Loader<'_> {
             self.warnings.push(format!(
                 "light {li}: node {ni} has a degenerate rotation; ignored"
             ));
-            return Ok(());
+            return None;
         }
+        Some((position, direction))
+    }
+
+    /// The scene light for glTF light `li` of its type; None (with a warning) for an unknown
+    /// type.
+    fn punctual_light(
+        &mut self,
+        li: usize,
+        light: &Light,
+        position: Vec3,
+        direction: Vec3,
+        intensity: Vec3,
+    ) -> Option<PunctualLight> {
         let l = match light.type_ {
             Checked::Valid(LT::Point) => PunctualLight::Point {
                 position,
@@ -80,11 +119,10 @@ impl Loader<'_> {
             Checked::Invalid => {
                 self.warnings
                     .push(format!("light {li}: unknown light type; ignored"));
-                return Ok(());
+                return None;
             }
         };
-        self.lights.push(l);
-        Ok(())
+        Some(l)
     }
 
     /// KHR_lights_punctual: 0 ≤ innerConeAngle < outerConeAngle ≤ π/2; anything else is

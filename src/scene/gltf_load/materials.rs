@@ -3,7 +3,7 @@
 use super::extras::extras_value;
 use super::{GLASS_TRANSMISSION_THRESHOLD, Loader, Warnings};
 use crate::bsdf::{Metal, MicrofacetDistribution};
-use crate::scene::{Material, MaterialKind};
+use crate::scene::{Material, MaterialKind, TextureRef};
 use glam::Vec3;
 use gltf::json;
 use gltf::json::validation::Checked;
@@ -24,6 +24,26 @@ struct Volume {
     thickness: f32,
     attenuation_color: Vec3,
     attenuation_distance: f32,
+}
+
+/// The textures of one material (None where it has none or one failed to load).
+struct MaterialTextures {
+    base_color: Option<TextureRef>,
+    metallic_roughness: Option<TextureRef>,
+    normal: Option<TextureRef>,
+    normal_scale: f32,
+    emissive: Option<TextureRef>,
+    transmission: Option<TextureRef>,
+}
+
+/// `KHR_materials_specular`: (specularFactor, specularColorFactor), (1, white) without it.
+fn specular(ext: Option<&json::extensions::material::Material>) -> (f32, Vec3) {
+    let spec = ext.and_then(|e| e.specular.as_ref());
+    let factor = spec.map(|s| s.specular_factor.0).unwrap_or(1.0);
+    let color = spec
+        .map(|s| Vec3::from(s.specular_color_factor.0))
+        .unwrap_or(Vec3::ONE);
+    (factor, color)
 }
 
 impl Loader<'_> {
@@ -53,6 +73,7 @@ impl Loader<'_> {
         }
     }
 
+    /// Convert glTF material `i` (`usize::MAX`: the default material) to a scene material.
     pub(super) fn convert_material(
         &mut self,
         i: usize,
@@ -62,70 +83,45 @@ impl Loader<'_> {
         let pbr = &m.pbr_metallic_roughness;
         let (base_color, metallic, roughness) = self.pbr_factors(pbr, &name);
         let ext = m.extensions.as_ref();
-        let transmission = ext
-            .and_then(|e| e.transmission.as_ref())
-            .map(|t| t.transmission_factor.0)
-            .unwrap_or(0.0);
-        let transmission = clamp01(
-            transmission,
-            &name,
-            "transmissionFactor",
-            &mut self.warnings,
-        );
+        let transmission = self.transmission_factor(ext, &name);
         let ior = self.ior(ext, &name, i)?;
         let volume = self.volume(ext, &name);
         let emission = self.emission(m, ext, &name, i)?;
-        let spec = ext.and_then(|e| e.specular.as_ref());
-        let specular_factor = spec.map(|s| s.specular_factor.0).unwrap_or(1.0);
-        let specular_color = spec
-            .map(|s| Vec3::from(s.specular_color_factor.0))
-            .unwrap_or(Vec3::ONE);
+        let (specular_factor, specular_color) = specular(ext);
         self.warn_ignored_features(m, ext, &name);
         let abbe = self.dispersion_abbe(ext, &name);
         let distribution = self.microfacet_distribution(m, &name, i)?;
         let priority = self.priority(m, &name, i)?;
         let conductor = conductor(m, &name, i)?;
-
-        let base_color_texture = match &pbr.base_color_texture {
-            Some(t) => self.texture_ref(t, true, &name)?,
-            None => None,
-        };
-        let metallic_roughness_texture = match &pbr.metallic_roughness_texture {
-            Some(t) => self.texture_ref(t, false, &name)?,
-            None => None,
-        };
-
-        let (normal_texture, normal_scale) = self.normal_texture(m, &name)?;
-        let emissive_texture = self.emissive_texture(m, emission, &name)?;
-        let transmission_texture = self.transmission_texture(ext, transmission, &name)?;
+        let tex = self.material_textures(m, emission, transmission, &name)?;
 
         let kind = self.material_kind(
             &name,
             transmission,
             volume.thickness,
             (metallic, roughness),
-            metallic_roughness_texture.is_some(),
+            tex.metallic_roughness.is_some(),
         );
         let mut mat = Material {
             name,
             kind,
             base_color,
-            base_color_texture,
+            base_color_texture: tex.base_color,
             metallic,
             roughness,
-            metallic_roughness_texture,
-            normal_texture,
-            normal_scale,
+            metallic_roughness_texture: tex.metallic_roughness,
+            normal_texture: tex.normal,
+            normal_scale: tex.normal_scale,
             ior,
             abbe,
             distribution,
             emission,
-            emissive_texture,
+            emissive_texture: tex.emissive,
             double_sided: m.double_sided,
             attenuation_color: volume.attenuation_color,
             attenuation_distance: volume.attenuation_distance,
             transmission_factor: transmission,
-            transmission_texture,
+            transmission_texture: tex.transmission,
             specular_factor,
             specular_color,
             priority,
@@ -133,6 +129,51 @@ impl Loader<'_> {
         };
         enforce_contract(&mut mat)?;
         Ok(mat)
+    }
+
+    /// `KHR_materials_transmission.transmissionFactor` (0 without the extension), clamped to
+    /// [0, 1] with a warning.
+    fn transmission_factor(
+        &mut self,
+        ext: Option<&json::extensions::material::Material>,
+        name: &str,
+    ) -> f32 {
+        let transmission = ext
+            .and_then(|e| e.transmission.as_ref())
+            .map(|t| t.transmission_factor.0)
+            .unwrap_or(0.0);
+        clamp01(transmission, name, "transmissionFactor", &mut self.warnings)
+    }
+
+    /// Every texture of material `m`, loaded in the order the contract reads them (base
+    /// colour, metallic-roughness, normal, emissive, transmission).
+    fn material_textures(
+        &mut self,
+        m: &json::Material,
+        emission: Vec3,
+        transmission: f32,
+        name: &str,
+    ) -> anyhow::Result<MaterialTextures> {
+        let pbr = &m.pbr_metallic_roughness;
+        let base_color = match &pbr.base_color_texture {
+            Some(t) => self.texture_ref(t, true, name)?,
+            None => None,
+        };
+        let metallic_roughness = match &pbr.metallic_roughness_texture {
+            Some(t) => self.texture_ref(t, false, name)?,
+            None => None,
+        };
+        let (normal, normal_scale) = self.normal_texture(m, name)?;
+        let emissive = self.emissive_texture(m, emission, name)?;
+        let transmission = self.transmission_texture(m.extensions.as_ref(), transmission, name)?;
+        Ok(MaterialTextures {
+            base_color,
+            metallic_roughness,
+            normal,
+            normal_scale,
+            emissive,
+            transmission,
+        })
     }
 
     /// `KHR_materials_transmission.transmissionTexture` (linear, red channel): per texel,

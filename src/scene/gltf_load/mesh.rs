@@ -191,70 +191,107 @@ impl Loader<'_> {
         v: &WorldVertices,
         material: u32,
     ) -> Result<(), String> {
-        let mut remap = vec![u32::MAX; v.positions.len()];
-        let with_tangents = self.needs_tangents;
-        let out = &mut self.mesh;
-        let push_vertex = |out: &mut Mesh, p: Vec3, n: Vec3, t: Vec2, tan: Vec4| {
-            let id =
-                u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
-            out.positions.push(p);
-            out.normals.push(n);
-            out.uvs.push(t);
-            if with_tangents {
-                out.tangents.push(tan);
-            }
-            Ok::<u32, String>(id)
+        let mut sink = VertexSink {
+            out: &mut self.mesh,
+            with_tangents: self.needs_tangents,
+            remap: vec![u32::MAX; v.positions.len()],
+            // Generated tangents belong to a triangle corner: such vertices are not shared.
+            per_corner: matches!(v.tangents, Tangents::PerCorner(_)),
+            bad_normals: 0,
         };
-        // Generated tangents belong to a triangle corner: such vertices are not shared.
-        let per_corner = matches!(v.tangents, Tangents::PerCorner(_));
-        let wpos = &v.positions;
-        let mut bad_normals = 0usize;
         for (f, tri) in indices.chunks_exact(3).enumerate() {
             let mut t = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
             if v.flip {
                 t.swap(1, 2);
             }
-            let [a, b, c] = [wpos[t[0]], wpos[t[1]], wpos[t[2]]];
-            let g = (b - a).cross(c - a);
-            if !(a.is_finite() && b.is_finite() && c.is_finite() && g.is_finite())
-                || g.length_squared() <= 0.0
-            {
+            let Some(gn) = geometric_normal(&v.positions, t) else {
                 self.dropped_triangles += 1;
                 continue;
-            }
-            let gn = g.normalize_or_zero();
-            if gn == Vec3::ZERO {
-                self.dropped_triangles += 1;
-                continue;
-            }
+            };
             let mut ids = [0u32; 3];
             for k in 0..3 {
-                let i = t[k];
-                let n = v.normals.as_ref().map(|n| n[i]).unwrap_or(Vec3::ZERO);
-                let tan = v.tangents.get(i, 3 * f + k);
-                if n == Vec3::ZERO || per_corner {
-                    // No normal (flat shading) or a broken one: the geometric normal.
-                    if v.normals.is_some() && n == Vec3::ZERO {
-                        bad_normals += 1;
-                    }
-                    let n = if n == Vec3::ZERO { gn } else { n };
-                    ids[k] = push_vertex(out, wpos[i], n, v.uvs[i], tan)?;
-                } else {
-                    if remap[i] == u32::MAX {
-                        remap[i] = push_vertex(out, wpos[i], n, v.uvs[i], tan)?;
-                    }
-                    ids[k] = remap[i];
-                }
+                ids[k] = sink.corner(v, t[k], 3 * f + k, gn)?;
             }
-            out.indices.push(ids);
-            out.tri_material.push(material);
+            sink.out.indices.push(ids);
+            sink.out.tri_material.push(material);
         }
+        let bad_normals = sink.bad_normals;
         if bad_normals > 0 {
             self.warnings.push(format!(
                 "{bad_normals} vertex normals were zero or non-finite; used the geometric normal"
             ));
         }
         Ok(())
+    }
+}
+
+/// The unit geometric normal of the triangle with corners `t`; None when it is degenerate
+/// (zero area) or not finite.
+fn geometric_normal(wpos: &[Vec3], t: [usize; 3]) -> Option<Vec3> {
+    let [a, b, c] = [wpos[t[0]], wpos[t[1]], wpos[t[2]]];
+    let g = (b - a).cross(c - a);
+    if !(a.is_finite() && b.is_finite() && c.is_finite() && g.is_finite())
+        || g.length_squared() <= 0.0
+    {
+        return None;
+    }
+    let gn = g.normalize_or_zero();
+    (gn != Vec3::ZERO).then_some(gn)
+}
+
+/// Where one primitive's vertices go: the scene mesh, and which source vertices it already
+/// holds.
+struct VertexSink<'m> {
+    out: &'m mut Mesh,
+    /// The mesh stores per-vertex tangents.
+    with_tangents: bool,
+    /// Source vertex → mesh vertex (`u32::MAX`: not added yet).
+    remap: Vec<u32>,
+    /// Tangents are per triangle corner, so no vertex is shared.
+    per_corner: bool,
+    /// Vertices whose normal was zero or non-finite.
+    bad_normals: usize,
+}
+
+impl VertexSink<'_> {
+    /// The mesh vertex for source vertex `i` at triangle corner `corner` (3·face + k) of a
+    /// triangle with geometric normal `gn`: shared when it has a usable normal, else a new
+    /// vertex with the geometric normal.
+    fn corner(
+        &mut self,
+        v: &WorldVertices,
+        i: usize,
+        corner: usize,
+        gn: Vec3,
+    ) -> Result<u32, String> {
+        let n = v.normals.as_ref().map(|n| n[i]).unwrap_or(Vec3::ZERO);
+        let tan = v.tangents.get(i, corner);
+        if n == Vec3::ZERO || self.per_corner {
+            // No normal (flat shading) or a broken one: the geometric normal.
+            if v.normals.is_some() && n == Vec3::ZERO {
+                self.bad_normals += 1;
+            }
+            let n = if n == Vec3::ZERO { gn } else { n };
+            self.push_vertex(v.positions[i], n, v.uvs[i], tan)
+        } else {
+            if self.remap[i] == u32::MAX {
+                self.remap[i] = self.push_vertex(v.positions[i], n, v.uvs[i], tan)?;
+            }
+            Ok(self.remap[i])
+        }
+    }
+
+    /// Add one vertex to the mesh and return its index.
+    fn push_vertex(&mut self, p: Vec3, n: Vec3, t: Vec2, tan: Vec4) -> Result<u32, String> {
+        let out = &mut *self.out;
+        let id = u32::try_from(out.positions.len()).map_err(|_| "too many vertices".to_string())?;
+        out.positions.push(p);
+        out.normals.push(n);
+        out.uvs.push(t);
+        if self.with_tangents {
+            out.tangents.push(tan);
+        }
+        Ok(id)
     }
 }
 

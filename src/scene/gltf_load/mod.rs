@@ -42,8 +42,10 @@ pub use cameras::default_camera;
 pub use files::read_regular_file;
 pub use limits::LoadLimits;
 
-use super::{Camera, Material, Mesh, PunctualLight, Scene, Texture};
+use super::env_map::EnvImage;
+use super::{Camera, Material, Mesh, PunctualLight, RenderSettings, Scene, Texture};
 use anyhow::{Context, anyhow, bail};
+use glam::Vec3;
 use gltf::json;
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
@@ -202,7 +204,17 @@ struct Loader<'a> {
     needs_tangents: bool,
 }
 
+/// The scene-level `extras` (render settings and environment) of a file, parsed.
+struct SceneExtras {
+    settings: RenderSettings,
+    /// `extras.render` gives a width or height (else the camera's aspect ratio shapes it).
+    sized: bool,
+    environment: Vec3,
+    env_map: Option<EnvImage>,
+}
+
 impl Loader<'_> {
+    /// Load the whole file: extensions, extras, materials, the node tree, then the scene.
     fn run(&mut self, name: &str) -> anyhow::Result<Scene> {
         let root = self.root;
         self.check_extensions()?;
@@ -211,11 +223,24 @@ impl Loader<'_> {
                 "skins and animations are ignored (the scene is loaded in its rest pose)".into(),
             );
         }
-        let settings_value = match root.scenes.first() {
+        let extras = self.scene_extras()?;
+        self.convert_materials()?;
+
+        let roots = self.scene_roots()?;
+        self.check_instanced_triangles(&roots)?;
+        self.traverse(&roots)?;
+
+        self.check_triangles(name)?;
+        self.build_scene(name, extras)
+    }
+
+    /// Parse `scenes[0].extras`: the render settings and the environment.
+    fn scene_extras(&mut self) -> anyhow::Result<SceneExtras> {
+        let settings_value = match self.root.scenes.first() {
             Some(s) => extras::extras_value(&s.extras, "/scenes/0/extras")?,
             None => None,
         };
-        let mut settings =
+        let settings =
             extras::parse_render_settings(settings_value.as_ref(), &mut self.warnings.list)?;
         let sized = extras::has_image_size(settings_value.as_ref());
         let (environment, env_map) = environment::parse(
@@ -224,18 +249,29 @@ impl Loader<'_> {
             &self.limits,
             &mut self.warnings,
         )?;
+        Ok(SceneExtras {
+            settings,
+            sized,
+            environment,
+            env_map,
+        })
+    }
 
+    /// Convert every glTF material (in order, so glTF index i → scene index i) and note
+    /// whether any has a normal map.
+    fn convert_materials(&mut self) -> anyhow::Result<()> {
+        let root = self.root;
         for (i, m) in root.materials.iter().enumerate() {
             let mat = self.convert_material(i, m)?;
             self.material_map.push(self.materials.len() as u32);
             self.materials.push(mat);
         }
         self.needs_tangents = self.materials.iter().any(|m| m.normal_texture.is_some());
+        Ok(())
+    }
 
-        let roots = self.scene_roots()?;
-        self.check_instanced_triangles(&roots)?;
-        self.traverse(&roots)?;
-
+    /// Warn about dropped triangles, and refuse a file left with none, saying why.
+    fn check_triangles(&mut self, name: &str) -> anyhow::Result<()> {
         if self.dropped_triangles > 0 {
             self.warnings.push(format!(
                 "dropped {} zero-area or non-finite triangles",
@@ -260,7 +296,18 @@ impl Loader<'_> {
                 "'{name}' has no triangles to render (no mesh is reachable from the scene's nodes)"
             );
         }
+        Ok(())
+    }
 
+    /// Assemble the scene from what was loaded: image size, camera, lighting fallback,
+    /// warnings, and the final renderability check.
+    fn build_scene(&mut self, name: &str, extras: SceneExtras) -> anyhow::Result<Scene> {
+        let SceneExtras {
+            mut settings,
+            sized,
+            environment,
+            env_map,
+        } = extras;
         if !sized && let Some(a) = self.camera_aspect {
             (settings.width, settings.height) = cameras::size_for_aspect(a);
         }
@@ -268,7 +315,7 @@ impl Loader<'_> {
             Some(c) => c,
             None => default_camera(&self.mesh, &settings),
         };
-        let scene = Scene {
+        let mut scene = Scene {
             name: name.to_string(),
             mesh: std::mem::take(&mut self.mesh),
             materials: std::mem::take(&mut self.materials),
@@ -280,7 +327,6 @@ impl Loader<'_> {
             settings,
             warnings: vec![],
         };
-        let mut scene = scene;
         environment::light_the_lightless(&mut scene, &mut self.warnings);
         scene.warnings = std::mem::take(&mut self.warnings.list);
         scene

@@ -76,6 +76,8 @@ impl Loader<'_> {
         }))
     }
 
+    /// Load glTF texture `ti` (its image decoded, converted to linear when `srgb`, and its
+    /// sampler's wrap and filter modes).
     fn load_texture(&mut self, ti: usize, srgb: bool) -> Result<Texture, TextureError> {
         let root = self.root;
         let t = root
@@ -83,60 +85,9 @@ impl Loader<'_> {
             .get(ti)
             .ok_or_else(|| "index out of range".to_string())?;
         let ii = t.source.value();
-        let img = root
-            .images
-            .get(ii)
-            .ok_or_else(|| format!("image {ii} does not exist"))?;
-        let bytes: Vec<u8> = if let Some(vi) = img.buffer_view {
-            let view = root
-                .buffer_views
-                .get(vi.value())
-                .ok_or_else(|| format!("image {ii}: buffer view does not exist"))?;
-            self.view_bytes(vi.value(), view)?.to_vec()
-        } else if let Some(uri) = &img.uri {
-            uri::image_bytes(uri, self.base, ii, &self.limits)?
-        } else {
-            return Err(format!("image {ii} has neither bufferView nor uri").into());
-        };
-        let (w, h) = image_size(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
-        if w == 0 || h == 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
-            return Err(format!("image {ii}: size {w}x{h} out of range").into());
-        }
-        self.charge_texels(ii, w, h)?;
-        let dynimg = image::load_from_memory(&bytes).map_err(|e| format!("image {ii}: {e}"))?;
-        if (dynimg.width(), dynimg.height()) != (w, h) {
-            return Err(format!("image {ii}: decoded size differs from its header").into());
-        }
-        let rgba = dynimg.to_rgba32f();
-        let mut texels = Vec::new();
-        texels.try_reserve_exact(rgba.pixels().len()).map_err(|_| {
-            TextureError::OverBudget(format!("image {ii}: out of memory for {w}x{h} texels"))
-        })?;
-        texels.extend(rgba.pixels().map(|p| {
-            let v = Vec4::from(p.0);
-            let v = if v.is_finite() { v } else { Vec4::ZERO };
-            if srgb {
-                Vec4::new(
-                    srgb_to_linear(v.x),
-                    srgb_to_linear(v.y),
-                    srgb_to_linear(v.z),
-                    v.w,
-                )
-            } else {
-                v
-            }
-        }));
-        let (mut wrap_s, mut wrap_t, mut linear) = (Wrap::Repeat, Wrap::Repeat, true);
-        if let Some(si) = t.sampler
-            && let Some(s) = root.samplers.get(si.value())
-        {
-            wrap_s = wrap_mode(&s.wrap_s);
-            wrap_t = wrap_mode(&s.wrap_t);
-            linear = !matches!(
-                s.mag_filter,
-                Some(Checked::Valid(json::texture::MagFilter::Nearest))
-            );
-        }
+        let bytes = self.image_bytes(ii)?;
+        let (w, h, texels) = self.decode_image(ii, &bytes, srgb)?;
+        let (wrap_s, wrap_t, linear) = sampler_modes(root, t);
         Ok(Texture {
             width: w,
             height: h,
@@ -146,6 +97,84 @@ impl Loader<'_> {
             linear,
         })
     }
+
+    /// The encoded bytes of image `ii`, from its buffer view or its URI.
+    fn image_bytes(&self, ii: usize) -> Result<Vec<u8>, String> {
+        let root = self.root;
+        let img = root
+            .images
+            .get(ii)
+            .ok_or_else(|| format!("image {ii} does not exist"))?;
+        if let Some(vi) = img.buffer_view {
+            let view = root
+                .buffer_views
+                .get(vi.value())
+                .ok_or_else(|| format!("image {ii}: buffer view does not exist"))?;
+            Ok(self.view_bytes(vi.value(), view)?.to_vec())
+        } else if let Some(uri) = &img.uri {
+            uri::image_bytes(uri, self.base, ii, &self.limits)
+        } else {
+            Err(format!("image {ii} has neither bufferView nor uri"))
+        }
+    }
+
+    /// Decode image `ii` into linear RGBA texels (width, height, texels): its header size
+    /// checked and charged against the texture-pixel budget before decoding.
+    fn decode_image(
+        &mut self,
+        ii: usize,
+        bytes: &[u8],
+        srgb: bool,
+    ) -> Result<(u32, u32, Vec<Vec4>), TextureError> {
+        let (w, h) = image_size(bytes).map_err(|e| format!("image {ii}: {e}"))?;
+        if w == 0 || h == 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE {
+            return Err(format!("image {ii}: size {w}x{h} out of range").into());
+        }
+        self.charge_texels(ii, w, h)?;
+        let dynimg = image::load_from_memory(bytes).map_err(|e| format!("image {ii}: {e}"))?;
+        if (dynimg.width(), dynimg.height()) != (w, h) {
+            return Err(format!("image {ii}: decoded size differs from its header").into());
+        }
+        let rgba = dynimg.to_rgba32f();
+        let mut texels = Vec::new();
+        texels.try_reserve_exact(rgba.pixels().len()).map_err(|_| {
+            TextureError::OverBudget(format!("image {ii}: out of memory for {w}x{h} texels"))
+        })?;
+        texels.extend(rgba.pixels().map(|p| texel(Vec4::from(p.0), srgb)));
+        Ok((w, h, texels))
+    }
+}
+
+/// One decoded texel: non-finite → zero; RGB from sRGB to linear when `srgb` (alpha as is).
+fn texel(v: Vec4, srgb: bool) -> Vec4 {
+    let v = if v.is_finite() { v } else { Vec4::ZERO };
+    if srgb {
+        Vec4::new(
+            srgb_to_linear(v.x),
+            srgb_to_linear(v.y),
+            srgb_to_linear(v.z),
+            v.w,
+        )
+    } else {
+        v
+    }
+}
+
+/// The texture's sampler as (wrap S, wrap T, bilinear filtering); repeat and linear when it
+/// has none (or names one that does not exist).
+fn sampler_modes(root: &json::Root, t: &json::Texture) -> (Wrap, Wrap, bool) {
+    let (mut wrap_s, mut wrap_t, mut linear) = (Wrap::Repeat, Wrap::Repeat, true);
+    if let Some(si) = t.sampler
+        && let Some(s) = root.samplers.get(si.value())
+    {
+        wrap_s = wrap_mode(&s.wrap_s);
+        wrap_t = wrap_mode(&s.wrap_t);
+        linear = !matches!(
+            s.mag_filter,
+            Some(Checked::Valid(json::texture::MagFilter::Nearest))
+        );
+    }
+    (wrap_s, wrap_t, linear)
 }
 
 /// Why a texture is not used: a broken image (a warning, the material goes untextured) or

@@ -48,64 +48,13 @@ impl Default for LightSet {
 
 /// The scene's lights: emissive triangles first, then `KHR_lights_punctual` lights.
 fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
-    let mut lights = Vec::new();
-    // Each emissive texture is shared by the triangles that read it (one copy of its texels).
-    let mut shared: HashMap<u32, Arc<Texture>> = HashMap::new();
-    for t in scene.emissive_triangles() {
-        let mi = scene.mesh.tri_material[t as usize];
-        let m = &scene.materials[mi as usize];
-        let v = scene.mesh.tri(t as usize);
-        let mut light = TriangleLight::new(t, mi, v, m.emission, m.double_sided);
-        if let Some(r) = m.emissive_texture
-            && let Some(tex) = scene.textures.get(r.texture as usize)
-        {
-            let texture = shared
-                .entry(r.texture)
-                .or_insert_with(|| Arc::new(tex.clone()))
-                .clone();
-            let uv = scene.mesh.indices[t as usize]
-                .map(|i| scene.mesh.uvs.get(i as usize).copied().unwrap_or_default());
-            light = light.with_texture(EmissiveTexture {
-                texture,
-                transform: r.transform,
-                uv,
-            });
-        }
-        lights.push(Light::Triangle(light));
-    }
-    for l in &scene.punctual_lights {
-        lights.push(match *l {
-            PunctualLight::Point {
-                position,
-                intensity,
-            } => Light::Point(PointLight {
-                position,
-                intensity,
-            }),
-            PunctualLight::Spot {
-                position,
-                direction,
-                intensity,
-                cos_inner,
-                cos_outer,
-            } => Light::Spot(SpotLight {
-                position,
-                direction,
-                intensity,
-                cos_inner,
-                cos_outer,
-            }),
-            PunctualLight::Directional {
-                direction,
-                irradiance,
-            } => Light::Directional(DirectionalLight {
-                direction,
-                irradiance,
-                center,
-                radius,
-            }),
-        });
-    }
+    let mut lights = area_lights(scene);
+    lights.extend(
+        scene
+            .punctual_lights
+            .iter()
+            .map(|l| punctual_light(l, center, radius)),
+    );
     if let Some(img) = &scene.env_map {
         lights.push(Light::Image(ImageEnvironment::new(
             img.clone(),
@@ -114,6 +63,79 @@ fn scene_lights(scene: &Scene, center: Vec3, radius: f32) -> Vec<Light> {
         )));
     }
     lights
+}
+
+/// One area light per emissive triangle, in `Scene::emissive_triangles` order.
+fn area_lights(scene: &Scene) -> Vec<Light> {
+    // Each emissive texture is shared by the triangles that read it (one copy of its texels).
+    let mut shared: HashMap<u32, Arc<Texture>> = HashMap::new();
+    scene
+        .emissive_triangles()
+        .into_iter()
+        .map(|t| Light::Triangle(triangle_light(scene, t, &mut shared)))
+        .collect()
+}
+
+/// The area light of emissive triangle `t`, with its emissive texture (taken from, or added
+/// to, `shared`) when it has one.
+fn triangle_light(scene: &Scene, t: u32, shared: &mut HashMap<u32, Arc<Texture>>) -> TriangleLight {
+    let mi = scene.mesh.tri_material[t as usize];
+    let m = &scene.materials[mi as usize];
+    let v = scene.mesh.tri(t as usize);
+    let light = TriangleLight::new(t, mi, v, m.emission, m.double_sided);
+    let Some(r) = m.emissive_texture else {
+        return light;
+    };
+    let Some(tex) = scene.textures.get(r.texture as usize) else {
+        return light;
+    };
+    let texture = shared
+        .entry(r.texture)
+        .or_insert_with(|| Arc::new(tex.clone()))
+        .clone();
+    let uv = scene.mesh.indices[t as usize]
+        .map(|i| scene.mesh.uvs.get(i as usize).copied().unwrap_or_default());
+    light.with_texture(EmissiveTexture {
+        texture,
+        transform: r.transform,
+        uv,
+    })
+}
+
+/// The light of a `KHR_lights_punctual` light (a directional one covers the scene's bounding
+/// sphere at `center`, `radius`).
+fn punctual_light(l: &PunctualLight, center: Vec3, radius: f32) -> Light {
+    match *l {
+        PunctualLight::Point {
+            position,
+            intensity,
+        } => Light::Point(PointLight {
+            position,
+            intensity,
+        }),
+        PunctualLight::Spot {
+            position,
+            direction,
+            intensity,
+            cos_inner,
+            cos_outer,
+        } => Light::Spot(SpotLight {
+            position,
+            direction,
+            intensity,
+            cos_inner,
+            cos_outer,
+        }),
+        PunctualLight::Directional {
+            direction,
+            irradiance,
+        } => Light::Directional(DirectionalLight {
+            direction,
+            irradiance,
+            center,
+            radius,
+        }),
+    }
 }
 
 impl LightSet {
