@@ -243,12 +243,7 @@ fn bench_class(
     o: &BenchOptions,
     class: Option<&str>,
 ) -> Result<(Vec<BenchPoint>, Vec<BenchSummary>)> {
-    let mut opts = RenderOptions::from_scene(&r.scene);
-    let filter = class
-        .map(crate::paths::PathFilter::parse)
-        .transpose()
-        .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
-    opts.set_filter(filter.as_ref());
+    let (opts, filter) = class_options(r, class)?;
     let label = class.unwrap_or("all");
     if class.is_some() {
         eprintln!("  path class {label}");
@@ -267,42 +262,92 @@ fn bench_class(
         // Var(A − B) = 2σ² while the averaged reference has σ²/2: its own relMSE ≈ relMSE(A,B)/4.
         ref_noise: rel_mse(&a, &b) / 4.0,
     };
-    let mut points = Vec::new();
-    let mut sums = Vec::new();
-    let mut keep = |(p, s): (Vec<BenchPoint>, BenchSummary)| {
-        points.extend(p);
-        sums.push(s);
-    };
-    let gpu_runs = if o.gpu {
-        runs(&o.estimators, &r.scene, true)
-    } else {
-        Vec::new()
-    };
-    for run in &gpu_runs {
-        match measure_gpu(&r.scene, filter.as_ref(), run, &target) {
-            Ok(m) => keep(m),
-            Err(e) => eprintln!("  GPU {} skipped on {spec}: {e:#}", run.label()),
+    let mut out = Measured::default();
+    out.gpu_runs(&r.scene, filter.as_ref(), &target);
+    out.cpu_runs(r, uniform, opts, &target);
+    Ok((out.points, out.sums))
+}
+
+/// The scene's render options restricted to `class` (a `--paths` expression; `None` = all
+/// paths), and the parsed filter.
+fn class_options(
+    r: &Renderer,
+    class: Option<&str>,
+) -> Result<(RenderOptions, Option<crate::paths::PathFilter>)> {
+    let mut opts = RenderOptions::from_scene(&r.scene);
+    let filter = class
+        .map(crate::paths::PathFilter::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--paths: {e}"))?;
+    opts.set_filter(filter.as_ref());
+    Ok((opts, filter))
+}
+
+/// The curve points and summary rows of one scene and path class, in measuring order.
+#[derive(Default)]
+struct Measured {
+    points: Vec<BenchPoint>,
+    sums: Vec<BenchSummary>,
+}
+
+impl Measured {
+    /// Add one run's curve and summary.
+    fn keep(&mut self, (p, s): (Vec<BenchPoint>, BenchSummary)) {
+        self.points.extend(p);
+        self.sums.push(s);
+    }
+
+    /// Measure every requested GPU run (when `--gpu`) on `scene` with `filter`; a run the
+    /// GPU cannot do is skipped with a note.
+    fn gpu_runs(
+        &mut self,
+        scene: &Scene,
+        filter: Option<&crate::paths::PathFilter>,
+        target: &Target,
+    ) {
+        let (o, spec) = (target.o, target.spec);
+        let gpu_runs = if o.gpu {
+            runs(&o.estimators, scene, true)
+        } else {
+            Vec::new()
+        };
+        for run in &gpu_runs {
+            match measure_gpu(scene, filter, run, target) {
+                Ok(m) => self.keep(m),
+                Err(e) => eprintln!("  GPU {} skipped on {spec}: {e:#}", run.label()),
+            }
         }
     }
-    let cpu_runs = if o.cpu {
-        runs(&o.estimators, &r.scene, false)
-    } else {
-        Vec::new()
-    };
-    for run in &cpu_runs {
-        eprintln!("  measuring {} …", run.label());
-        keep(measure(r, opts, run, &target, ""));
+
+    /// Measure every requested CPU run (when `--cpu`) with `r`, then the same runs with the
+    /// environment image sampled uniformly (`uniform`; same reference).
+    fn cpu_runs(
+        &mut self,
+        r: &Renderer,
+        uniform: Option<&Renderer>,
+        opts: RenderOptions,
+        target: &Target,
+    ) {
+        let o = target.o;
+        let cpu_runs = if o.cpu {
+            runs(&o.estimators, &r.scene, false)
+        } else {
+            Vec::new()
+        };
+        for run in &cpu_runs {
+            eprintln!("  measuring {} …", run.label());
+            self.keep(measure(r, opts, run, target, ""));
+        }
+        // The same runs with the environment image sampled uniformly (same reference).
+        for run in cpu_runs.iter().filter(|_| uniform.is_some()) {
+            let Some(u) = uniform else { break };
+            eprintln!(
+                "  measuring {} with a uniformly sampled environment …",
+                run.label()
+            );
+            self.keep(measure(u, opts, run, target, " env uniform"));
+        }
     }
-    // The same runs with the environment image sampled uniformly (same reference).
-    for run in cpu_runs.iter().filter(|_| uniform.is_some()) {
-        let Some(u) = uniform else { break };
-        eprintln!(
-            "  measuring {} with a uniformly sampled environment …",
-            run.label()
-        );
-        keep(measure(u, opts, run, &target, " env uniform"));
-    }
-    Ok((points, sums))
 }
 
 /// What every run of one scene and path class is measured against.

@@ -660,7 +660,20 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
     // Load before opening the window so a bad path is a plain CLI error.
-    let mut base = Scene::load_with(&spec, &opts.limits)?;
+    let base = load_startup_scene(&spec, &opts)?;
+    let native = native_options(&spec);
+    let result = eframe::run_native(
+        "refract",
+        native,
+        Box::new(move |cc| Ok(Box::new(create_app(cc, base, &spec, opts)?))),
+    );
+    result.map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))
+}
+
+/// The scene `spec` with the command line's environment and light-line overrides, validated;
+/// its warnings are printed to stderr.
+fn load_startup_scene(spec: &str, opts: &ViewOptions) -> anyhow::Result<Scene> {
+    let mut base = Scene::load_with(spec, &opts.limits)?;
     if let Some(e) = &opts.env {
         let warnings = crate::scene::env_map::override_environment(
             &mut base,
@@ -677,7 +690,13 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
     for w in &base.warnings {
         eprintln!("warning: {w}");
     }
-    let native = eframe::NativeOptions {
+    Ok(base)
+}
+
+/// The viewer window's options: titled after `spec`, 1280×820, accepting dropped files,
+/// drawn with wgpu.
+fn native_options(spec: &str) -> eframe::NativeOptions {
+    eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(format!("refract — {spec}"))
             .with_inner_size([1280.0, 820.0])
@@ -685,49 +704,64 @@ pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
         renderer: eframe::Renderer::Wgpu,
         wgpu_options: wgpu_configuration(),
         ..Default::default()
-    };
-    let result = eframe::run_native(
-        "refract",
-        native,
-        Box::new(move |cc| {
-            let persisted: Option<ViewerSettings> =
-                cc.storage.and_then(|s| eframe::get_value(s, STORAGE_KEY));
-            let mut settings = persisted.unwrap_or_else(|| ViewerSettings::for_scene(&spec));
-            settings.capture = None;
-            settings.environment = None;
-            if settings.scene != spec {
-                // Keep render/display preferences; edits belong to the other scene.
-                settings.scene = spec.clone();
-                settings.clear_scene_edits();
-            }
-            let (backend, note) = choose_backend(opts.device, cc)?;
-            let mut app = ViewerApp::with_backend(base, settings, backend)?;
-            if let Some(rs) = &cc.wgpu_render_state {
-                let info = rs.adapter.get_info();
-                app.display_device = format!("{} ({:?})", info.name, info.backend);
-            }
-            if let Some(n) = note {
-                app.messages.info = Some(n);
-            }
-            if let Some(px) = opts.inspect {
-                let size = (app.scene.settings.width, app.scene.settings.height);
-                app.inspector.enabled = true;
-                app.inspector.request_pixel(px, size);
-            }
-            if opts.view != layer_view::ViewMode::Beauty {
-                app.set_view(opts.view);
-            }
-            if let Some(i) = opts
-                .lecture
-                .and_then(|k| lecture::DEMOS.iter().position(|d| d.key == k))
-            {
-                app.start_demo(i);
-            }
-            app.exit_frames = opts.frames;
-            app.load_limits = opts.limits;
-            app.exit_after = opts.exit_after;
-            Ok(Box::new(app))
-        }),
-    );
-    result.map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))
+    }
+}
+
+/// The viewer on `base` for the window of `cc`: the persisted settings, the backend chosen
+/// for `opts.device`, and the command line's view options.
+fn create_app(
+    cc: &eframe::CreationContext<'_>,
+    base: Scene,
+    spec: &str,
+    opts: ViewOptions,
+) -> anyhow::Result<ViewerApp> {
+    let settings = startup_settings(cc, spec);
+    let (backend, note) = choose_backend(opts.device, cc)?;
+    let mut app = ViewerApp::with_backend(base, settings, backend)?;
+    if let Some(rs) = &cc.wgpu_render_state {
+        let info = rs.adapter.get_info();
+        app.display_device = format!("{} ({:?})", info.name, info.backend);
+    }
+    if let Some(n) = note {
+        app.messages.info = Some(n);
+    }
+    apply_view_options(&mut app, opts);
+    Ok(app)
+}
+
+/// The settings persisted in `cc`'s storage (or the defaults for `spec`) without a pending
+/// capture or environment; the scene edits are dropped when they belong to another scene.
+fn startup_settings(cc: &eframe::CreationContext<'_>, spec: &str) -> ViewerSettings {
+    let persisted: Option<ViewerSettings> =
+        cc.storage.and_then(|s| eframe::get_value(s, STORAGE_KEY));
+    let mut settings = persisted.unwrap_or_else(|| ViewerSettings::for_scene(spec));
+    settings.capture = None;
+    settings.environment = None;
+    if settings.scene != spec {
+        // Keep render/display preferences; edits belong to the other scene.
+        settings.scene = spec.to_owned();
+        settings.clear_scene_edits();
+    }
+    settings
+}
+
+/// The command line's inspected pixel, view mode, lecture demo and exit and load limits.
+fn apply_view_options(app: &mut ViewerApp, opts: ViewOptions) {
+    if let Some(px) = opts.inspect {
+        let size = (app.scene.settings.width, app.scene.settings.height);
+        app.inspector.enabled = true;
+        app.inspector.request_pixel(px, size);
+    }
+    if opts.view != layer_view::ViewMode::Beauty {
+        app.set_view(opts.view);
+    }
+    if let Some(i) = opts
+        .lecture
+        .and_then(|k| lecture::DEMOS.iter().position(|d| d.key == k))
+    {
+        app.start_demo(i);
+    }
+    app.exit_frames = opts.frames;
+    app.load_limits = opts.limits;
+    app.exit_after = opts.exit_after;
 }

@@ -64,6 +64,27 @@ pub fn show(
     );
     let rect = fit_rect(outer, image_size.0, image_size.1);
     out.image_rect = rect;
+    paint_image(ui, outer, rect, texture);
+
+    // Orbit with the primary button, pan with the secondary or middle one.
+    out.camera_changed |= orbit_by_drag(&response, orbit);
+    out.camera_changed |= pan_by_drag(&response, orbit, yfov, rect);
+    out.dragging = response.dragged();
+    out.camera_changed |= zoom_by_scroll(ui, &response, orbit);
+    if let Some((at, alt)) = click_in_image(ui, &response, rect) {
+        out.clicked = Some(at);
+        out.alt = alt;
+    }
+    if out.camera_changed {
+        let fallback = *orbit;
+        orbit.sanitize(&fallback);
+    }
+    out
+}
+
+/// Paint the dark background over `outer` and the image (or a "rendering…" placeholder
+/// while there is none) into `rect`.
+fn paint_image(ui: &egui::Ui, outer: Rect, rect: Rect, texture: Option<DisplayTexture>) {
     let painter = ui.painter_at(outer);
     painter.rect_filled(outer, 0.0, Color32::from_gray(16));
     match texture {
@@ -82,16 +103,25 @@ pub fn show(
             );
         }
     }
+}
 
-    // Orbit with the primary button, pan with the secondary or middle one.
+/// Orbit (yaw and pitch) by a drag with the primary button; true when the orbit changed.
+fn orbit_by_drag(response: &egui::Response, orbit: &mut Orbit) -> bool {
     if response.dragged_by(PointerButton::Primary) {
         let d = response.drag_delta();
         if d != Vec2::ZERO {
             orbit.yaw_deg -= d.x * ORBIT_DEG_PER_POINT;
             orbit.pitch_deg += d.y * ORBIT_DEG_PER_POINT;
-            out.camera_changed = true;
+            return true;
         }
     }
+    false
+}
+
+/// Pan the pivot by a drag with the secondary or middle button, so the point under the
+/// cursor follows it (at the pivot's depth) in the image drawn in `rect`; true when the orbit
+/// changed.
+fn pan_by_drag(response: &egui::Response, orbit: &mut Orbit, yfov: f32, rect: Rect) -> bool {
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();
         if d != Vec2::ZERO {
@@ -103,29 +133,38 @@ pub fn show(
             let up = cam.rotation.y_axis;
             let t = Vec3::from_array(orbit.target) + (-d.x * right + d.y * up) * world_per_point;
             orbit.target = t.to_array();
-            out.camera_changed = true;
+            return true;
         }
     }
-    out.dragging = response.dragged();
+    false
+}
+
+/// Zoom (the orbit distance) by scrolling over the viewport; true when the orbit changed.
+fn zoom_by_scroll(ui: &egui::Ui, response: &egui::Response, orbit: &mut Orbit) -> bool {
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y);
         if scroll != 0.0 {
             orbit.distance *= (-scroll * 0.0015).exp();
-            out.camera_changed = true;
+            return true;
         }
     }
+    false
+}
+
+/// A click inside the image drawn in `rect`: its film coordinates (see
+/// [`ViewportResponse::clicked`]) and whether Alt was held.
+fn click_in_image(
+    ui: &egui::Ui,
+    response: &egui::Response,
+    rect: Rect,
+) -> Option<((f32, f32), bool)> {
     if response.clicked()
         && let Some(p) = response.interact_pointer_pos()
         && rect.contains(p)
     {
         let sx = (p.x - rect.min.x) / rect.width();
         let sy = (p.y - rect.min.y) / rect.height();
-        out.clicked = Some((sx, sy));
-        out.alt = ui.input(|i| i.modifiers.alt);
+        return Some(((sx, sy), ui.input(|i| i.modifiers.alt)));
     }
-    if out.camera_changed {
-        let fallback = *orbit;
-        orbit.sanitize(&fallback);
-    }
-    out
+    None
 }

@@ -245,6 +245,16 @@ pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
     }
 }
 
+/// `REFRACT_GPU_WAVEFRONT`: `on` or `off` forces the wavefront integrator on or off;
+/// unset or anything else leaves the choice to the renderer.
+fn wavefront_override_from_env() -> Option<bool> {
+    match std::env::var("REFRACT_GPU_WAVEFRONT").as_deref() {
+        Ok("on") => Some(true),
+        Ok("off") => Some(false),
+        _ => None,
+    }
+}
+
 impl GpuRenderer {
     /// Open the best adapter and prepare `scene`. Errors: no adapter, invalid scene, features
     /// the GPU kernel lacks, buffers over 128 MiB, validation or out-of-memory errors of the
@@ -288,36 +298,17 @@ impl GpuRenderer {
         background_compile: bool,
         tiles: bool,
     ) -> Result<GpuRenderer> {
-        scene.validate()?;
-        upload::check_supported(&scene)?;
-        opts.check()?;
-        gpu_estimator(opts.estimator, &scene)?;
+        Self::check_renderable(&scene, &opts)?;
         let features = scene.features();
         // The tree first: its depth sizes the kernels' traversal stack.
         let bvh = upload::build_bvh(&scene)?;
-        let wavefront_override = match std::env::var("REFRACT_GPU_WAVEFRONT").as_deref() {
-            Ok("on") => Some(true),
-            Ok("off") => Some(false),
-            _ => None,
-        };
+        let wavefront_override = wavefront_override_from_env();
         let spec = Self::specialization_for(features, &opts, &scene, bvh.depth, wavefront_override);
-        let mut pipelines = ctx.scoped("cannot create the GPU pipeline layout", || {
-            Pipelines::new(&ctx)
-        })??;
-        if background_compile {
-            pipelines.compile_in_background(spec)?;
-        } else {
-            pipelines.compile(spec)?;
-        }
+        let pipelines = Self::compiled_pipelines(&ctx, spec, background_compile)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
             Self::create_buffers(&ctx, &scene, &bvh, &light_set, &opts, tiles)?;
-        let (bind_group, wf_args) = ctx.scoped("cannot bind the GPU buffers", || {
-            (
-                Self::bind(&ctx, &pipelines, &buffers),
-                wavefront::AdvanceArgs::new(&ctx, &pipelines),
-            )
-        })?;
+        let (bind_group, wf_args) = Self::create_bind_groups(&ctx, &pipelines, &buffers)?;
         let mut r = GpuRenderer {
             ctx,
             scene,
@@ -346,12 +337,61 @@ impl GpuRenderer {
             wavefront_indirect: false,
             wf_args,
         };
-        r.set_wavefront_indirect(true);
-        r.fit_tiles();
-        r.fit_wavefront();
-        r.photon_r0 = r.sppm_radius0();
-        r.write_filter_table();
+        r.fit_to_scene();
         Ok(r)
+    }
+
+    /// The checks before any GPU work: a valid scene the kernels support, valid options and
+    /// an estimator the GPU implements.
+    fn check_renderable(scene: &Scene, opts: &RenderOptions) -> Result<()> {
+        scene.validate()?;
+        upload::check_supported(scene)?;
+        opts.check()?;
+        gpu_estimator(opts.estimator, scene)?;
+        Ok(())
+    }
+
+    /// The pipeline layouts (in an error scope) with the kernels of `spec` compiled now, or
+    /// on a worker thread when `background_compile`.
+    fn compiled_pipelines(
+        ctx: &GpuContext,
+        spec: Specialization,
+        background_compile: bool,
+    ) -> Result<Pipelines> {
+        let mut pipelines = ctx.scoped("cannot create the GPU pipeline layout", || {
+            Pipelines::new(ctx)
+        })??;
+        if background_compile {
+            pipelines.compile_in_background(spec)?;
+        } else {
+            pipelines.compile(spec)?;
+        }
+        Ok(pipelines)
+    }
+
+    /// The integrator's bind group over `buffers` and the wavefront's dispatch-size
+    /// arguments, in an error scope.
+    fn create_bind_groups(
+        ctx: &GpuContext,
+        pipelines: &Pipelines,
+        buffers: &Buffers,
+    ) -> Result<(wgpu::BindGroup, wavefront::AdvanceArgs)> {
+        ctx.scoped("cannot bind the GPU buffers", || {
+            (
+                Self::bind(ctx, pipelines, buffers),
+                wavefront::AdvanceArgs::new(ctx, pipelines),
+            )
+        })
+    }
+
+    /// Settle a freshly assembled renderer: indirect wavefront dispatch, tiles and wavefront
+    /// sized to the image, the SPPM start radius and the filter table.
+    fn fit_to_scene(&mut self) {
+        self.set_wavefront_indirect(true);
+        self.fit_tiles();
+        self.fit_wavefront();
+        self.photon_r0 = self.sppm_radius0();
+        self.write_filter_table();
     }
 
     /// [`GpuRenderer::build_buffers`] in error scopes: a validation or out-of-memory error is

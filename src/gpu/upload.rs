@@ -6,10 +6,10 @@ use super::layout::{self, BvhNode, Light, Material, Triangle, Vertex};
 use crate::bsdf::{Bsdf, MicrofacetDistribution};
 use crate::scene::light::{Light as SceneLight, LightSet};
 use crate::scene::material::{Texture, TextureRef, Wrap};
-use crate::scene::{Features, MaterialKind, Scene};
+use crate::scene::{Features, MaterialKind, Mesh, Scene};
 use anyhow::{Result, bail, ensure};
 use glam::{Vec2, Vec3};
-use obvhs::{BvhBuildParams, triangle::Triangle as ObvhsTriangle};
+use obvhs::{BvhBuildParams, bvh2::Bvh2, triangle::Triangle as ObvhsTriangle};
 use std::time::{Duration, Instant};
 
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
@@ -44,7 +44,32 @@ pub struct GpuBvh {
 pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
     let start = Instant::now();
     let mesh = &scene.mesh;
-    let tris: Vec<ObvhsTriangle> = (0..mesh.triangle_count())
+    let tris = obvhs_triangles(mesh);
+    if tris.is_empty() {
+        return Ok(empty_bvh(start));
+    }
+    let mut core = Duration::ZERO;
+    let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
+        &tris,
+        BvhBuildParams::medium_build(),
+        &mut core,
+    );
+    let nodes = repack_nodes(&bvh2);
+    let depth = checked_depth(&nodes, bvh2.primitive_indices.len())?;
+    let slot_of_tri = leaf_slots(&bvh2.primitive_indices, tris.len());
+    Ok(GpuBvh {
+        nodes,
+        primitive_indices: bvh2.primitive_indices.clone(),
+        slot_of_tri,
+        depth,
+        build_time: start.elapsed(),
+        offset_scale: crate::bvh::offset_scale(mesh),
+    })
+}
+
+/// The mesh's triangles as obvhs build input, in scene order.
+fn obvhs_triangles(mesh: &Mesh) -> Vec<ObvhsTriangle> {
+    (0..mesh.triangle_count())
         .map(|t| {
             let [a, b, c] = mesh.tri(t);
             ObvhsTriangle {
@@ -53,29 +78,28 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
                 v2: c.into(),
             }
         })
-        .collect();
-    if tris.is_empty() {
-        // One leaf with an empty (inverted) box: every ray misses.
-        return Ok(GpuBvh {
-            nodes: vec![BvhNode {
-                lo: [f32::MAX; 3],
-                prim_count: 0,
-                hi: [-f32::MAX; 3],
-                first_index: 0,
-            }],
-            build_time: start.elapsed(),
-            offset_scale: 1.0,
-            ..Default::default()
-        });
+        .collect()
+}
+
+/// The BVH of a scene without triangles: one leaf with an empty (inverted) box, so every
+/// ray misses; `start` is when the build began.
+fn empty_bvh(start: Instant) -> GpuBvh {
+    GpuBvh {
+        nodes: vec![BvhNode {
+            lo: [f32::MAX; 3],
+            prim_count: 0,
+            hi: [-f32::MAX; 3],
+            first_index: 0,
+        }],
+        build_time: start.elapsed(),
+        offset_scale: 1.0,
+        ..Default::default()
     }
-    let mut core = Duration::ZERO;
-    let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(
-        &tris,
-        BvhBuildParams::medium_build(),
-        &mut core,
-    );
-    let nodes: Vec<BvhNode> = bvh2
-        .nodes
+}
+
+/// The obvhs BVH2 nodes in the GPU node layout, in the same order.
+fn repack_nodes(bvh2: &Bvh2) -> Vec<BvhNode> {
+    bvh2.nodes
         .iter()
         .map(|n| BvhNode {
             lo: n.aabb.min.to_array(),
@@ -83,8 +107,13 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
             hi: n.aabb.max.to_array(),
             first_index: n.first_index,
         })
-        .collect();
-    // Depth check (the WGSL stack is fixed-size) and index sanity.
+        .collect()
+}
+
+/// Depth of the BVH2 rooted at `nodes[0]` (root = 1), after checking that every child
+/// index and every leaf range (into `primitive_count` primitive indices) is in range and
+/// that the depth fits the fixed-size WGSL traversal stack.
+fn checked_depth(nodes: &[BvhNode], primitive_count: usize) -> Result<u32> {
     let mut depth = 0u32;
     let mut stack = vec![(0u32, 1u32)];
     while let Some((i, d)) = stack.pop() {
@@ -101,7 +130,7 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
             stack.push((n.first_index + 1, d + 1));
         } else {
             ensure!(
-                (n.first_index as u64 + n.prim_count as u64) <= bvh2.primitive_indices.len() as u64,
+                (n.first_index as u64 + n.prim_count as u64) <= primitive_count as u64,
                 "BVH leaf range out of range"
             );
         }
@@ -109,22 +138,21 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
     if depth > MAX_BVH_DEPTH {
         bail!("BVH depth {depth} exceeds the GPU traversal stack ({MAX_BVH_DEPTH})");
     }
-    let mut slot_of_tri = vec![u32::MAX; tris.len()];
-    for (slot, &t) in bvh2.primitive_indices.iter().enumerate() {
+    Ok(depth)
+}
+
+/// Leaf slot of each of `tri_count` scene triangles: the first slot of `primitive_indices`
+/// that holds it (`u32::MAX` for a triangle in no leaf).
+fn leaf_slots(primitive_indices: &[u32], tri_count: usize) -> Vec<u32> {
+    let mut slot_of_tri = vec![u32::MAX; tri_count];
+    for (slot, &t) in primitive_indices.iter().enumerate() {
         if let Some(s) = slot_of_tri.get_mut(t as usize)
             && *s == u32::MAX
         {
             *s = slot as u32;
         }
     }
-    Ok(GpuBvh {
-        nodes,
-        primitive_indices: bvh2.primitive_indices.clone(),
-        slot_of_tri,
-        depth,
-        build_time: start.elapsed(),
-        offset_scale: crate::bvh::offset_scale(mesh),
-    })
+    slot_of_tri
 }
 
 /// Triangles in leaf order with the light-selection probabilities of `lights`.
