@@ -278,6 +278,8 @@ fn parse_gib(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `refract bench`: the quick check of one scene, or the full run (arguments checked and
+/// outputs probed before any work) printing its table.
 fn bench(args: &BenchArgs) -> Result<()> {
     if args.quick {
         let spec = args
@@ -288,12 +290,28 @@ fn bench(args: &BenchArgs) -> Result<()> {
         print!("{}", refract::bench::quick(&spec)?);
         return Ok(());
     }
+    let devices = check_bench_args(args)?;
+    probe_bench_outputs(args)?;
+    let opts = bench_options(args, devices);
+    let pool = thread_pool(args.threads.filter(|&t| t > 0))?;
+    let table = pool.install(|| refract::bench::run(&opts))?;
+    println!("{table}");
+    eprintln!(
+        "wrote {0}/bench.csv, {0}/bench.png, {0}/bench.md",
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Check the image size, `--device`, every `--paths` and `--ref-spp`, in that order; returns
+/// whether to run (the CPU, a GPU).
+fn check_bench_args(args: &BenchArgs) -> Result<(bool, bool)> {
     for (n, v) in [("width", args.width), ("height", args.height)] {
         if v == 0 || v > MAX_IMAGE_SIDE {
             bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
         }
     }
-    let (cpu, gpu) = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
+    let devices = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
     for p in &args.paths {
         refract::paths::PathFilter::parse(p)
             .map_err(|e| anyhow::anyhow!("--paths '{}': {e}", abbreviate(p)))?;
@@ -301,12 +319,22 @@ fn bench(args: &BenchArgs) -> Result<()> {
     if args.ref_spp < 2 {
         bail!("--ref-spp must be at least 2 (two independent halves)");
     }
-    // Before any work: every output file and the reference cache can be written.
+    Ok(devices)
+}
+
+/// Before any work: every output file and the reference cache can be written.
+fn probe_bench_outputs(args: &BenchArgs) -> Result<()> {
     for f in ["bench.csv", "bench.png", "bench.md"] {
         film::probe_writable(&args.out.join(f)).context("--out")?;
     }
     let probe = format!(".write-probe-{}", std::process::id());
     film::probe_writable(&args.cache.join(probe)).context("--cache")?;
+    Ok(())
+}
+
+/// The bench run `args` ask for on devices (`cpu`, `gpu`); no scenes named means every
+/// built-in scene.
+fn bench_options(args: &BenchArgs, (cpu, gpu): (bool, bool)) -> refract::bench::BenchOptions {
     let scenes = if args.scenes.is_empty() {
         refract::scene::builtin::NAMES
             .iter()
@@ -315,7 +343,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
     } else {
         args.scenes.clone()
     };
-    let opts = refract::bench::BenchOptions {
+    refract::bench::BenchOptions {
         scenes,
         limits: args.load.limits(),
         budget: args.budget,
@@ -330,15 +358,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
         gpu,
         paths: args.paths.clone(),
         env_uniform: args.env_uniform,
-    };
-    let pool = thread_pool(args.threads.filter(|&t| t > 0))?;
-    let table = pool.install(|| refract::bench::run(&opts))?;
-    println!("{table}");
-    eprintln!(
-        "wrote {0}/bench.csv, {0}/bench.png, {0}/bench.md",
-        args.out.display()
-    );
-    Ok(())
+    }
 }
 
 fn view(args: ViewArgs) -> Result<()> {

@@ -468,56 +468,13 @@ impl Glushkov {
         g
     }
 
+    /// Number the symbol occurrences of `ast` (from the next free position) and add its
+    /// follow pairs; returns its nullable, first and last sets over `n` positions.
     fn visit(&mut self, ast: &Ast, n: usize) -> NodeInfo {
         match ast {
-            Ast::Sym(s) => {
-                let p = self.symbols.len();
-                self.symbols.push(*s);
-                let mut b = Bits::new(n);
-                b.insert(p);
-                NodeInfo {
-                    nullable: false,
-                    first: b.clone(),
-                    last: b,
-                }
-            }
-            Ast::Concat(items) => {
-                let mut acc = NodeInfo {
-                    nullable: true,
-                    first: Bits::new(n),
-                    last: Bits::new(n),
-                };
-                for item in items {
-                    let b = self.visit(item, n);
-                    for p in acc.last.iter() {
-                        self.follow[p].union_with(&b.first);
-                    }
-                    if acc.nullable {
-                        acc.first.union_with(&b.first);
-                    }
-                    let mut last = b.last;
-                    if b.nullable {
-                        last.union_with(&acc.last);
-                    }
-                    acc.last = last;
-                    acc.nullable &= b.nullable;
-                }
-                acc
-            }
-            Ast::Alt(items) => {
-                let mut acc = NodeInfo {
-                    nullable: false,
-                    first: Bits::new(n),
-                    last: Bits::new(n),
-                };
-                for item in items {
-                    let b = self.visit(item, n);
-                    acc.nullable |= b.nullable;
-                    acc.first.union_with(&b.first);
-                    acc.last.union_with(&b.last);
-                }
-                acc
-            }
+            Ast::Sym(s) => self.visit_sym(*s, n),
+            Ast::Concat(items) => self.visit_concat(items, n),
+            Ast::Alt(items) => self.visit_alt(items, n),
             Ast::Star(a) | Ast::Plus(a) | Ast::Opt(a) => {
                 let mut b = self.visit(a, n);
                 if !matches!(ast, Ast::Opt(_)) {
@@ -532,6 +489,61 @@ impl Glushkov {
             }
         }
     }
+
+    /// A symbol occurrence: the next position, first and last of itself, not nullable.
+    fn visit_sym(&mut self, s: Symbol, n: usize) -> NodeInfo {
+        let p = self.symbols.len();
+        self.symbols.push(s);
+        let mut b = Bits::new(n);
+        b.insert(p);
+        NodeInfo {
+            nullable: false,
+            first: b.clone(),
+            last: b,
+        }
+    }
+
+    /// A concatenation: each item's first positions follow the last positions so far, which
+    /// reach back over nullable items; first extends while the prefix is nullable.
+    fn visit_concat(&mut self, items: &[Ast], n: usize) -> NodeInfo {
+        let mut acc = NodeInfo {
+            nullable: true,
+            first: Bits::new(n),
+            last: Bits::new(n),
+        };
+        for item in items {
+            let b = self.visit(item, n);
+            for p in acc.last.iter() {
+                self.follow[p].union_with(&b.first);
+            }
+            if acc.nullable {
+                acc.first.union_with(&b.first);
+            }
+            let mut last = b.last;
+            if b.nullable {
+                last.union_with(&acc.last);
+            }
+            acc.last = last;
+            acc.nullable &= b.nullable;
+        }
+        acc
+    }
+
+    /// An alternation: the union of its items' first and last sets, nullable if any item is.
+    fn visit_alt(&mut self, items: &[Ast], n: usize) -> NodeInfo {
+        let mut acc = NodeInfo {
+            nullable: false,
+            first: Bits::new(n),
+            last: Bits::new(n),
+        };
+        for item in items {
+            let b = self.visit(item, n);
+            acc.nullable |= b.nullable;
+            acc.first.union_with(&b.first);
+            acc.last.union_with(&b.last);
+        }
+        acc
+    }
 }
 
 /// A complete DFA with arbitrary numbering (before canonicalisation).
@@ -545,9 +557,44 @@ struct RawDfa {
 /// dead state, so the result is complete.
 fn determinise(g: &Glushkov, direction: &'static str) -> Result<RawDfa, PathRegexError> {
     let n = g.symbols.len();
-    // follow(p) split by the symbol of the following position.
-    let follow_by_symbol: Vec<[Bits; NUM_SYMBOLS]> = g
-        .follow
+    let follow_by_symbol = follow_by_symbol(g);
+    let mut initial = Bits::new(n);
+    initial.insert(0);
+    let mut subsets = Subsets {
+        index: HashMap::new(),
+        sets: Vec::new(),
+        direction,
+    };
+    let mut dfa = RawDfa {
+        trans: Vec::new(),
+        accepting: Vec::new(),
+        start: 0,
+    };
+    subsets.index.insert(initial.clone(), 0);
+    subsets.sets.push(initial);
+    let mut i = 0;
+    while i < subsets.sets.len() {
+        let set = subsets.sets[i].clone();
+        dfa.accepting
+            .push((set.contains(0) && g.nullable) || set.intersects(&g.last));
+        let mut row = [0usize; NUM_SYMBOLS];
+        for sym in Symbol::ALL {
+            let mut next = Bits::new(n);
+            for p in set.iter() {
+                next.union_with(&follow_by_symbol[p][sym.index()]);
+            }
+            row[sym.index()] = subsets.id(next)?;
+        }
+        dfa.trans.push(row);
+        i += 1;
+    }
+    Ok(dfa)
+}
+
+/// follow(p) of every position p, split by the symbol of the following position.
+fn follow_by_symbol(g: &Glushkov) -> Vec<[Bits; NUM_SYMBOLS]> {
+    let n = g.symbols.len();
+    g.follow
         .iter()
         .map(|f| {
             Symbol::ALL.map(|sym| {
@@ -558,50 +605,36 @@ fn determinise(g: &Glushkov, direction: &'static str) -> Result<RawDfa, PathRege
                 b
             })
         })
-        .collect();
-    let mut initial = Bits::new(n);
-    initial.insert(0);
-    let mut index: HashMap<Bits, usize> = HashMap::new();
-    let mut sets: Vec<Bits> = Vec::new();
-    let mut dfa = RawDfa {
-        trans: Vec::new(),
-        accepting: Vec::new(),
-        start: 0,
-    };
-    index.insert(initial.clone(), 0);
-    sets.push(initial);
-    let mut i = 0;
-    while i < sets.len() {
-        let set = sets[i].clone();
-        dfa.accepting
-            .push((set.contains(0) && g.nullable) || set.intersects(&g.last));
-        let mut row = [0usize; NUM_SYMBOLS];
-        for sym in Symbol::ALL {
-            let mut next = Bits::new(n);
-            for p in set.iter() {
-                next.union_with(&follow_by_symbol[p][sym.index()]);
-            }
-            let id = match index.get(&next) {
-                Some(&id) => id,
-                None => {
-                    if sets.len() >= MAX_SUBSET_STATES {
-                        return Err(PathRegexError::TooComplex {
-                            limit: MAX_SUBSET_STATES,
-                            direction,
-                        });
-                    }
-                    let id = sets.len();
-                    index.insert(next.clone(), id);
-                    sets.push(next);
-                    id
-                }
-            };
-            row[sym.index()] = id;
+        .collect()
+}
+
+/// The DFA states found so far by the subset construction: each set of positions and its
+/// number, in order of discovery.
+struct Subsets {
+    index: HashMap<Bits, usize>,
+    sets: Vec<Bits>,
+    /// Which automaton is being built, for the `TooComplex` error.
+    direction: &'static str,
+}
+
+impl Subsets {
+    /// The number of state `set`, numbering it next if it is new; `TooComplex` when a new
+    /// state would exceed `MAX_SUBSET_STATES`.
+    fn id(&mut self, set: Bits) -> Result<usize, PathRegexError> {
+        if let Some(&id) = self.index.get(&set) {
+            return Ok(id);
         }
-        dfa.trans.push(row);
-        i += 1;
+        if self.sets.len() >= MAX_SUBSET_STATES {
+            return Err(PathRegexError::TooComplex {
+                limit: MAX_SUBSET_STATES,
+                direction: self.direction,
+            });
+        }
+        let id = self.sets.len();
+        self.index.insert(set.clone(), id);
+        self.sets.push(set);
+        Ok(id)
     }
-    Ok(dfa)
 }
 
 /// Moore's partition refinement: start from {accepting, non-accepting} and split blocks by

@@ -69,6 +69,47 @@ impl Styles {
     }
 }
 
+impl Styles {
+    /// The estimators in order of first appearance; the devices CPU first, then GPUs in
+    /// order of appearance.
+    fn of(points: &[&BenchPoint]) -> Styles {
+        Styles {
+            estimators: unique(points.iter().map(|p| p.estimator.clone())),
+            devices: {
+                let mut d = unique(points.iter().map(|p| p.device.clone()));
+                d.sort_by_key(|d| is_gpu(d)); // CPU first, then GPUs in order of appearance
+                d
+            },
+        }
+    }
+}
+
+/// The figure's grid of panels and its size in pixels (panels, legend column, title row).
+struct Layout {
+    rows: usize,
+    cols: usize,
+    w: u32,
+    h: u32,
+}
+
+impl Layout {
+    /// One column for one panel, two for up to four, three beyond.
+    fn for_panels(panels: usize) -> Layout {
+        let cols = match panels {
+            1 => 1,
+            2..=4 => 2,
+            _ => 3,
+        };
+        let rows = panels.div_ceil(cols);
+        Layout {
+            rows,
+            cols,
+            w: cols as u32 * PANEL.0 + LEGEND_W,
+            h: rows as u32 * PANEL.1 + TITLE_H,
+        }
+    }
+}
+
 /// Log-log plot of relMSE against time: a grid of panels, one per (scene, path class).
 pub fn plot(path: &Path, points: &[BenchPoint]) -> Result<()> {
     use plotters::style::{FontStyle, register_font};
@@ -84,53 +125,66 @@ pub fn plot(path: &Path, points: &[BenchPoint]) -> Result<()> {
         .collect();
     anyhow::ensure!(!finite.is_empty(), "nothing to plot");
     let panels = unique(finite.iter().map(|p| (p.scene.clone(), p.paths.clone())));
-    let styles = Styles {
-        estimators: unique(finite.iter().map(|p| p.estimator.clone())),
-        devices: {
-            let mut d = unique(finite.iter().map(|p| p.device.clone()));
-            d.sort_by_key(|d| is_gpu(d)); // CPU first, then GPUs in order of appearance
-            d
-        },
-    };
-    let cols = match panels.len() {
-        1 => 1,
-        2..=4 => 2,
-        _ => 3,
-    };
-    let rows = panels.len().div_ceil(cols);
-    let w = cols as u32 * PANEL.0 + LEGEND_W;
-    let h = rows as u32 * PANEL.1 + TITLE_H;
+    let styles = Styles::of(&finite);
+    let layout = Layout::for_panels(panels.len());
+    let (w, h) = (layout.w, layout.h);
     let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (title, body) = root.split_vertically(TITLE_H);
-        title
-            .titled(
-                "refract bench: relative MSE against run time (log-log)",
-                ("sans-serif", 22),
-            )
-            .map_err(err)?;
-        let (grid, legend) = body.split_horizontally(cols as u32 * PANEL.0);
-        for (area, (scene, class)) in grid.split_evenly((rows, cols)).iter().zip(&panels) {
-            let curve: Vec<&BenchPoint> = finite
-                .iter()
-                .copied()
-                .filter(|p| (&p.scene, &p.paths) == (scene, class))
-                .collect();
-            let caption = if class == "all" || class.is_empty() {
-                scene.clone()
-            } else {
-                format!("{scene}, {class}")
-            };
-            draw_panel(area, &caption, &curve, &styles)?;
-        }
-        draw_legend(&legend, &styles)?;
-        root.present().map_err(err)?;
-    }
+    draw_figure(&mut buf, &layout, &panels, &finite, &styles)?;
     let img = image::RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
     img.save(path)
         .with_context(|| format!("cannot write '{}'", path.display()))
+}
+
+/// Draw the whole figure into the RGB buffer `buf`: the title, one panel per (scene, path
+/// class) of `panels` with its points from `finite`, and the legend.
+fn draw_figure(
+    buf: &mut [u8],
+    layout: &Layout,
+    panels: &[(String, String)],
+    finite: &[&BenchPoint],
+    styles: &Styles,
+) -> Result<()> {
+    let root = BitMapBackend::with_buffer(buf, (layout.w, layout.h)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let (title, body) = root.split_vertically(TITLE_H);
+    title
+        .titled(
+            "refract bench: relative MSE against run time (log-log)",
+            ("sans-serif", 22),
+        )
+        .map_err(err)?;
+    let (grid, legend) = body.split_horizontally(layout.cols as u32 * PANEL.0);
+    let areas = grid.split_evenly((layout.rows, layout.cols));
+    for (area, (scene, class)) in areas.iter().zip(panels) {
+        let curve: Vec<&BenchPoint> = finite
+            .iter()
+            .copied()
+            .filter(|p| (&p.scene, &p.paths) == (scene, class))
+            .collect();
+        draw_panel(area, &panel_caption(scene, class), &curve, styles)?;
+    }
+    draw_legend(&legend, styles)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// A panel's caption: the scene, followed by the path class unless that is "all" or empty.
+fn panel_caption(scene: &str, class: &str) -> String {
+    if class == "all" || class.is_empty() {
+        scene.to_string()
+    } else {
+        format!("{scene}, {class}")
+    }
+}
+
+/// A panel's chart: seconds against relMSE, both on log axes.
+type LogChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+/// The smallest and largest `value` over `points` ((MAX, MIN) for none).
+fn extent(points: &[&BenchPoint], value: impl Fn(&BenchPoint) -> f64) -> (f64, f64) {
+    points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+        (a.min(value(p)), b.max(value(p)))
+    })
 }
 
 /// One panel: every (device, estimator) curve of one scene and path class.
@@ -140,12 +194,8 @@ fn draw_panel<DB: DrawingBackend>(
     points: &[&BenchPoint],
     styles: &Styles,
 ) -> Result<()> {
-    let (t0, t1) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-        (a.min(p.seconds), b.max(p.seconds))
-    });
-    let (e0, e1) = points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-        (a.min(p.rel_mse), b.max(p.rel_mse))
-    });
+    let (t0, t1) = extent(points, |p| p.seconds);
+    let (e0, e1) = extent(points, |p| p.rel_mse);
     let mut chart = ChartBuilder::on(area)
         .caption(caption, ("sans-serif", 18))
         .margin(12)
@@ -169,32 +219,44 @@ fn draw_panel<DB: DrawingBackend>(
             .map(|p| (p.device.clone(), p.estimator.clone())),
     );
     for (device, estimator) in &curves {
-        let colour = styles.colour(estimator);
-        let series: Vec<(f64, f64)> = points
-            .iter()
-            .filter(|p| (&p.device, &p.estimator) == (device, estimator))
-            .map(|p| (p.seconds, p.rel_mse))
-            .collect();
-        let line = colour.stroke_width(2);
-        if is_gpu(device) {
-            chart
-                .draw_series(DashedLineSeries::new(series.clone(), 8, 5, line))
-                .map_err(err)?;
-        } else {
-            chart
-                .draw_series(LineSeries::new(series.clone(), line))
-                .map_err(err)?;
-        }
-        // Filled markers on the CPU, hollow ones on the GPU: the device reads without colour.
-        let marker = if is_gpu(device) {
-            colour.stroke_width(2)
-        } else {
-            colour.filled()
-        };
+        draw_curve(&mut chart, (device, estimator), points, styles)?;
+    }
+    Ok(())
+}
+
+/// The curve of one (device, estimator) pair through its `points`: in the estimator's colour,
+/// a solid line with filled markers on the CPU, dashed with hollow markers on a GPU.
+fn draw_curve<DB: DrawingBackend>(
+    chart: &mut LogChart<'_, DB>,
+    (device, estimator): (&String, &String),
+    points: &[&BenchPoint],
+    styles: &Styles,
+) -> Result<()> {
+    let colour = styles.colour(estimator);
+    let series: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| (&p.device, &p.estimator) == (device, estimator))
+        .map(|p| (p.seconds, p.rel_mse))
+        .collect();
+    let line = colour.stroke_width(2);
+    if is_gpu(device) {
         chart
-            .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 3, marker)))
+            .draw_series(DashedLineSeries::new(series.clone(), 8, 5, line))
+            .map_err(err)?;
+    } else {
+        chart
+            .draw_series(LineSeries::new(series.clone(), line))
             .map_err(err)?;
     }
+    // Filled markers on the CPU, hollow ones on the GPU: the device reads without colour.
+    let marker = if is_gpu(device) {
+        colour.stroke_width(2)
+    } else {
+        colour.filled()
+    };
+    chart
+        .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 3, marker)))
+        .map_err(err)?;
     Ok(())
 }
 

@@ -89,28 +89,8 @@ impl Estimator {
             return (self, "");
         }
         let f = scene.features();
-        let specular = f.intersects(
-            Features::SMOOTH_GLASS
-                | Features::THIN_GLASS
-                | Features::MIRROR
-                | Features::SMOOTH_CONDUCTOR,
-        );
-        let glass_kinds = Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::ROUGH_GLASS;
-        let glass = specular || f.contains(Features::ROUGH_GLASS);
-        // "Small" light: the emitters cover < 1% of the scene's bounding-box area, so
-        // BSDF-sampled caustic paths rarely hit them.
-        let (lo, hi) = scene.bounds();
-        let d = hi - lo;
-        let box_area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
-        let light_area: f32 = scene
-            .emissive_triangles()
-            .iter()
-            .map(|&t| scene.mesh.area(t as usize))
-            .sum();
-        // (No emitter at all, e.g. an environment-lit furnace: nothing to trace from.)
-        let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
-        let small = punctual || (light_area > 0.0 && light_area < 0.01 * box_area);
-        if !small {
+        if !has_small_light(scene, f) {
+            let glass_kinds = Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::ROUGH_GLASS;
             let why = if f.intersects(glass_kinds) {
                 "no small or delta light: path tracing"
             } else {
@@ -118,29 +98,7 @@ impl Estimator {
             };
             return (Estimator::Path, why);
         }
-        if f.contains(Features::DISPERSION) {
-            (
-                Estimator::LtPt,
-                "dispersive glass and a small light: bidirectional",
-            )
-        } else if specular && punctual {
-            (
-                Estimator::Sppm,
-                "specular surfaces and a delta light: photon-mapped caustics",
-            )
-        } else if specular {
-            (
-                Estimator::Sppm,
-                "specular surfaces and a small light: photon-mapped caustics",
-            )
-        } else if glass {
-            (
-                Estimator::LtPt,
-                "rough glass and a small light: bidirectional",
-            )
-        } else {
-            (Estimator::Path, "no glass: path tracing")
-        }
+        auto_with_small_light(f)
     }
 
     /// [`Estimator::resolve_why`] for the GPU: the same choice (the GPU photon-maps caustics
@@ -153,6 +111,59 @@ impl Estimator {
     /// such as `pt` included), with the [`clap::ValueEnum`] names listed in `--help`.
     pub fn parser() -> EstimatorParser {
         EstimatorParser
+    }
+}
+
+/// Whether `scene` (with features `f`) has a delta light, or emitters covering less than
+/// 1 % of its bounding box's area, so that BSDF-sampled caustic paths rarely hit them. (No
+/// emitter at all, e.g. an environment-lit furnace: nothing to trace from, so not small.)
+fn has_small_light(scene: &Scene, f: Features) -> bool {
+    let (lo, hi) = scene.bounds();
+    let d = hi - lo;
+    let box_area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+    let light_area: f32 = scene
+        .emissive_triangles()
+        .iter()
+        .map(|&t| scene.mesh.area(t as usize))
+        .sum();
+    let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
+    punctual || (light_area > 0.0 && light_area < 0.01 * box_area)
+}
+
+/// The `auto` choice, and why, for a scene with features `f` and a small or delta light:
+/// bidirectional for dispersion, photon mapping for specular surfaces, bidirectional for
+/// rough glass alone, else path tracing.
+fn auto_with_small_light(f: Features) -> (Estimator, &'static str) {
+    let specular = f.intersects(
+        Features::SMOOTH_GLASS
+            | Features::THIN_GLASS
+            | Features::MIRROR
+            | Features::SMOOTH_CONDUCTOR,
+    );
+    let glass = specular || f.contains(Features::ROUGH_GLASS);
+    let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
+    if f.contains(Features::DISPERSION) {
+        (
+            Estimator::LtPt,
+            "dispersive glass and a small light: bidirectional",
+        )
+    } else if specular && punctual {
+        (
+            Estimator::Sppm,
+            "specular surfaces and a delta light: photon-mapped caustics",
+        )
+    } else if specular {
+        (
+            Estimator::Sppm,
+            "specular surfaces and a small light: photon-mapped caustics",
+        )
+    } else if glass {
+        (
+            Estimator::LtPt,
+            "rough glass and a small light: bidirectional",
+        )
+    } else {
+        (Estimator::Path, "no glass: path tracing")
     }
 }
 

@@ -2,7 +2,7 @@
 //! once here from the materials the mesh uses, read by the CPU renderer (spectral transport),
 //! the `auto` estimator rule and the GPU pipeline specialisation.
 
-use super::{MaterialKind, Scene};
+use super::{Material, MaterialKind, Scene};
 use crate::bsdf::{Bsdf, MicrofacetDistribution};
 use glam::Vec2;
 
@@ -60,52 +60,9 @@ bitflags::bitflags! {
 /// The features of `scene` (materials no triangle uses are ignored).
 pub fn compute(scene: &Scene) -> Features {
     let mut f = Features::empty();
-    let mut used = vec![false; scene.materials.len()];
-    for &m in &scene.mesh.tri_material {
-        if let Some(u) = used.get_mut(m as usize) {
-            *u = true;
-        }
-    }
+    let used = used_materials(scene);
     for (m, _) in scene.materials.iter().zip(&used).filter(|(_, u)| **u) {
-        let dist = |d: MicrofacetDistribution| match d {
-            MicrofacetDistribution::Ggx => Features::GGX,
-            MicrofacetDistribution::Beckmann => Features::BECKMANN,
-        };
-        f |= match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
-            Bsdf::Lambert(_) => Features::DIFFUSE,
-            Bsdf::Mirror(_) => Features::MIRROR,
-            Bsdf::SmoothDielectric(_) => Features::SMOOTH_GLASS,
-            Bsdf::ThinDielectric(_) => Features::THIN_GLASS,
-            Bsdf::RoughDielectric(b) => Features::ROUGH_GLASS | dist(b.dist),
-            Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
-            Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
-            Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
-            Bsdf::MetalRough(_) => {
-                let mut k = Features::METAL_ROUGH | Features::GGX;
-                k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());
-                k
-            }
-        };
-        if m.is_transmissive() && m.transmission_texture.is_some() {
-            // Masked texels shade with the metal-rough base, read at uv.
-            f |= Features::METAL_ROUGH | Features::GGX | Features::TEXTURES;
-        }
-        if m.kind == MaterialKind::Glass && m.has_absorption() {
-            f |= Features::ABSORPTION;
-        }
-        if m.is_transmissive() && m.abbe.is_some() {
-            f |= Features::DISPERSION;
-        }
-        if m.base_color_texture.is_some() || (m.is_emissive() && m.emissive_texture.is_some()) {
-            f |= Features::TEXTURES;
-        }
-        if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {
-            // Shading reads the normal texture at uv: surface hits must interpolate it.
-            f |= Features::NORMAL_MAP | Features::TEXTURES;
-        }
-        if m.is_emissive() {
-            f |= Features::AREA_LIGHTS;
-        }
+        f |= material_features(scene, m);
     }
     f.set(
         Features::NESTED,
@@ -118,4 +75,66 @@ pub fn compute(scene: &Scene) -> Features {
     f.set(Features::PUNCTUAL_LIGHTS, !scene.punctual_lights.is_empty());
     f.set(Features::ENV_IMAGE, scene.env_map.is_some());
     f
+}
+
+/// Per material of `scene`: whether some triangle uses it (out-of-range ids are ignored).
+fn used_materials(scene: &Scene) -> Vec<bool> {
+    let mut used = vec![false; scene.materials.len()];
+    for &m in &scene.mesh.tri_material {
+        if let Some(u) = used.get_mut(m as usize) {
+            *u = true;
+        }
+    }
+    used
+}
+
+/// The features one used material `m` of `scene` needs: its BSDF's, then textures,
+/// absorption, dispersion, normal mapping and emission.
+fn material_features(scene: &Scene, m: &Material) -> Features {
+    let mut f = bsdf_features(scene, m);
+    if m.is_transmissive() && m.transmission_texture.is_some() {
+        // Masked texels shade with the metal-rough base, read at uv.
+        f |= Features::METAL_ROUGH | Features::GGX | Features::TEXTURES;
+    }
+    if m.kind == MaterialKind::Glass && m.has_absorption() {
+        f |= Features::ABSORPTION;
+    }
+    if m.is_transmissive() && m.abbe.is_some() {
+        f |= Features::DISPERSION;
+    }
+    if m.base_color_texture.is_some() || (m.is_emissive() && m.emissive_texture.is_some()) {
+        f |= Features::TEXTURES;
+    }
+    if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {
+        // Shading reads the normal texture at uv: surface hits must interpolate it.
+        f |= Features::NORMAL_MAP | Features::TEXTURES;
+    }
+    if m.is_emissive() {
+        f |= Features::AREA_LIGHTS;
+    }
+    f
+}
+
+/// The BSDF flag of what `m` becomes (`Material::bsdf` at uv 0), with its microfacet
+/// distribution, and for the metal-rough BRDF whether it reads a metallic-roughness texture.
+fn bsdf_features(scene: &Scene, m: &Material) -> Features {
+    let dist = |d: MicrofacetDistribution| match d {
+        MicrofacetDistribution::Ggx => Features::GGX,
+        MicrofacetDistribution::Beckmann => Features::BECKMANN,
+    };
+    match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
+        Bsdf::Lambert(_) => Features::DIFFUSE,
+        Bsdf::Mirror(_) => Features::MIRROR,
+        Bsdf::SmoothDielectric(_) => Features::SMOOTH_GLASS,
+        Bsdf::ThinDielectric(_) => Features::THIN_GLASS,
+        Bsdf::RoughDielectric(b) => Features::ROUGH_GLASS | dist(b.dist),
+        Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
+        Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
+        Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
+        Bsdf::MetalRough(_) => {
+            let mut k = Features::METAL_ROUGH | Features::GGX;
+            k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());
+            k
+        }
+    }
 }

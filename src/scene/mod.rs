@@ -202,6 +202,18 @@ impl Scene {
 
     /// Check invariants the renderers rely on; returns a clear error otherwise.
     pub fn validate(&self) -> anyhow::Result<()> {
+        self.validate_settings()?;
+        self.validate_mesh()?;
+        for mat in &self.materials {
+            mat.validate()?;
+        }
+        self.validate_environment()?;
+        self.camera.validate()?;
+        Ok(())
+    }
+
+    /// The render settings: image size in range, at least one bounce, a valid light line.
+    fn validate_settings(&self) -> anyhow::Result<()> {
         use anyhow::ensure;
         let s = &self.settings;
         ensure!(
@@ -218,6 +230,13 @@ impl Scene {
             crate::math::spectrum::check_light_line(nm, "the render setting light_line_nm")
                 .map_err(anyhow::Error::msg)?;
         }
+        Ok(())
+    }
+
+    /// The mesh: attribute arrays of one length, one material id per triangle, vertex and
+    /// material indices in range, finite positions.
+    fn validate_mesh(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
         let m = &self.mesh;
         ensure!(
             m.normals.len() == m.positions.len() && m.uvs.len() == m.positions.len(),
@@ -246,9 +265,13 @@ impl Scene {
             m.positions.iter().all(|p| p.is_finite()),
             "mesh has non-finite vertex positions"
         );
-        for mat in &self.materials {
-            mat.validate()?;
-        }
+        Ok(())
+    }
+
+    /// The environment: finite, non-negative radiance; an environment image's strength
+    /// finite and ≥ 0 and its rotation finite.
+    fn validate_environment(&self) -> anyhow::Result<()> {
+        use anyhow::ensure;
         ensure!(
             self.environment.is_finite() && self.environment.min_element() >= 0.0,
             "environment radiance must be finite and non-negative"
@@ -259,7 +282,6 @@ impl Scene {
                 "environment image strength must be finite and ≥ 0 and its rotation finite"
             );
         }
-        self.camera.validate()?;
         Ok(())
     }
 }

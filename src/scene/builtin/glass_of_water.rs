@@ -144,47 +144,10 @@ fn straw(m: &mut Mesh, (p0, p1): (Vec3, Vec3), r: f32, stripes: u32, (a, b): (u3
 /// The glass of water with a straw on a checkerboard table before a striped wall, lit by one
 /// 0.6 × 0.6 m area light (radiance 20) above and in front.
 pub fn glass_of_water() -> Scene {
-    let materials = vec![
-        Material::diffuse("table-light", Vec3::splat(0.75)),
-        Material::diffuse("table-dark", Vec3::splat(0.15)),
-        Material::diffuse("wall", Vec3::splat(0.7)),
-        Material::diffuse("wall-stripe", Vec3::new(0.1, 0.15, 0.4)),
-        Material::emitter("light", Vec3::splat(20.0)),
-        Material {
-            priority: 1,
-            ..Material::glass("glass", 1.5)
-        },
-        Material {
-            attenuation_color: Vec3::new(0.85, 0.95, 1.0),
-            attenuation_distance: 0.3,
-            ..Material::glass("water", 1.33)
-        },
-        Material::diffuse("straw-red", Vec3::new(0.8, 0.08, 0.06)),
-        Material::diffuse("straw-white", Vec3::splat(0.85)),
-    ];
     let mut m = Mesh::default();
     // The table 1 mm below the glass's base (no coincident surfaces).
     checkerboard(&mut m, Vec3::new(0.0, -0.001, 0.0), 1.6, 16, 0, 1);
-    // Back wall with vertical stripes 4 cm wide at z = −0.35.
-    for k in 0..20 {
-        let x = -0.8 + 0.08 * k as f32;
-        let p = Vec3::new(x, 0.0, -0.35);
-        quad(
-            &mut m,
-            p,
-            Vec3::new(0.04, 0.0, 0.0),
-            Vec3::new(0.0, 0.8, 0.0),
-            2,
-        );
-        let p = Vec3::new(x + 0.04, 0.0, -0.35);
-        quad(
-            &mut m,
-            p,
-            Vec3::new(0.04, 0.0, 0.0),
-            Vec3::new(0.0, 0.8, 0.0),
-            3,
-        );
-    }
+    back_wall(&mut m, (2, 3));
     let lc = Vec3::new(0.3, 1.0, 0.6);
     let ln = -lc.normalize();
     super::rect(&mut m, lc, ln, 0.6, 0.6, 4);
@@ -201,9 +164,56 @@ pub fn glass_of_water() -> Scene {
     scene(
         "glass-of-water",
         m,
-        materials,
+        materials(),
         cam,
         Vec3::splat(0.05),
         settings(400, 400),
     )
+}
+
+/// The scene's materials, indexed by the mesh: 0–1 table checks, 2–3 wall and its stripes,
+/// 4 the light, 5 glass (priority 1), 6 water (priority 0, tinted), 7–8 the straw's bands.
+fn materials() -> Vec<Material> {
+    vec![
+        Material::diffuse("table-light", Vec3::splat(0.75)),
+        Material::diffuse("table-dark", Vec3::splat(0.15)),
+        Material::diffuse("wall", Vec3::splat(0.7)),
+        Material::diffuse("wall-stripe", Vec3::new(0.1, 0.15, 0.4)),
+        Material::emitter("light", Vec3::splat(20.0)),
+        Material {
+            priority: 1,
+            ..Material::glass("glass", 1.5)
+        },
+        Material {
+            attenuation_color: Vec3::new(0.85, 0.95, 1.0),
+            attenuation_distance: 0.3,
+            ..Material::glass("water", 1.33)
+        },
+        Material::diffuse("straw-red", Vec3::new(0.8, 0.08, 0.06)),
+        Material::diffuse("straw-white", Vec3::splat(0.85)),
+    ]
+}
+
+/// The back wall at z = −0.35: 20 pairs of vertical bands 4 cm wide and 0.8 m high from
+/// x = −0.8, alternating materials `plain` and `stripe`.
+fn back_wall(m: &mut Mesh, (plain, stripe): (u32, u32)) {
+    for k in 0..20 {
+        let x = -0.8 + 0.08 * k as f32;
+        let p = Vec3::new(x, 0.0, -0.35);
+        quad(
+            m,
+            p,
+            Vec3::new(0.04, 0.0, 0.0),
+            Vec3::new(0.0, 0.8, 0.0),
+            plain,
+        );
+        let p = Vec3::new(x + 0.04, 0.0, -0.35);
+        quad(
+            m,
+            p,
+            Vec3::new(0.04, 0.0, 0.0),
+            Vec3::new(0.0, 0.8, 0.0),
+            stripe,
+        );
+    }
 }

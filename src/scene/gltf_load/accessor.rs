@@ -106,6 +106,28 @@ impl Strided<'_> {
     fn at(&self, i: usize) -> usize {
         self.start + i * self.stride
     }
+
+    /// Check that `count` elements of `elem` bytes lie inside the data (an error naming
+    /// accessor `ai` otherwise).
+    fn check_bounds(&self, ai: usize, count: usize, elem: usize) -> Result<(), String> {
+        let (start, stride) = (self.start, self.stride);
+        if count > 0 {
+            let end = (count - 1)
+                .checked_mul(stride)
+                .and_then(|x| x.checked_add(start))
+                .and_then(|x| x.checked_add(elem));
+            match end {
+                Some(e) if e <= self.data.len() => {}
+                _ => {
+                    return Err(format!(
+                        "accessor {ai} (count {count}, offset {start}, stride {stride}) reads past the end of its {}-byte buffer view (accessor out of bounds)",
+                        self.data.len()
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Decoded accessor data: `count × comps` floats or unsigned integers.
@@ -117,6 +139,18 @@ pub(super) enum AccessorData {
 impl Loader<'_> {
     /// Locate accessor `ai`'s elements, checking every offset against the buffer.
     fn locate(&self, ai: usize) -> Result<(&json::Accessor, Option<Strided<'_>>, usize), String> {
+        let (acc, count, elem) = self.accessor_shape(ai)?;
+        let Some(vi) = acc.buffer_view else {
+            return Ok((acc, None, elem));
+        };
+        let strided = self.strided_view(ai, vi.value(), acc, elem)?;
+        strided.check_bounds(ai, count, elem)?;
+        Ok((acc, Some(strided), elem))
+    }
+
+    /// Accessor `ai` with its element count and element size in bytes, once its type and
+    /// component type are valid and its count is not too large.
+    fn accessor_shape(&self, ai: usize) -> Result<(&json::Accessor, usize, usize), String> {
         let acc = self
             .root
             .accessors
@@ -132,16 +166,25 @@ impl Loader<'_> {
         if count > MAX_ACCESSOR_COUNT {
             return Err(format!("accessor {ai} count {count} is too large"));
         }
-        let count = count as usize;
         let elem = type_comps(ty) * comp_size(ct.0);
-        let Some(vi) = acc.buffer_view else {
-            return Ok((acc, None, elem));
-        };
-        let view =
-            self.root.buffer_views.get(vi.value()).ok_or_else(|| {
-                format!("accessor {ai}: buffer view {} does not exist", vi.value())
-            })?;
-        let data = self.view_bytes(vi.value(), view)?;
+        Ok((acc, count as usize, elem))
+    }
+
+    /// The bytes of buffer view `vi` that accessor `ai` (element size `elem`) reads, with the
+    /// accessor's start offset and the view's stride (at least `elem`; `elem` if unset).
+    fn strided_view(
+        &self,
+        ai: usize,
+        vi: usize,
+        acc: &json::Accessor,
+        elem: usize,
+    ) -> Result<Strided<'_>, String> {
+        let view = self
+            .root
+            .buffer_views
+            .get(vi)
+            .ok_or_else(|| format!("accessor {ai}: buffer view {vi} does not exist"))?;
+        let data = self.view_bytes(vi, view)?;
         let stride = view.byte_stride.map(|s| s.0).unwrap_or(elem);
         if stride < elem {
             return Err(format!(
@@ -151,30 +194,11 @@ impl Loader<'_> {
         let start = acc.byte_offset.map(|o| o.0).unwrap_or(0);
         let start =
             usize::try_from(start).map_err(|_| format!("accessor {ai}: offset too large"))?;
-        if count > 0 {
-            let end = (count - 1)
-                .checked_mul(stride)
-                .and_then(|x| x.checked_add(start))
-                .and_then(|x| x.checked_add(elem));
-            match end {
-                Some(e) if e <= data.len() => {}
-                _ => {
-                    return Err(format!(
-                        "accessor {ai} (count {count}, offset {start}, stride {stride}) reads past the end of its {}-byte buffer view (accessor out of bounds)",
-                        data.len()
-                    ));
-                }
-            }
-        }
-        Ok((
-            acc,
-            Some(Strided {
-                data,
-                start,
-                stride,
-            }),
-            elem,
-        ))
+        Ok(Strided {
+            data,
+            start,
+            stride,
+        })
     }
 
     pub(super) fn view_bytes(&self, vi: usize, view: &json::buffer::View) -> Result<&[u8], String> {

@@ -64,36 +64,51 @@ impl Loader<'_> {
             if depth > MAX_NODE_DEPTH {
                 bail!("node hierarchy deeper than {MAX_NODE_DEPTH} levels");
             }
-            let local = match node_local_matrix(node) {
-                Ok(m) => m,
-                Err(e) => {
-                    self.warnings
-                        .push(format!("node {ni}: {e}; node and children skipped"));
-                    continue;
-                }
-            };
-            let world = parent * local;
-            if !world.is_finite() {
-                self.warnings
-                    .push(format!("node {ni}: world transform is not finite; skipped"));
+            let Some(world) = self.node_world(ni, node, parent) else {
                 continue;
-            }
-            if let Some(ci) = node.camera {
-                self.camera_node(ni, ci.value(), world)?;
-            }
-            if let Some(mi) = node.mesh {
-                self.mesh_node(ni, mi.value(), world)?;
-            }
-            if let Some(l) = node
-                .extensions
-                .as_ref()
-                .and_then(|e| e.khr_lights_punctual.as_ref())
-            {
-                self.light_node(ni, l.light.value(), world)?;
-            }
+            };
+            self.node_contents(ni, node, world)?;
             for c in node.children.iter().flatten().rev() {
                 stack.push((c.value(), world, depth + 1));
             }
+        }
+        Ok(())
+    }
+
+    /// Node `ni`'s world transform under `parent`; None with a warning (node and children
+    /// skipped) if its local matrix is unusable or the product is not finite.
+    fn node_world(&mut self, ni: usize, node: &json::Node, parent: Mat4) -> Option<Mat4> {
+        let local = match node_local_matrix(node) {
+            Ok(m) => m,
+            Err(e) => {
+                self.warnings
+                    .push(format!("node {ni}: {e}; node and children skipped"));
+                return None;
+            }
+        };
+        let world = parent * local;
+        if !world.is_finite() {
+            self.warnings
+                .push(format!("node {ni}: world transform is not finite; skipped"));
+            return None;
+        }
+        Some(world)
+    }
+
+    /// Add what node `ni` carries, placed at `world`: its camera, its mesh, its punctual light.
+    fn node_contents(&mut self, ni: usize, node: &json::Node, world: Mat4) -> anyhow::Result<()> {
+        if let Some(ci) = node.camera {
+            self.camera_node(ni, ci.value(), world)?;
+        }
+        if let Some(mi) = node.mesh {
+            self.mesh_node(ni, mi.value(), world)?;
+        }
+        if let Some(l) = node
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+        {
+            self.light_node(ni, l.light.value(), world)?;
         }
         Ok(())
     }

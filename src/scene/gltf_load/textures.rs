@@ -17,30 +17,50 @@ impl Loader<'_> {
         srgb: bool,
         mat: &str,
     ) -> anyhow::Result<Option<TextureRef>> {
-        let ti = info.index.value();
-        let tex = match self.texture_cache.get(&(ti, srgb)) {
-            Some(t) => *t,
-            None => {
-                let t = match self.load_texture(ti, srgb) {
-                    Ok(t) => {
-                        self.textures.push(t);
-                        Some(self.textures.len() as u32 - 1)
-                    }
-                    Err(TextureError::OverBudget(e)) => anyhow::bail!("material '{mat}': {e}"),
-                    Err(TextureError::Unusable(e)) => {
-                        self.warnings.push(format!(
-                            "material '{mat}': texture {ti} cannot be used ({e}); using no texture"
-                        ));
-                        None
-                    }
-                };
-                self.texture_cache.insert((ti, srgb), t);
-                t
-            }
-        };
-        let Some(tex) = tex else {
+        let Some(tex) = self.cached_texture(info.index.value(), srgb, mat)? else {
             return Ok(None);
         };
+        let (tex_coord, transform) = self.texture_transform(info, mat);
+        if tex_coord != 0 {
+            self.warnings.once("texcoord", || {
+                "only TEXCOORD_0 is loaded; textures using other sets read TEXCOORD_0".into()
+            });
+        }
+        Ok(Some(TextureRef {
+            texture: tex,
+            tex_coord,
+            transform,
+        }))
+    }
+
+    /// The slot of glTF texture `ti` in the scene's texture list, loading it on first use
+    /// per (texture, colour space). None (remembered, with a warning) when it cannot be used;
+    /// an error if it would exceed the texture-pixel budget.
+    fn cached_texture(&mut self, ti: usize, srgb: bool, mat: &str) -> anyhow::Result<Option<u32>> {
+        if let Some(t) = self.texture_cache.get(&(ti, srgb)) {
+            return Ok(*t);
+        }
+        let t = match self.load_texture(ti, srgb) {
+            Ok(t) => {
+                self.textures.push(t);
+                Some(self.textures.len() as u32 - 1)
+            }
+            Err(TextureError::OverBudget(e)) => anyhow::bail!("material '{mat}': {e}"),
+            Err(TextureError::Unusable(e)) => {
+                self.warnings.push(format!(
+                    "material '{mat}': texture {ti} cannot be used ({e}); using no texture"
+                ));
+                None
+            }
+        };
+        self.texture_cache.insert((ti, srgb), t);
+        Ok(t)
+    }
+
+    /// The texture coordinate set and uv transform of `info`: its own `texCoord` and the
+    /// identity, unless `KHR_texture_transform` overrides them (a non-finite transform is
+    /// ignored with a warning; its `texCoord` override still applies).
+    fn texture_transform(&mut self, info: &json::texture::Info, mat: &str) -> (u32, Affine2) {
         let mut tex_coord = info.tex_coord;
         let mut transform = Affine2::IDENTITY;
         if let Some(tt) = info
@@ -64,16 +84,7 @@ impl Loader<'_> {
                 transform = Affine2::IDENTITY;
             }
         }
-        if tex_coord != 0 {
-            self.warnings.once("texcoord", || {
-                "only TEXCOORD_0 is loaded; textures using other sets read TEXCOORD_0".into()
-            });
-        }
-        Ok(Some(TextureRef {
-            texture: tex,
-            tex_coord,
-            transform,
-        }))
+        (tex_coord, transform)
     }
 
     /// Load glTF texture `ti` (its image decoded, converted to linear when `srgb`, and its
