@@ -1,0 +1,257 @@
+//! WGSL assembly, pipeline specialisation and the pipeline cache.
+//!
+//! The kernel is specialised by WGSL override constants (`HAS_*`), so features a scene lacks
+//! are compiled out by the driver. The key is derived from the scene's *kinds* (which BSDFs
+//! and light types exist), never from parameter values, so moving a slider (IOR, colour,
+//! roughness within a kind, emission, environment) never recompiles. Pipelines are cached per
+//! key, in memory and, through the driver's pipeline cache, on disk (`pipeline_cache`).
+//! [`Pipelines::compile_in_background`] compiles a specialisation on a worker thread, so the
+//! viewer keeps drawing while the driver compiles (seconds for every feature on RADV).
+//!
+//! Files: `wgsl` (sources, assembly, validated modules), `specialization` (the cache key),
+//! `kernel` (entry points), `layouts` (bind group layouts), `probe` (one-shot probe
+//! dispatches); this file holds the cache and its background compiler.
+
+use super::GpuContext;
+use super::pipeline_cache::DiskPipelineCache;
+use anyhow::{Context, Result};
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+mod kernel;
+mod layouts;
+mod probe;
+mod specialization;
+mod wgsl;
+
+pub use kernel::Kernel;
+use layouts::{IntegratorLayouts, check_storage_buffer_limit};
+pub(crate) use probe::dispatch_once;
+pub use probe::run_probe;
+pub use specialization::Specialization;
+pub use wgsl::{SHADER_FILES, create_module, integrator_source, light_probe_source, probe_source};
+
+/// Storage buffers the integrator binds (group 0: bindings 1–8, 10–13, 15 and 16; and
+/// `wf_advance`'s group 1).
+pub const STORAGE_BUFFERS: u32 = 15;
+
+/// The integrator's bind group layout, shader module and specialised pipelines.
+pub struct Pipelines {
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    /// Group 1 of `wf_advance` alone: the wavefront's indirect dispatch size, which the other
+    /// kernels' layouts leave out so that it can be their indirect argument in the same pass.
+    pub advance_group_layout: wgpu::BindGroupLayout,
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    advance_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    /// The driver's pipeline cache, kept on disk (None: the device has none).
+    disk_cache: Option<Arc<DiskPipelineCache>>,
+    cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
+    /// Specialisations being compiled on worker threads.
+    pending: Vec<Pending>,
+    /// Number of pipelines compiled so far (tests check that edits do not recompile).
+    pub compiled: u32,
+    /// Wall time of the last specialisation's pipeline creation (all its kernels).
+    pub last_compile: Option<Duration>,
+}
+
+/// The compiled kernels of one specialisation, and how long their creation took.
+type Compiled = Result<(Vec<(Kernel, wgpu::ComputePipeline)>, Duration)>;
+
+/// A specialisation's pipelines being compiled on a worker thread.
+struct Pending {
+    spec: Specialization,
+    thread: std::thread::JoinHandle<Compiled>,
+}
+
+/// What a compilation needs (wgpu handles are reference-counted and `Send + Sync`: a worker
+/// thread compiles while the caller's thread keeps submitting).
+#[derive(Clone)]
+struct Compiler {
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    advance_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    disk_cache: Option<Arc<DiskPipelineCache>>,
+}
+
+impl Compiler {
+    /// Create the pipelines of `kernels` for `spec` in error scopes (validation and
+    /// out-of-memory errors are an `Err`), then write the pipeline cache back to disk (a
+    /// failed write is a warning).
+    fn compile(&self, spec: Specialization, kernels: &[Kernel]) -> Compiled {
+        let start = Instant::now();
+        let pipelines =
+            super::context::scoped_on(&self.device, "cannot compile the GPU kernels", || {
+                kernels
+                    .iter()
+                    .map(|&k| (k, self.create(spec, k)))
+                    .collect::<Vec<_>>()
+            })?;
+        let took = start.elapsed();
+        if let Some(c) = &self.disk_cache
+            && let Err(e) = c.save()
+        {
+            eprintln!("refract: warning: {e:#}");
+        }
+        Ok((pipelines, took))
+    }
+
+    fn create(&self, spec: Specialization, kernel: Kernel) -> wgpu::ComputePipeline {
+        let constants = spec.constants();
+        self.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(kernel.entry()),
+                layout: Some(if kernel == Kernel::WfAdvance {
+                    &self.advance_layout
+                } else {
+                    &self.layout
+                }),
+                module: &self.module,
+                entry_point: Some(kernel.entry()),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    zero_initialize_workgroup_memory: false,
+                },
+                cache: self.disk_cache.as_ref().map(|c| &c.cache),
+            })
+    }
+}
+
+impl Pipelines {
+    pub fn new(ctx: &GpuContext) -> Result<Pipelines> {
+        check_storage_buffer_limit(ctx)?;
+        let module = create_module(ctx, "integrator.wgsl", integrator_source())?;
+        let layouts = IntegratorLayouts::new(ctx);
+        let disk_cache =
+            DiskPipelineCache::open(ctx, ctx.pipeline_cache_dir.as_deref()).map(Arc::new);
+        Ok(Pipelines {
+            bind_group_layout: layouts.bind_group,
+            advance_group_layout: layouts.advance_group,
+            device: ctx.device.clone(),
+            layout: layouts.layout,
+            advance_layout: layouts.advance,
+            module,
+            disk_cache,
+            cache: HashMap::new(),
+            pending: Vec::new(),
+            compiled: 0,
+            last_compile: None,
+        })
+    }
+
+    /// The driver pipeline cache in use (None: the device has none, e.g. wgpu's GL backend).
+    pub fn disk_cache(&self) -> Option<&DiskPipelineCache> {
+        self.disk_cache.as_deref()
+    }
+
+    fn compiler(&self) -> Compiler {
+        Compiler {
+            device: self.device.clone(),
+            layout: self.layout.clone(),
+            advance_layout: self.advance_layout.clone(),
+            module: self.module.clone(),
+            disk_cache: self.disk_cache.clone(),
+        }
+    }
+
+    /// The kernels of `spec` not compiled yet.
+    fn missing(&self, spec: Specialization) -> Vec<Kernel> {
+        super::kernels::kernels_of(&spec)
+            .into_iter()
+            .filter(|&k| !self.cache.contains_key(&(spec, k)))
+            .collect()
+    }
+
+    /// True when every kernel `spec` dispatches is compiled.
+    pub fn is_ready(&self, spec: Specialization) -> bool {
+        self.missing(spec).is_empty()
+    }
+
+    /// Compile the pipelines `spec` dispatches now, on this thread (waiting for a worker
+    /// already compiling them).
+    pub fn compile(&mut self, spec: Specialization) -> Result<()> {
+        if let Some(i) = self.pending.iter().position(|p| p.spec == spec) {
+            let p = self.pending.swap_remove(i);
+            return self.finish(p);
+        }
+        let missing = self.missing(spec);
+        if missing.is_empty() {
+            return Ok(());
+        }
+        let compiled = self.compiler().compile(spec, &missing);
+        self.store(spec, compiled)
+    }
+
+    /// Start compiling the pipelines `spec` dispatches on a worker thread (nothing to do when
+    /// they are compiled or being compiled); [`Pipelines::poll`] collects them.
+    pub fn compile_in_background(&mut self, spec: Specialization) -> Result<()> {
+        let missing = self.missing(spec);
+        if missing.is_empty() || self.pending.iter().any(|p| p.spec == spec) {
+            return Ok(());
+        }
+        let compiler = self.compiler();
+        let thread = std::thread::Builder::new()
+            .name("refract-gpu-compile".into())
+            .spawn(move || compiler.compile(spec, &missing))
+            .context("cannot start the GPU kernel compiler thread")?;
+        self.pending.push(Pending { spec, thread });
+        Ok(())
+    }
+
+    /// True while some specialisation is being compiled on a worker thread.
+    pub fn is_compiling(&self) -> bool {
+        !self.pending.is_empty()
+    }
+
+    /// Collect the pipelines of finished worker threads (never waits). An `Err` if one
+    /// failed.
+    pub fn poll(&mut self) -> Result<()> {
+        let mut result = Ok(());
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.pending[i].thread.is_finished() {
+                let p = self.pending.swap_remove(i);
+                let r = self.finish(p);
+                if result.is_ok() {
+                    result = r;
+                }
+            } else {
+                i += 1;
+            }
+        }
+        result
+    }
+
+    /// Join the worker compiling `p` and keep its pipelines.
+    fn finish(&mut self, p: Pending) -> Result<()> {
+        let compiled = p
+            .thread
+            .join()
+            .map_err(|_| anyhow::anyhow!("the GPU kernel compiler thread panicked"))
+            .and_then(|r| r);
+        self.store(p.spec, compiled)
+    }
+
+    fn store(&mut self, spec: Specialization, compiled: Compiled) -> Result<()> {
+        let (pipelines, took) = compiled?;
+        for (kernel, pipeline) in pipelines {
+            self.compiled += 1;
+            self.cache.insert((spec, kernel), pipeline);
+        }
+        self.last_compile = Some(took);
+        Ok(())
+    }
+
+    /// The compiled pipeline of `kernel` for `spec` (None: not compiled, see
+    /// [`Pipelines::compile`]).
+    pub fn get_kernel(
+        &self,
+        spec: Specialization,
+        kernel: Kernel,
+    ) -> Option<&wgpu::ComputePipeline> {
+        self.cache.get(&(spec, kernel))
+    }
+}

@@ -1,0 +1,201 @@
+//! [`Specialization`]: which parts of the kernel a scene needs, the pipeline cache key.
+
+use crate::scene::Features;
+
+/// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
+/// always compiled in (its radiance is a slider: value edits must not recompile).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Specialization {
+    pub lambert: bool,
+    pub mirror: bool,
+    pub smooth_dielectric: bool,
+    pub thin_dielectric: bool,
+    pub rough_dielectric: bool,
+    pub rough_conductor: bool,
+    pub metal_rough: bool,
+    /// Tabulated metals with the conductor Fresnel term (smooth or rough).
+    pub conductor: bool,
+    /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
+    pub ggx: bool,
+    pub beckmann: bool,
+    /// Emissive triangles (area lights).
+    pub area_lights: bool,
+    pub punctual_lights: bool,
+    /// An environment image (next-event estimation samples it; escaping rays weight it).
+    pub env_image: bool,
+    /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
+    pub absorption: bool,
+    /// Some BSDF reads a texture.
+    pub textures: bool,
+    /// A material has a tangent-space normal map (the mesh carries tangents).
+    pub normal_map: bool,
+    /// A Heckbert path filter is set (the table itself is a uniform: edits do not recompile).
+    pub filter: bool,
+    /// Hero-wavelength spectral transport (a dispersive material exists).
+    pub spectral: bool,
+    /// Light tracing combined with path tracing by MIS (`lt+pt`; the estimator, not the scene).
+    pub light_tracing: bool,
+    /// Path tracing with photon-mapped caustics (`sppm`; the estimator, not the scene).
+    pub sppm: bool,
+    /// Nested dielectric volumes: paths keep the medium stack and pass false hits.
+    pub nested: bool,
+    /// Camera paths by the wavefront kernels (`Kernel::WfStart` … `WfFinish`, and for lt+pt
+    /// `LtWfStart` … `LtWfFinish` instead of `light_trace`) instead of `render`:
+    /// chosen where the megakernel needs more registers than a GPU can give without
+    /// losing occupancy ([`Specialization::wants_wavefront`]).
+    pub wavefront: bool,
+    /// Traversal stack entries per invocation (`upload::bvh_stack_entries` of the uploaded
+    /// tree's depth; the full 64 where the tree is not known). Workgroup memory, so it
+    /// bounds occupancy: 64 entries allow 4 subgroups per SIMD on RDNA2, 24 allow 10.
+    pub bvh_stack: u32,
+}
+
+impl Default for Specialization {
+    /// No part compiled in, the full traversal stack.
+    fn default() -> Self {
+        Specialization::from_features(Features::empty())
+    }
+}
+
+impl Specialization {
+    /// The kernel parts `f` needs (no filter, path tracing).
+    pub fn from_features(f: Features) -> Specialization {
+        Specialization {
+            lambert: f.contains(Features::DIFFUSE),
+            mirror: f.contains(Features::MIRROR),
+            smooth_dielectric: f.contains(Features::SMOOTH_GLASS),
+            thin_dielectric: f.contains(Features::THIN_GLASS),
+            rough_dielectric: f.contains(Features::ROUGH_GLASS),
+            rough_conductor: f.contains(Features::GLOSSY_METAL),
+            metal_rough: f.contains(Features::METAL_ROUGH),
+            conductor: f.intersects(Features::SMOOTH_CONDUCTOR | Features::ROUGH_FRESNEL_CONDUCTOR),
+            ggx: f.contains(Features::GGX),
+            beckmann: f.contains(Features::BECKMANN),
+            area_lights: f.contains(Features::AREA_LIGHTS),
+            punctual_lights: f.contains(Features::PUNCTUAL_LIGHTS),
+            env_image: f.contains(Features::ENV_IMAGE),
+            absorption: f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS),
+            textures: f.contains(Features::TEXTURES),
+            normal_map: f.contains(Features::NORMAL_MAP),
+            filter: false,
+            spectral: f.contains(Features::DISPERSION),
+            light_tracing: false,
+            sppm: false,
+            nested: f.contains(Features::NESTED),
+            wavefront: false,
+            bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+        }
+    }
+
+    /// Whether the camera walk should run as a wavefront: where the megakernel needs more
+    /// than 128 VGPRs on RADV navi21 (fewer than 8 waves per SIMD) — measured for every
+    /// built-in with each GPU estimator and for the all-features worst cases, and checked
+    /// against the compiler by `tests/gpu_registers.rs`: the image environment, textures, or
+    /// light tracing or photon mapping together with spectral, nested or filtered paths or
+    /// the metal-rough material, or light tracing with rough glass. Elsewhere the
+    /// megakernel fits and keeps its paths in registers.
+    pub fn wants_wavefront(&self) -> bool {
+        let joint = self.light_tracing || self.sppm;
+        self.env_image
+            || self.textures
+            || (joint && (self.spectral || self.nested || self.filter || self.metal_rough))
+            || (self.light_tracing && self.rough_dielectric)
+    }
+
+    /// The kernel parts `scene` needs (as [`Specialization::from_features`]) with the
+    /// traversal stack sized for the BVH2 the renderer uploads for it (built here) and the
+    /// camera walk's form by [`Specialization::wants_wavefront`] — what the renderer runs
+    /// for the path estimator.
+    pub fn for_scene(scene: &crate::scene::Scene) -> anyhow::Result<Specialization> {
+        let depth = crate::gpu::upload::build_bvh(scene)?.depth;
+        Ok(Specialization::from_features(scene.features())
+            .with_bvh_depth(depth)
+            .with_wavefront_rule())
+    }
+
+    /// The same parts with `wavefront` set by [`Specialization::wants_wavefront`].
+    pub fn with_wavefront_rule(self) -> Specialization {
+        Specialization {
+            wavefront: self.wants_wavefront(),
+            ..self
+        }
+    }
+
+    /// The same kernel parts with the traversal stack sized for a BVH2 of `depth` levels.
+    pub fn with_bvh_depth(self, depth: u32) -> Specialization {
+        Specialization {
+            bvh_stack: crate::gpu::upload::bvh_stack_entries(depth),
+            ..self
+        }
+    }
+
+    /// Every part compiled in (the worst case for registers), with light tracing as the
+    /// estimator: the estimators are exclusive (the renderer sets at most one of
+    /// `light_tracing` and `sppm`), so [`Specialization::all_sppm`] is the other worst case.
+    pub fn all() -> Specialization {
+        Specialization {
+            lambert: true,
+            mirror: true,
+            smooth_dielectric: true,
+            thin_dielectric: true,
+            rough_dielectric: true,
+            rough_conductor: true,
+            metal_rough: true,
+            conductor: true,
+            ggx: true,
+            beckmann: true,
+            area_lights: true,
+            punctual_lights: true,
+            absorption: true,
+            textures: true,
+            normal_map: true,
+            filter: true,
+            spectral: true,
+            light_tracing: true,
+            sppm: false,
+            nested: true,
+            env_image: true,
+            wavefront: true,
+            bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+        }
+    }
+
+    /// Every part compiled in, with photon mapping as the estimator (`sppm`).
+    pub fn all_sppm() -> Specialization {
+        Specialization {
+            light_tracing: false,
+            sppm: true,
+            ..Specialization::all()
+        }
+    }
+
+    /// The override constants that specialise the integrator module.
+    pub fn constants(&self) -> Vec<(&'static str, f64)> {
+        let b = |x: bool| if x { 1.0 } else { 0.0 };
+        vec![
+            ("HAS_LAMBERT", b(self.lambert)),
+            ("HAS_MIRROR", b(self.mirror)),
+            ("HAS_SMOOTH_DIELECTRIC", b(self.smooth_dielectric)),
+            ("HAS_THIN_DIELECTRIC", b(self.thin_dielectric)),
+            ("HAS_ROUGH_DIELECTRIC", b(self.rough_dielectric)),
+            ("HAS_ROUGH_CONDUCTOR", b(self.rough_conductor)),
+            ("HAS_METAL_ROUGH", b(self.metal_rough)),
+            ("HAS_CONDUCTOR", b(self.conductor)),
+            ("HAS_GGX", b(self.ggx)),
+            ("HAS_BECKMANN", b(self.beckmann)),
+            ("HAS_LIGHTS", b(self.area_lights)),
+            ("HAS_PUNCTUAL", b(self.punctual_lights)),
+            ("HAS_ENVIRONMENT", 1.0),
+            ("HAS_ENV_IMAGE", b(self.env_image)),
+            ("HAS_ABSORPTION", b(self.absorption)),
+            ("HAS_TEXTURES", b(self.textures)),
+            ("HAS_NORMAL_MAP", b(self.normal_map)),
+            ("HAS_FILTER", b(self.filter)),
+            ("HAS_SPECTRAL", b(self.spectral)),
+            ("HAS_LT", b(self.light_tracing)),
+            ("HAS_SPPM", b(self.sppm)),
+            ("HAS_NESTED", b(self.nested)),
+            ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
+        ]
+    }
+}

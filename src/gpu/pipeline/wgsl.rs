@@ -1,0 +1,138 @@
+//! The kernels' WGSL sources: the shader files, assembled behind the generated prelude,
+//! and their compilation into a validated module.
+
+use crate::gpu::GpuContext;
+use anyhow::Result;
+
+const COMMON: &str = include_str!("../../shaders/common.wgsl");
+const RNG: &str = include_str!("../../shaders/rng.wgsl");
+const SPECTRUM: &str = include_str!("../../shaders/spectrum.wgsl");
+// The BSDFs: one file per src/bsdf/*.rs, the dispatch (mod.rs) first.
+const BSDF: &str = include_str!("../../shaders/bsdf.wgsl");
+const FRESNEL: &str = include_str!("../../shaders/fresnel.wgsl");
+const MICROFACET: &str = include_str!("../../shaders/microfacet.wgsl");
+const DIFFUSE: &str = include_str!("../../shaders/diffuse.wgsl");
+const CONDUCTOR: &str = include_str!("../../shaders/conductor.wgsl");
+const DIELECTRIC: &str = include_str!("../../shaders/dielectric.wgsl");
+const THIN: &str = include_str!("../../shaders/thin.wgsl");
+const GLOSSY: &str = include_str!("../../shaders/glossy.wgsl");
+const ROUGH_DIELECTRIC: &str = include_str!("../../shaders/rough_dielectric.wgsl");
+const METAL_ROUGH: &str = include_str!("../../shaders/metal_rough.wgsl");
+const SCENE: &str = include_str!("../../shaders/scene.wgsl");
+const LIGHT: &str = include_str!("../../shaders/light.wgsl");
+const SPECTRAL: &str = include_str!("../../shaders/spectral.wgsl");
+const MATERIAL: &str = include_str!("../../shaders/material.wgsl");
+const PATH_FILTER: &str = include_str!("../../shaders/path_filter.wgsl");
+const INTERACTION: &str = include_str!("../../shaders/interaction.wgsl");
+const INTEGRATOR: &str = include_str!("../../shaders/integrator.wgsl");
+const LIGHT_TRACING: &str = include_str!("../../shaders/light_tracing.wgsl");
+const PHOTON: &str = include_str!("../../shaders/photon.wgsl");
+const WAVEFRONT: &str = include_str!("../../shaders/wavefront.wgsl");
+const LIGHT_WAVEFRONT: &str = include_str!("../../shaders/light_wavefront.wgsl");
+const PROBE: &str = include_str!("../../shaders/probe.wgsl");
+const LIGHT_PROBE: &str = include_str!("../../shaders/light_probe.wgsl");
+
+/// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
+const MATHS: &[&str] = &[
+    COMMON,
+    RNG,
+    SPECTRUM,
+    BSDF,
+    FRESNEL,
+    MICROFACET,
+    DIFFUSE,
+    CONDUCTOR,
+    DIELECTRIC,
+    THIN,
+    GLOSSY,
+    ROUGH_DIELECTRIC,
+    METAL_ROUGH,
+];
+
+/// Every kernel source file by name (tests check that none defines a prelude constant).
+pub const SHADER_FILES: &[(&str, &str)] = &[
+    ("common.wgsl", COMMON),
+    ("rng.wgsl", RNG),
+    ("spectrum.wgsl", SPECTRUM),
+    ("bsdf.wgsl", BSDF),
+    ("fresnel.wgsl", FRESNEL),
+    ("microfacet.wgsl", MICROFACET),
+    ("diffuse.wgsl", DIFFUSE),
+    ("conductor.wgsl", CONDUCTOR),
+    ("dielectric.wgsl", DIELECTRIC),
+    ("thin.wgsl", THIN),
+    ("glossy.wgsl", GLOSSY),
+    ("rough_dielectric.wgsl", ROUGH_DIELECTRIC),
+    ("metal_rough.wgsl", METAL_ROUGH),
+    ("scene.wgsl", SCENE),
+    ("light.wgsl", LIGHT),
+    ("spectral.wgsl", SPECTRAL),
+    ("material.wgsl", MATERIAL),
+    ("path_filter.wgsl", PATH_FILTER),
+    ("interaction.wgsl", INTERACTION),
+    ("integrator.wgsl", INTEGRATOR),
+    ("light_tracing.wgsl", LIGHT_TRACING),
+    ("photon.wgsl", PHOTON),
+    ("wavefront.wgsl", WAVEFRONT),
+    ("light_wavefront.wgsl", LIGHT_WAVEFRONT),
+    ("probe.wgsl", PROBE),
+    ("light_probe.wgsl", LIGHT_PROBE),
+];
+
+/// The generated prelude, then `parts`.
+fn assemble(parts: &[&str]) -> String {
+    let mut s = crate::gpu::prelude::wgsl_prelude();
+    for p in parts {
+        s.push('\n');
+        s.push_str(p);
+    }
+    s
+}
+
+/// The integrator kernel's full WGSL source: prelude, maths, scene, lights, the per-vertex
+/// step, then the walks (camera, light, photon).
+pub fn integrator_source() -> String {
+    let kernel = [
+        SCENE,
+        LIGHT,
+        SPECTRAL,
+        MATERIAL,
+        PATH_FILTER,
+        INTERACTION,
+        INTEGRATOR,
+        LIGHT_TRACING,
+        PHOTON,
+        WAVEFRONT,
+        LIGHT_WAVEFRONT,
+    ];
+    assemble(&[MATHS, &kernel].concat())
+}
+
+/// The probe kernel's full WGSL source (prelude and maths only, no scene).
+pub fn probe_source() -> String {
+    assemble(&[MATHS, &[PROBE]].concat())
+}
+
+/// The light probe kernel's full WGSL source: prelude, maths, scene bindings, lights.
+pub fn light_probe_source() -> String {
+    assemble(&[MATHS, &[SCENE, LIGHT, LIGHT_PROBE]].concat())
+}
+
+/// Compile a WGSL module, turning validation errors into `Err` instead of a panic.
+pub fn create_module(ctx: &GpuContext, label: &str, source: String) -> Result<wgpu::ShaderModule> {
+    // Validate with naga first: a clear error message, and wgpu would panic on a bad module.
+    let module = naga::front::wgsl::parse_str(&source)
+        .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(&source)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| anyhow::anyhow!("{label}: {}", e.emit_to_string(&source)))?;
+    Ok(ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        }))
+}
