@@ -371,8 +371,17 @@ impl ViewerApp {
     pub fn show(&mut self, ui: &mut egui::Ui) {
         let t0 = Instant::now();
         let ctx = ui.ctx().clone();
+        self.begin_frame(&ctx);
+        self.side_panels(ui);
+        egui::CentralPanel::no_frame().show(ui, |ui| self.central_image(&ctx, ui));
+        self.apply_queued();
+        self.end_frame(&ctx, t0.elapsed());
+    }
+
+    /// Before drawing: dialog result, keys, lecture zoom, a slice of rendering, its message.
+    fn begin_frame(&mut self, ctx: &egui::Context) {
         self.poll_dialog();
-        self.handle_input(&ctx);
+        self.handle_input(ctx);
         if let Some(zoom) = self.lecture.zoom_change() {
             ctx.set_zoom_factor(zoom);
         }
@@ -380,7 +389,11 @@ impl ViewerApp {
         if let Some(m) = self.backend.take_message() {
             self.messages.info = Some(m);
         }
+    }
 
+    /// The status bar, the controls panel and the inspector panel (before the central image,
+    /// which takes the space they leave).
+    fn side_panels(&mut self, ui: &mut egui::Ui) {
         egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
         egui::Panel::left("controls")
             .default_size(340.0)
@@ -392,41 +405,55 @@ impl ViewerApp {
         self.lecture_follow();
         self.inspect_follow();
         panels::inspect::side(self, ui);
-        egui::CentralPanel::no_frame().show(ui, |ui| {
-            self.viewport_follow(&ctx, ui.available_size() * ctx.pixels_per_point());
-            let tex = self.backend.display_texture(&ctx, &self.display_params());
-            let res = self.settings.resolution(&self.scene);
-            let yfov = self.scene.camera.yfov;
-            let mut orbit = self.orbit;
-            let r = viewport::show(ui, tex, res, &mut orbit, yfov);
-            if r.camera_changed {
-                self.push(Edit::Orbit(orbit));
-            }
-            if r.dragging != self.dragging {
-                self.dragging = r.dragging;
-                self.backend.set_interactive(r.dragging);
-            }
-            if let Some((sx, sy)) = r.clicked {
-                if r.alt || self.inspector.enabled {
-                    self.lecture.inspect_point = None;
-                    self.inspector.request((sx, sy));
-                    ctx.request_repaint();
-                } else {
-                    self.selected = self.pick(sx, sy);
-                }
-            }
-            self.inspector.image_rect = Some(r.image_rect);
-            if let Some(caption) = self.lecture_caption() {
-                lecture::draw_caption(&ui.painter_at(r.image_rect), r.image_rect, caption);
-            }
-            if let Some(t) = &self.inspector.traced {
-                let painter = ui.painter_at(r.image_rect);
-                inspect_overlay::draw(&painter, r.image_rect, t, self.inspector.highlight);
-            }
-        });
-        self.apply_queued();
+    }
 
-        let ui_time = t0.elapsed();
+    /// The central panel: the rendered image with orbit, picking and inspection, and its
+    /// overlays.
+    fn central_image(&mut self, ctx: &egui::Context, ui: &mut egui::Ui) {
+        self.viewport_follow(ctx, ui.available_size() * ctx.pixels_per_point());
+        let tex = self.backend.display_texture(ctx, &self.display_params());
+        let res = self.settings.resolution(&self.scene);
+        let yfov = self.scene.camera.yfov;
+        let mut orbit = self.orbit;
+        let r = viewport::show(ui, tex, res, &mut orbit, yfov);
+        if r.camera_changed {
+            self.push(Edit::Orbit(orbit));
+        }
+        self.viewport_interaction(ctx, &r);
+        self.inspector.image_rect = Some(r.image_rect);
+        self.image_overlays(ui, r.image_rect);
+    }
+
+    /// React to a drag starting or ending and to a click on the image (inspect or pick).
+    fn viewport_interaction(&mut self, ctx: &egui::Context, r: &viewport::ViewportResponse) {
+        if r.dragging != self.dragging {
+            self.dragging = r.dragging;
+            self.backend.set_interactive(r.dragging);
+        }
+        if let Some((sx, sy)) = r.clicked {
+            if r.alt || self.inspector.enabled {
+                self.lecture.inspect_point = None;
+                self.inspector.request((sx, sy));
+                ctx.request_repaint();
+            } else {
+                self.selected = self.pick(sx, sy);
+            }
+        }
+    }
+
+    /// Draw the lecture caption and the inspected path over the image at `rect`.
+    fn image_overlays(&self, ui: &egui::Ui, rect: egui::Rect) {
+        if let Some(caption) = self.lecture_caption() {
+            lecture::draw_caption(&ui.painter_at(rect), rect, caption);
+        }
+        if let Some(t) = &self.inspector.traced {
+            let painter = ui.painter_at(rect);
+            inspect_overlay::draw(&painter, rect, t, self.inspector.highlight);
+        }
+    }
+
+    /// After drawing: record the frame's UI time and keep repainting while work is under way.
+    fn end_frame(&mut self, ctx: &egui::Context, ui_time: Duration) {
         self.record_frame(ui_time);
         if self.backend.is_rendering() || self.dialog.is_some() || self.inspector.is_tracing() {
             ctx.request_repaint_after(Duration::from_millis(100));

@@ -29,6 +29,68 @@ use traverse::{QueryRay, Tree};
 use watertight::{LeafTri, WatertightRay};
 use wide::WideNode;
 
+/// The mesh's triangles in obvhs' form, in scene order.
+fn triangles(mesh: &Mesh) -> Vec<Triangle> {
+    (0..mesh.triangle_count())
+        .map(|t| {
+            let [a, b, c] = mesh.tri(t);
+            Triangle {
+                v0: a.into(),
+                v1: b.into(),
+                v2: c.into(),
+            }
+        })
+        .collect()
+}
+
+/// obvhs' PLOC BVH2 over `tris` collapsed to wide nodes: (nodes, levels, triangle order of
+/// the leaves); all empty without triangles.
+fn build_wide(tris: &[Triangle]) -> (Vec<WideNode>, u32, Vec<u32>) {
+    if tris.is_empty() {
+        return (Vec::new(), 0, Vec::new());
+    }
+    let params = BvhBuildParams {
+        max_prims_per_leaf: wide::MAX_LEAF,
+        ..BvhBuildParams::medium_build()
+    };
+    let mut core = Duration::ZERO;
+    let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(tris, params, &mut core);
+    let (nodes, depth) = wide::collapse(&bvh2);
+    (nodes, depth, bvh2.primitive_indices)
+}
+
+/// Number the leaves of `nodes` as packets and fill them with their triangles (`order` maps
+/// leaf ranges to indices into `tris`): (packets, scene triangle of each leaf slot).
+fn pack_leaves(
+    nodes: &mut [WideNode],
+    order: &[u32],
+    tris: &[Triangle],
+) -> (Vec<TriPacket>, Vec<u32>) {
+    let leaves = wide::number_packets(nodes);
+    let mut leaf_to_tri = vec![u32::MAX; leaves.len() * LANES];
+    let packets = leaves
+        .iter()
+        .enumerate()
+        .map(|(k, &(first, count))| {
+            let ids = &order[first as usize..(first + count) as usize];
+            leaf_to_tri[k * LANES..k * LANES + ids.len()].copy_from_slice(ids);
+            let leaf: Vec<LeafTri> = ids
+                .iter()
+                .map(|&i| {
+                    let t = &tris[i as usize];
+                    LeafTri {
+                        v0: t.v0,
+                        v1: t.v1,
+                        v2: t.v2,
+                    }
+                })
+                .collect();
+            TriPacket::new(&leaf)
+        })
+        .collect();
+    (packets, leaf_to_tri)
+}
+
 /// A closest-hit result.
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
@@ -66,51 +128,9 @@ impl Bvh {
     /// `wide::W`-ary nodes, slab-test flavour from `Kernel::detect`.
     pub fn build(mesh: &Mesh) -> Bvh {
         let start = Instant::now();
-        let tris: Vec<Triangle> = (0..mesh.triangle_count())
-            .map(|t| {
-                let [a, b, c] = mesh.tri(t);
-                Triangle {
-                    v0: a.into(),
-                    v1: b.into(),
-                    v2: c.into(),
-                }
-            })
-            .collect();
-        let (nodes, depth, order) = if tris.is_empty() {
-            (Vec::new(), 0, Vec::new())
-        } else {
-            let params = BvhBuildParams {
-                max_prims_per_leaf: wide::MAX_LEAF,
-                ..BvhBuildParams::medium_build()
-            };
-            let mut core = Duration::ZERO;
-            let bvh2 = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
-            let (nodes, depth) = wide::collapse(&bvh2);
-            (nodes, depth, bvh2.primitive_indices)
-        };
-        let mut nodes = nodes;
-        let leaves = wide::number_packets(&mut nodes);
-        let mut leaf_to_tri = vec![u32::MAX; leaves.len() * LANES];
-        let packets = leaves
-            .iter()
-            .enumerate()
-            .map(|(k, &(first, count))| {
-                let ids = &order[first as usize..(first + count) as usize];
-                leaf_to_tri[k * LANES..k * LANES + ids.len()].copy_from_slice(ids);
-                let leaf: Vec<LeafTri> = ids
-                    .iter()
-                    .map(|&i| {
-                        let t = &tris[i as usize];
-                        LeafTri {
-                            v0: t.v0,
-                            v1: t.v1,
-                            v2: t.v2,
-                        }
-                    })
-                    .collect();
-                TriPacket::new(&leaf)
-            })
-            .collect();
+        let tris = triangles(mesh);
+        let (mut nodes, depth, order) = build_wide(&tris);
+        let (packets, leaf_to_tri) = pack_leaves(&mut nodes, &order, &tris);
         let kernel = Kernel::detect();
         let (closest, any) = kernel.queries().expect("detected kernels are supported");
         Bvh {

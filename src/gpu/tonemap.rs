@@ -55,6 +55,34 @@ impl ToneTarget {
     }
 }
 
+/// The uniforms of one tone map of an image of `size` pixels.
+fn tone_params(size: [u32; 2], tone_map: ToneMap, exposure: f32) -> ToneParams {
+    ToneParams {
+        width: size[0],
+        height: size[1],
+        tone: match tone_map {
+            ToneMap::Clamp => 0,
+            ToneMap::Reinhard => 1,
+            ToneMap::Aces => 2,
+        },
+        scale: exposure_scale(exposure),
+    }
+}
+
+/// Without view formats: record the copy of the tone-mapped bytes, through the staging
+/// buffer, into the `Rgba8UnormSrgb` texture the UI samples (nothing otherwise).
+fn encode_copy(enc: &mut wgpu::CommandEncoder, target: &ToneTarget) {
+    let size = target.size;
+    if let Some((buffer, shown)) = &target.copy {
+        enc.copy_texture_to_buffer(
+            texel_copy(&target.texture),
+            buffer_copy(buffer, size),
+            extent(size),
+        );
+        enc.copy_buffer_to_texture(buffer_copy(buffer, size), texel_copy(shown), extent(size));
+    }
+}
+
 /// Bytes per row of an RGBA8 image `width` wide, padded for buffer ↔ texture copies.
 fn padded_row(width: u32) -> u32 {
     (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
@@ -212,26 +240,35 @@ impl ToneMapper {
     /// with `exposure` in stops. Nothing happens before [`ToneMapper::ensure_target`].
     pub fn run(&self, ctx: &GpuContext, accum: &wgpu::Buffer, tone_map: ToneMap, exposure: f32) {
         let Some(target) = &self.target else { return };
-        let size = target.size;
-        let p = ToneParams {
-            width: size[0],
-            height: size[1],
-            tone: match tone_map {
-                ToneMap::Clamp => 0,
-                ToneMap::Reinhard => 1,
-                ToneMap::Aces => 2,
-            },
-            scale: exposure_scale(exposure),
-        };
+        let p = tone_params(target.size, tone_map, exposure);
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let bind_group = self.bind_group(ctx, accum, target);
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tonemap"),
+            });
+        self.encode_dispatch(&mut enc, &bind_group, target.size);
+        encode_copy(&mut enc, target);
+        ctx.queue.submit([enc.finish()]);
+    }
+
+    /// The bind group of one tone map: `accum`, the parameters and a storage view of the
+    /// target texture.
+    fn bind_group(
+        &self,
+        ctx: &GpuContext,
+        accum: &wgpu::Buffer,
+        target: &ToneTarget,
+    ) -> wgpu::BindGroup {
         let view = target.texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("refract image (storage view)"),
             format: Some(wgpu::TextureFormat::Rgba8Unorm),
             usage: Some(wgpu::TextureUsages::STORAGE_BINDING),
             ..Default::default()
         });
-        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tonemap"),
             layout: &self.layout,
             entries: &[
@@ -248,30 +285,23 @@ impl ToneMapper {
                     resource: wgpu::BindingResource::TextureView(&view),
                 },
             ],
+        })
+    }
+
+    /// Record the tone-map compute pass over an image of `size` pixels (8×8 workgroups).
+    fn encode_dispatch(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        bind_group: &wgpu::BindGroup,
+        size: [u32; 2],
+    ) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("tonemap"),
+            timestamp_writes: None,
         });
-        let mut enc = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("tonemap"),
-            });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("tonemap"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
-        }
-        if let Some((buffer, shown)) = &target.copy {
-            enc.copy_texture_to_buffer(
-                texel_copy(&target.texture),
-                buffer_copy(buffer, size),
-                extent(size),
-            );
-            enc.copy_buffer_to_texture(buffer_copy(buffer, size), texel_copy(shown), extent(size));
-        }
-        ctx.queue.submit([enc.finish()]);
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
     }
 
     /// Read back the texture a UI samples: (width, height, RGBA8 sRGB bytes). Blocking; for

@@ -4,7 +4,7 @@
 
 use super::layout::{self, BvhNode, Light, Material, Triangle, Vertex};
 use crate::bsdf::{Bsdf, MicrofacetDistribution};
-use crate::scene::light::{Light as SceneLight, LightSet};
+use crate::scene::light::{ImageEnvironment, Light as SceneLight, LightSet};
 use crate::scene::material::{Texture, TextureRef, Wrap};
 use crate::scene::{Features, MaterialKind, Mesh, Scene};
 use anyhow::{Result, bail, ensure};
@@ -466,58 +466,65 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
         .lights
         .iter()
         .zip(&lights.cdf)
-        .map(|(l, &cdf)| {
-            let mut g = Light {
-                cdf,
-                ..Default::default()
-            };
-            match l {
-                SceneLight::Triangle(t) => {
-                    g.kind = layout::LIGHT_TRIANGLE;
-                    g.index = bvh.slot_of_tri.get(t.tri as usize).copied().unwrap_or(0);
-                }
-                SceneLight::Point(p) => {
-                    g.kind = layout::LIGHT_POINT;
-                    g.position = p.position.to_array();
-                    g.intensity = p.intensity.to_array();
-                }
-                SceneLight::Spot(s) => {
-                    g.kind = layout::LIGHT_SPOT;
-                    g.position = s.position.to_array();
-                    g.direction = s.direction.to_array();
-                    g.intensity = s.intensity.to_array();
-                    g.cos_inner = s.cos_inner;
-                    g.cos_outer = s.cos_outer;
-                }
-                SceneLight::Directional(d) => {
-                    g.kind = layout::LIGHT_DIRECTIONAL;
-                    g.direction = d.direction.to_array();
-                    g.intensity = d.irradiance.to_array();
-                    (g.position, g.radius) = (d.center.to_array(), d.radius);
-                }
-                // Not in the distribution: escaping rays read the environment uniform.
-                SceneLight::Environment(_) => {}
-                // The image's block in `texels` (`pack_environment`), strength, rotation.
-                SceneLight::Image(e) => {
-                    g.kind = layout::LIGHT_IMAGE;
-                    g.index = env_offset;
-                    g.intensity = [e.image.strength; 3];
-                    g.direction = [
-                        e.cos_rot,
-                        e.sin_rot,
-                        if e.image.importance { 1.0 } else { 0.0 },
-                    ];
-                    (g.position, g.radius) = (e.center.to_array(), e.radius);
-                }
-            }
-            g
-        })
+        .map(|(l, &cdf)| pack_light(bvh, l, cdf, env_offset))
         .collect();
     let count = out.len() as u32;
     if out.is_empty() {
         out.push(Light::default());
     }
     (out, count)
+}
+
+/// One entry of the light distribution: light `l` with its CDF value `cdf` (`env_offset`:
+/// the environment image's block, see [`pack_environment`]).
+fn pack_light(bvh: &GpuBvh, l: &SceneLight, cdf: f32, env_offset: u32) -> Light {
+    let mut g = Light {
+        cdf,
+        ..Default::default()
+    };
+    match l {
+        SceneLight::Triangle(t) => {
+            g.kind = layout::LIGHT_TRIANGLE;
+            g.index = bvh.slot_of_tri.get(t.tri as usize).copied().unwrap_or(0);
+        }
+        SceneLight::Point(p) => {
+            g.kind = layout::LIGHT_POINT;
+            g.position = p.position.to_array();
+            g.intensity = p.intensity.to_array();
+        }
+        SceneLight::Spot(s) => {
+            g.kind = layout::LIGHT_SPOT;
+            g.position = s.position.to_array();
+            g.direction = s.direction.to_array();
+            g.intensity = s.intensity.to_array();
+            g.cos_inner = s.cos_inner;
+            g.cos_outer = s.cos_outer;
+        }
+        SceneLight::Directional(d) => {
+            g.kind = layout::LIGHT_DIRECTIONAL;
+            g.direction = d.direction.to_array();
+            g.intensity = d.irradiance.to_array();
+            (g.position, g.radius) = (d.center.to_array(), d.radius);
+        }
+        // Not in the distribution: escaping rays read the environment uniform.
+        SceneLight::Environment(_) => {}
+        SceneLight::Image(e) => image_light(&mut g, e, env_offset),
+    }
+    g
+}
+
+/// Fill `g` for the environment image `e`: the image's block in `texels`
+/// (`pack_environment`), strength, rotation.
+fn image_light(g: &mut Light, e: &ImageEnvironment, env_offset: u32) {
+    g.kind = layout::LIGHT_IMAGE;
+    g.index = env_offset;
+    g.intensity = [e.image.strength; 3];
+    g.direction = [
+        e.cos_rot,
+        e.sin_rot,
+        if e.image.importance { 1.0 } else { 0.0 },
+    ];
+    (g.position, g.radius) = (e.center.to_array(), e.radius);
 }
 
 /// Append the environment image of `lights` (if any) to the `texels` array (scene.wgsl) and

@@ -9,7 +9,7 @@ use crate::bsdf::fresnel::{
     FresnelTerms, fresnel_conductor, fresnel_dielectric_terms, fresnel_schlick,
 };
 use eframe::egui::{self, Color32};
-use egui_plot::{Line, LineStyle, Plot, PlotPoints, VLine};
+use egui_plot::{Line, LineStyle, Plot, PlotPoints, PlotUi, VLine};
 
 /// Brewster angle (r_p = 0) for light going from index n₁ into n₂: tanθ_B = n₂/n₁ (Hecht §8.6).
 pub fn brewster_deg(n1: f32, n2: f32) -> f32 {
@@ -71,20 +71,6 @@ const ORANGE: Color32 = Color32::from_rgb(255, 150, 60);
 /// F, r_p² and r_s² against the angle of incidence, entering and leaving glass of index `eta`,
 /// with the Brewster and critical angles marked.
 fn fresnel_plot(ui: &mut egui::Ui, eta: f32) {
-    const STEPS: usize = 180;
-    let curve = |leaving: bool, f: fn(&FresnelTerms) -> f32| -> Vec<[f64; 2]> {
-        (0..=STEPS)
-            .map(|i| {
-                let deg = 90.0 * i as f32 / STEPS as f32;
-                let c = deg.to_radians().cos();
-                let t = fresnel_dielectric_terms(if leaving { -c } else { c }, eta);
-                [deg as f64, f(&t) as f64]
-            })
-            .collect()
-    };
-    let par = |t: &FresnelTerms| t.r_par * t.r_par;
-    let perp = |t: &FresnelTerms| t.r_perp * t.r_perp;
-    let unpol = |t: &FresnelTerms| t.f;
     Plot::new("fresnel")
         .height(190.0)
         .include_x(0.0)
@@ -97,34 +83,60 @@ fn fresnel_plot(ui: &mut egui::Ui, eta: f32) {
         .allow_zoom(false)
         .allow_scroll(false)
         .show(ui, |p| {
-            for (leaving, colour, side) in [(false, BLUE, "entering"), (true, ORANGE, "leaving")] {
-                let line = |label: &str, f: fn(&FresnelTerms) -> f32| {
-                    Line::new(
-                        format!("{label} {side}"),
-                        PlotPoints::from(curve(leaving, f)),
-                    )
-                    .color(colour)
-                };
-                p.line(line("F", unpol).width(2.0));
-                p.line(line("r_p²", par).style(LineStyle::dashed_dense()));
-                p.line(line("r_s²", perp).style(LineStyle::dotted_dense()));
-            }
-            p.vline(
-                VLine::new("Brewster (entering)", brewster_deg(1.0, eta))
-                    .color(BLUE.gamma_multiply(0.6)),
-            );
-            p.vline(
-                VLine::new("Brewster (leaving)", brewster_deg(eta, 1.0))
-                    .color(ORANGE.gamma_multiply(0.6)),
-            );
-            if let Some(c) = critical_deg(eta, 1.0) {
-                p.vline(
-                    VLine::new("critical angle", c)
-                        .color(Color32::from_rgb(230, 80, 80))
-                        .width(2.0),
-                );
-            }
+            reflectance_lines(p, eta);
+            angle_lines(p, eta);
         });
+}
+
+/// One reflectance term `f` against the angle of incidence, 0°–90°, for light entering or
+/// (`leaving`) glass of index `eta`.
+fn dielectric_curve(eta: f32, leaving: bool, f: fn(&FresnelTerms) -> f32) -> Vec<[f64; 2]> {
+    const STEPS: usize = 180;
+    (0..=STEPS)
+        .map(|i| {
+            let deg = 90.0 * i as f32 / STEPS as f32;
+            let c = deg.to_radians().cos();
+            let t = fresnel_dielectric_terms(if leaving { -c } else { c }, eta);
+            [deg as f64, f(&t) as f64]
+        })
+        .collect()
+}
+
+/// The F (solid), r_p² (dashed) and r_s² (dotted) curves, entering in blue and leaving in
+/// orange.
+fn reflectance_lines(p: &mut PlotUi<'_>, eta: f32) {
+    let par = |t: &FresnelTerms| t.r_par * t.r_par;
+    let perp = |t: &FresnelTerms| t.r_perp * t.r_perp;
+    let unpol = |t: &FresnelTerms| t.f;
+    for (leaving, colour, side) in [(false, BLUE, "entering"), (true, ORANGE, "leaving")] {
+        let line = |label: &str, f: fn(&FresnelTerms) -> f32| {
+            Line::new(
+                format!("{label} {side}"),
+                PlotPoints::from(dielectric_curve(eta, leaving, f)),
+            )
+            .color(colour)
+        };
+        p.line(line("F", unpol).width(2.0));
+        p.line(line("r_p²", par).style(LineStyle::dashed_dense()));
+        p.line(line("r_s²", perp).style(LineStyle::dotted_dense()));
+    }
+}
+
+/// Vertical markers at the Brewster angles (entering, leaving) and the critical angle.
+fn angle_lines(p: &mut PlotUi<'_>, eta: f32) {
+    p.vline(
+        VLine::new("Brewster (entering)", brewster_deg(1.0, eta)).color(BLUE.gamma_multiply(0.6)),
+    );
+    p.vline(
+        VLine::new("Brewster (leaving)", brewster_deg(eta, 1.0)).color(ORANGE.gamma_multiply(0.6)),
+    );
+    if let Some(c) = critical_deg(eta, 1.0) {
+        p.vline(
+            VLine::new("critical angle", c)
+                .color(Color32::from_rgb(230, 80, 80))
+                .width(2.0),
+        );
+    }
 }
 
 /// The legend, R₀ and the Brewster and critical angles of glass of index `eta` in words.

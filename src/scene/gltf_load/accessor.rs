@@ -136,6 +136,69 @@ pub(super) enum AccessorData {
     Uint(Vec<u32>),
 }
 
+/// What decoding accessor `ai` takes: where its elements lie (None: no buffer view, all
+/// zeros), how many, their components and component type.
+struct Elements<'a> {
+    ai: usize,
+    strided: Option<Strided<'a>>,
+    count: usize,
+    comps: usize,
+    ct: json::accessor::ComponentType,
+    normalized: bool,
+}
+
+impl Elements<'_> {
+    /// The `count × comps` components as unsigned integers (U8, U16 or U32 only: indices).
+    fn uints(&self) -> Result<Vec<u32>, String> {
+        let ai = self.ai;
+        if !matches!(
+            self.ct,
+            json::accessor::ComponentType::U8
+                | json::accessor::ComponentType::U16
+                | json::accessor::ComponentType::U32
+        ) {
+            return Err(format!("accessor {ai}: indices must be unsigned integers"));
+        }
+        let mut v: Vec<u32> = decoded_vec(ai, self.count * self.comps)?;
+        match &self.strided {
+            Some(s) => {
+                let cs = comp_size(self.ct);
+                let bad = || format!("accessor {ai} reads out of bounds");
+                for i in 0..self.count {
+                    for k in 0..self.comps {
+                        v.push(read_uint(s.data, s.at(i) + k * cs, self.ct).ok_or_else(bad)?);
+                    }
+                }
+            }
+            None => v.resize(self.count * self.comps, 0),
+        }
+        Ok(v)
+    }
+
+    /// The `count × comps` components as floats (normalised integers mapped to [0, 1] or
+    /// [−1, 1]).
+    fn floats(&self) -> Result<Vec<f32>, String> {
+        let ai = self.ai;
+        let mut v: Vec<f32> = decoded_vec(ai, self.count * self.comps)?;
+        match &self.strided {
+            Some(s) => {
+                let cs = comp_size(self.ct);
+                let bad = || format!("accessor {ai} reads out of bounds");
+                for i in 0..self.count {
+                    for k in 0..self.comps {
+                        v.push(
+                            read_comp(s.data, s.at(i) + k * cs, self.ct, self.normalized)
+                                .ok_or_else(bad)?,
+                        );
+                    }
+                }
+            }
+            None => v.resize(self.count * self.comps, 0.0),
+        }
+        Ok(v)
+    }
+}
+
 impl Loader<'_> {
     /// Locate accessor `ai`'s elements, checking every offset against the buffer.
     fn locate(&self, ai: usize) -> Result<(&json::Accessor, Option<Strided<'_>>, usize), String> {
@@ -228,66 +291,33 @@ impl Loader<'_> {
         let (Checked::Valid(ty), Checked::Valid(ct)) = (acc.type_, acc.component_type) else {
             return Err(format!("accessor {ai} has an invalid type"));
         };
-        let ct = ct.0;
-        let comps = type_comps(ty);
-        let count = acc.count.0 as usize;
-        let cs = comp_size(ct);
-        let bad = || format!("accessor {ai} reads out of bounds");
+        let el = Elements {
+            ai,
+            strided,
+            count: acc.count.0 as usize,
+            comps: type_comps(ty),
+            ct: ct.0,
+            normalized: acc.normalized,
+        };
         let mut data = if want_uint {
-            if !matches!(
-                ct,
-                json::accessor::ComponentType::U8
-                    | json::accessor::ComponentType::U16
-                    | json::accessor::ComponentType::U32
-            ) {
-                return Err(format!("accessor {ai}: indices must be unsigned integers"));
-            }
-            let mut v: Vec<u32> = decoded_vec(ai, count * comps)?;
-            match &strided {
-                Some(s) => {
-                    for i in 0..count {
-                        for k in 0..comps {
-                            v.push(read_uint(s.data, s.at(i) + k * cs, ct).ok_or_else(bad)?);
-                        }
-                    }
-                }
-                None => v.resize(count * comps, 0),
-            }
-            AccessorData::Uint(v)
+            AccessorData::Uint(el.uints()?)
         } else {
-            let mut v: Vec<f32> = decoded_vec(ai, count * comps)?;
-            match &strided {
-                Some(s) => {
-                    for i in 0..count {
-                        for k in 0..comps {
-                            v.push(
-                                read_comp(s.data, s.at(i) + k * cs, ct, acc.normalized)
-                                    .ok_or_else(bad)?,
-                            );
-                        }
-                    }
-                }
-                None => v.resize(count * comps, 0.0),
-            }
-            AccessorData::Float(v)
+            AccessorData::Float(el.floats()?)
         };
         if let Some(sp) = &acc.sparse {
-            self.apply_sparse(ai, sp, count, comps, ct, acc.normalized, &mut data)?;
+            self.apply_sparse(&el, sp, &mut data)?;
         }
-        Ok((data, comps))
+        Ok((data, el.comps))
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// Substitute the sparse values `sp` into the decoded elements `data` of accessor `el`.
     fn apply_sparse(
         &self,
-        ai: usize,
+        el: &Elements,
         sp: &json::accessor::sparse::Sparse,
-        count: usize,
-        comps: usize,
-        ct: json::accessor::ComponentType,
-        normalized: bool,
         data: &mut AccessorData,
     ) -> Result<(), String> {
+        let (ai, count, comps, ct, normalized) = (el.ai, el.count, el.comps, el.ct, el.normalized);
         let n = sp.count.0;
         if n > count as u64 {
             return Err(format!(

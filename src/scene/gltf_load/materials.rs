@@ -36,6 +36,58 @@ struct MaterialTextures {
     transmission: Option<TextureRef>,
 }
 
+/// A material's factors and extension values: everything but its textures and kind.
+struct Factors {
+    base_color: Vec3,
+    metallic: f32,
+    roughness: f32,
+    transmission: f32,
+    ior: f32,
+    volume: Volume,
+    emission: Vec3,
+    specular_factor: f32,
+    specular_color: Vec3,
+    abbe: Option<f32>,
+    distribution: MicrofacetDistribution,
+    priority: i32,
+    conductor: Option<Metal>,
+}
+
+/// The scene material named `name` of kind `kind` from its factors `f` and textures `tex`.
+fn assemble(
+    name: String,
+    kind: MaterialKind,
+    double_sided: bool,
+    f: Factors,
+    tex: MaterialTextures,
+) -> Material {
+    Material {
+        name,
+        kind,
+        base_color: f.base_color,
+        base_color_texture: tex.base_color,
+        metallic: f.metallic,
+        roughness: f.roughness,
+        metallic_roughness_texture: tex.metallic_roughness,
+        normal_texture: tex.normal,
+        normal_scale: tex.normal_scale,
+        ior: f.ior,
+        abbe: f.abbe,
+        distribution: f.distribution,
+        emission: f.emission,
+        emissive_texture: tex.emissive,
+        double_sided,
+        attenuation_color: f.volume.attenuation_color,
+        attenuation_distance: f.volume.attenuation_distance,
+        transmission_factor: f.transmission,
+        transmission_texture: tex.transmission,
+        specular_factor: f.specular_factor,
+        specular_color: f.specular_color,
+        priority: f.priority,
+        conductor: f.conductor,
+    }
+}
+
 /// `KHR_materials_specular`: (specularFactor, specularColorFactor), (1, white) without it.
 fn specular(ext: Option<&json::extensions::material::Material>) -> (f32, Vec3) {
     let spec = ext.and_then(|e| e.specular.as_ref());
@@ -80,55 +132,51 @@ impl Loader<'_> {
         m: &json::Material,
     ) -> anyhow::Result<Material> {
         let name = m.name.clone().unwrap_or_else(|| format!("material{i}"));
-        let pbr = &m.pbr_metallic_roughness;
-        let (base_color, metallic, roughness) = self.pbr_factors(pbr, &name);
-        let ext = m.extensions.as_ref();
-        let transmission = self.transmission_factor(ext, &name);
-        let ior = self.ior(ext, &name, i)?;
-        let volume = self.volume(ext, &name);
-        let emission = self.emission(m, ext, &name, i)?;
-        let (specular_factor, specular_color) = specular(ext);
-        self.warn_ignored_features(m, ext, &name);
-        let abbe = self.dispersion_abbe(ext, &name);
-        let distribution = self.microfacet_distribution(m, &name, i)?;
-        let priority = self.priority(m, &name, i)?;
-        let conductor = conductor(m, &name, i)?;
-        let tex = self.material_textures(m, emission, transmission, &name)?;
-
+        let f = self.material_factors(i, m, &name)?;
+        let tex = self.material_textures(m, f.emission, f.transmission, &name)?;
         let kind = self.material_kind(
             &name,
-            transmission,
-            volume.thickness,
-            (metallic, roughness),
+            f.transmission,
+            f.volume.thickness,
+            (f.metallic, f.roughness),
             tex.metallic_roughness.is_some(),
         );
-        let mut mat = Material {
-            name,
-            kind,
-            base_color,
-            base_color_texture: tex.base_color,
-            metallic,
-            roughness,
-            metallic_roughness_texture: tex.metallic_roughness,
-            normal_texture: tex.normal,
-            normal_scale: tex.normal_scale,
-            ior,
-            abbe,
-            distribution,
-            emission,
-            emissive_texture: tex.emissive,
-            double_sided: m.double_sided,
-            attenuation_color: volume.attenuation_color,
-            attenuation_distance: volume.attenuation_distance,
-            transmission_factor: transmission,
-            transmission_texture: tex.transmission,
-            specular_factor,
-            specular_color,
-            priority,
-            conductor,
-        };
+        let mut mat = assemble(name, kind, m.double_sided, f, tex);
         enforce_contract(&mut mat)?;
         Ok(mat)
+    }
+
+    /// Every factor and extension value of material `i` (named `name`), read and checked in
+    /// the contract's order (which fixes the order of its warnings).
+    fn material_factors(
+        &mut self,
+        i: usize,
+        m: &json::Material,
+        name: &str,
+    ) -> anyhow::Result<Factors> {
+        let (base_color, metallic, roughness) = self.pbr_factors(&m.pbr_metallic_roughness, name);
+        let ext = m.extensions.as_ref();
+        let transmission = self.transmission_factor(ext, name);
+        let ior = self.ior(ext, name, i)?;
+        let volume = self.volume(ext, name);
+        let emission = self.emission(m, ext, name, i)?;
+        let (specular_factor, specular_color) = specular(ext);
+        self.warn_ignored_features(m, ext, name);
+        Ok(Factors {
+            base_color,
+            metallic,
+            roughness,
+            transmission,
+            ior,
+            volume,
+            emission,
+            specular_factor,
+            specular_color,
+            abbe: self.dispersion_abbe(ext, name),
+            distribution: self.microfacet_distribution(m, name, i)?,
+            priority: self.priority(m, name, i)?,
+            conductor: conductor(m, name, i)?,
+        })
     }
 
     /// `KHR_materials_transmission.transmissionFactor` (0 without the extension), clamped to

@@ -131,34 +131,54 @@ impl Loader<'_> {
         let pos_i = attr(json::mesh::Semantic::Positions).ok_or("it has no POSITION attribute")?;
         let positions = self.read_floats(pos_i, 3, "POSITION")?;
         let nv = positions.len() / 3;
-        let normals = match attr(json::mesh::Semantic::Normals) {
-            Some(i) => {
-                let n = self.read_floats(i, 3, "NORMAL")?;
-                if n.len() != positions.len() {
-                    return Err(format!(
-                        "NORMAL count {} differs from POSITION count {nv}",
-                        n.len() / 3
-                    ));
-                }
-                Some(n)
+        let normals = self.read_normals(attr(json::mesh::Semantic::Normals), nv)?;
+        let uvs = self.read_uvs(attr(json::mesh::Semantic::TexCoords(0)), nv);
+        let indices = self.read_indices(prim, nv)?;
+        Ok(PrimitiveData {
+            positions,
+            normals,
+            uvs,
+            indices,
+        })
+    }
+
+    /// The NORMAL accessor `ai` (if any), which must hold one normal per vertex (`nv`).
+    fn read_normals(&self, ai: Option<usize>, nv: usize) -> Result<Option<Vec<f32>>, String> {
+        let Some(i) = ai else { return Ok(None) };
+        let n = self.read_floats(i, 3, "NORMAL")?;
+        if n.len() != nv * 3 {
+            return Err(format!(
+                "NORMAL count {} differs from POSITION count {nv}",
+                n.len() / 3
+            ));
+        }
+        Ok(Some(n))
+    }
+
+    /// The TEXCOORD_0 accessor `ai` (if any) with one UV per vertex (`nv`); a broken or
+    /// mismatched one is ignored with a warning.
+    fn read_uvs(&mut self, ai: Option<usize>, nv: usize) -> Option<Vec<f32>> {
+        match self.read_floats(ai?, 2, "TEXCOORD_0") {
+            Ok(t) if t.len() / 2 == nv => Some(t),
+            Ok(_) => {
+                self.warnings
+                    .push("TEXCOORD_0 count differs from POSITION count; UVs ignored".into());
+                None
             }
-            None => None,
-        };
-        let uvs = match attr(json::mesh::Semantic::TexCoords(0)) {
-            Some(i) => match self.read_floats(i, 2, "TEXCOORD_0") {
-                Ok(t) if t.len() / 2 == nv => Some(t),
-                Ok(_) => {
-                    self.warnings
-                        .push("TEXCOORD_0 count differs from POSITION count; UVs ignored".into());
-                    None
-                }
-                Err(e) => {
-                    self.warnings.push(format!("{e}; UVs ignored"));
-                    None
-                }
-            },
-            None => None,
-        };
+            Err(e) => {
+                self.warnings.push(format!("{e}; UVs ignored"));
+                None
+            }
+        }
+    }
+
+    /// The primitive's indices (0..`nv` when it has none), each checked to address one of
+    /// its `nv` vertices; a count that is not a multiple of 3 gets a warning.
+    fn read_indices(
+        &mut self,
+        prim: &json::mesh::Primitive,
+        nv: usize,
+    ) -> Result<Vec<u32>, String> {
         let indices: Vec<u32> = match prim.indices {
             Some(ii) => match self.read_accessor(ii.value(), true)? {
                 (AccessorData::Uint(v), 1) => v,
@@ -175,12 +195,7 @@ impl Loader<'_> {
                 indices.len()
             ));
         }
-        Ok(PrimitiveData {
-            positions,
-            normals,
-            uvs,
-            indices,
-        })
+        Ok(indices)
     }
 
     /// Append the primitive's non-degenerate triangles to the scene mesh. Vertices with a
