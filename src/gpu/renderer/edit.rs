@@ -1,0 +1,377 @@
+//! Parameter edits (material, estimator, wavefront, environment, camera, options, scene,
+//! path filter) and the respecialisation and buffer fitting they entail.
+
+use super::{
+    GpuRenderer, gpu_estimator, light_tracing_for, photon_paths, splat_film, splat_film_bytes,
+    sppm_for,
+};
+use crate::gpu::buffers::{checked_bytes, storage};
+use crate::gpu::layout;
+use crate::gpu::photons::PhotonStore;
+use crate::gpu::pipeline::Specialization;
+use crate::gpu::upload;
+use crate::paths::{DfaTable, PathFilter};
+use crate::render::{Estimator, RenderOptions};
+use crate::scene::{Camera, Features, Material, Scene, light::LightSet};
+use anyhow::{Result, ensure};
+use glam::Vec3;
+
+impl GpuRenderer {
+    /// Change material `index` (colour, IOR, roughness, emission …): buffers are rewritten in
+    /// place, the BVH is kept, and the pipeline is only switched if the material's *kind*
+    /// changes the specialisation (then compiled once and cached). Accumulation restarts.
+    pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
+        material.validate()?;
+        ensure!(
+            index < self.scene.materials.len(),
+            "material index {index} out of range ({} materials)",
+            self.scene.materials.len()
+        );
+        let emission_changed = self.scene.materials[index].emission != material.emission
+            || self.scene.materials[index].double_sided != material.double_sided;
+        let old = std::mem::replace(&mut self.scene.materials[index], material);
+        if let Err(e) = upload::check_supported(&self.scene) {
+            self.scene.materials[index] = old;
+            return Err(e);
+        }
+        let textures_changed = {
+            let (a, b) = (&old, &self.scene.materials[index]);
+            a.base_color_texture != b.base_color_texture
+                || a.metallic_roughness_texture != b.metallic_roughness_texture
+                || a.emissive_texture != b.emissive_texture
+                || a.normal_texture != b.normal_texture
+                || a.kind != b.kind
+        };
+        if textures_changed {
+            self.repack_textures()?;
+        }
+        self.write_material(index);
+        if emission_changed {
+            self.rebuild_lights()?;
+        }
+        self.features = self.scene.features();
+        self.respecialize();
+        self.fit_splat_film()?;
+        self.fit_photon_store()?;
+        self.reset();
+        Ok(())
+    }
+
+    /// Repack the textures and every material (their texture slots may move) after a material
+    /// edit and rebind; the lights too when the environment's block in `texels` moves.
+    fn repack_textures(&mut self) -> Result<()> {
+        let (mut texels, slots) = upload::pack_textures(&self.scene);
+        let env_offset = upload::pack_environment(&self.light_set, &mut texels);
+        self.buffers.texels = storage(
+            &self.ctx,
+            "texels",
+            checked_bytes("textures", &texels, self.ctx.max_binding_bytes())?,
+        );
+        let mats = upload::pack_materials(&self.scene, &slots);
+        self.ctx.queue.write_buffer(
+            &self.buffers.materials,
+            0,
+            checked_bytes("materials", &mats, self.ctx.max_binding_bytes())?,
+        );
+        self.tex_slots = slots;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        if env_offset != self.buffers.env_offset {
+            self.buffers.env_offset = env_offset;
+            self.rebuild_lights()?;
+        }
+        Ok(())
+    }
+
+    /// Rewrite material `index` in place in the materials buffer.
+    fn write_material(&self, index: usize) {
+        let packed = upload::pack_material(
+            &self.scene,
+            &self.scene.materials[index],
+            self.tex_slots[index],
+        );
+        self.ctx.queue.write_buffer(
+            &self.buffers.materials,
+            (index * std::mem::size_of::<layout::Material>()) as u64,
+            bytemuck::bytes_of(&packed),
+        );
+    }
+
+    /// The kernel parts for `features` with the filter and estimator of `opts`.
+    pub(super) fn specialization_for(
+        features: Features,
+        opts: &RenderOptions,
+        scene: &Scene,
+        bvh_depth: u32,
+        wavefront: Option<bool>,
+    ) -> Specialization {
+        let mut spec = Specialization::from_features(features).with_bvh_depth(bvh_depth);
+        spec.filter = opts.filter.is_some();
+        spec.light_tracing = light_tracing_for(opts, scene);
+        spec.sppm = sppm_for(opts, scene);
+        match wavefront {
+            Some(w) => Specialization {
+                wavefront: w,
+                ..spec
+            },
+            None => spec.with_wavefront_rule(),
+        }
+    }
+
+    /// Give the splat film the size the current specialisation needs (a whole film with light
+    /// tracing, one pixel's worth otherwise) and rebind when it changes.
+    fn fit_splat_film(&mut self) -> Result<()> {
+        let want = splat_film_bytes(self.spec.light_tracing, &self.opts);
+        if want == self.buffers.splats.size() {
+            return Ok(());
+        }
+        let cap = self.ctx.max_binding_bytes();
+        ensure!(
+            want <= cap,
+            "image {}x{} too large for light tracing on this GPU: its splat film needs {} MiB, \
+             the device binds at most {} MiB per buffer",
+            self.opts.width,
+            self.opts.height,
+            want >> 20,
+            cap >> 20
+        );
+        self.buffers.splats = self.ctx.scoped("cannot create the splat film", || {
+            splat_film(&self.ctx, want)
+        })?;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        Ok(())
+    }
+
+    /// Give the photon store the size the current specialisation needs (one slot per pixel
+    /// with sppm, a placeholder otherwise) and rebind when it changes.
+    fn fit_photon_store(&mut self) -> Result<()> {
+        let paths = photon_paths(self.spec.sppm, &self.opts).max(1);
+        if paths == self.buffers.photon_store.paths {
+            return Ok(());
+        }
+        self.buffers.photon_store = self.ctx.scoped("cannot create the photon store", || {
+            PhotonStore::new(&self.ctx, paths)
+        })??;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        Ok(())
+    }
+
+    /// Select the specialisation for the current features, filter and estimator, and have
+    /// its pipelines compiled (cached; on a worker thread with background compilation).
+    pub(super) fn respecialize(&mut self) {
+        self.spec = Self::specialization_for(
+            self.features,
+            &self.opts,
+            &self.scene,
+            self.bvh.depth,
+            self.wavefront_override,
+        );
+        self.fit_wavefront();
+        self.request_pipelines();
+    }
+
+    /// Run the camera walk as a wavefront (`Some(true)`), as the megakernel (`Some(false)`) or
+    /// as `Specialization::wants_wavefront` decides (`None`); accumulation restarts.
+    pub fn set_wavefront(&mut self, wavefront: Option<bool>) {
+        self.wavefront_override = wavefront;
+        self.respecialize();
+        self.reset();
+    }
+
+    /// Size the wavefront's bounces by indirect dispatch (`true`, the default, where the
+    /// adapter has `DownlevelFlags::INDIRECT_EXECUTION`) or dispatch every bounce over the
+    /// whole chunk (`false`; for tests: the same image either way).
+    pub fn set_wavefront_indirect(&mut self, on: bool) {
+        let flags = self.ctx.adapter.get_downlevel_capabilities().flags;
+        self.wavefront_indirect = on && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION);
+    }
+
+    /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);
+    /// compiles its pipelines on first use; accumulation restarts.
+    pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
+        gpu_estimator(estimator, &self.scene)?;
+        let whole = light_tracing_for(
+            &RenderOptions {
+                estimator,
+                ..self.opts
+            },
+            &self.scene,
+        ) || sppm_for(
+            &RenderOptions {
+                estimator,
+                ..self.opts
+            },
+            &self.scene,
+        );
+        ensure!(
+            !(whole && self.tiled.is_some()),
+            "image {}x{} is larger than one GPU binding and renders in tiles, which only path \
+             tracing does (light tracing and photons need the whole image at once)",
+            self.opts.width,
+            self.opts.height
+        );
+        self.opts.estimator = estimator;
+        self.respecialize();
+        self.fit_splat_film()?;
+        self.fit_photon_store()?;
+        self.reset();
+        Ok(())
+    }
+
+    /// The estimator asked for.
+    pub fn estimator(&self) -> Estimator {
+        self.opts.estimator
+    }
+
+    /// The estimator the kernels run.
+    pub fn effective_estimator(&self) -> Estimator {
+        if self.spec.light_tracing {
+            Estimator::LtPt
+        } else if self.spec.sppm {
+            Estimator::Sppm
+        } else {
+            Estimator::Path
+        }
+    }
+
+    /// Light distribution changed (emission edits): rewrite triangles (pick probabilities) and
+    /// the light CDF; the BVH is kept.
+    fn rebuild_lights(&mut self) -> Result<()> {
+        self.light_set = LightSet::build(&self.scene);
+        let tris = upload::pack_triangles(&self.scene, &self.bvh, &self.light_set);
+        self.ctx.queue.write_buffer(
+            &self.buffers.triangles,
+            0,
+            checked_bytes("triangles", &tris, self.ctx.max_binding_bytes())?,
+        );
+        let (lights, count) =
+            upload::pack_lights(&self.bvh, &self.light_set, self.buffers.env_offset);
+        let bytes = checked_bytes("lights", &lights, self.ctx.max_binding_bytes())?;
+        if bytes.len() as u64 <= self.buffers.lights.size() {
+            self.ctx.queue.write_buffer(&self.buffers.lights, 0, bytes);
+        } else {
+            self.buffers.lights = storage(&self.ctx, "lights", bytes);
+            self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        }
+        self.light_count = count;
+        Ok(())
+    }
+
+    /// Uniform environment radiance (no recompilation). Accumulation restarts.
+    pub fn set_environment(&mut self, radiance: Vec3) -> Result<()> {
+        ensure!(
+            radiance.is_finite() && radiance.min_element() >= 0.0,
+            "environment radiance must be finite and non-negative"
+        );
+        self.scene.environment = radiance;
+        self.reset();
+        Ok(())
+    }
+
+    /// Move the camera. Accumulation restarts.
+    pub fn set_camera(&mut self, camera: Camera) -> Result<()> {
+        camera.validate()?;
+        self.scene.camera = camera;
+        self.reset();
+        Ok(())
+    }
+
+    /// Change seed, depth limits, batch or image size (size changes reallocate the image
+    /// buffer). The filter and estimator stay as they are (see [`GpuRenderer::set_filter`]
+    /// and [`GpuRenderer::set_estimator`]).
+    pub fn set_options(&mut self, opts: RenderOptions) -> Result<()> {
+        opts.check()?;
+        let opts = self.keep_filter_and_estimator(opts);
+        let resized = (opts.width, opts.height) != (self.opts.width, self.opts.height);
+        self.opts = opts;
+        if resized {
+            let (buffers, count, slots) = Self::create_buffers(
+                &self.ctx,
+                &self.scene,
+                &self.bvh,
+                &self.light_set,
+                &opts,
+                self.tiles_allowed(),
+            )?;
+            self.buffers = buffers;
+            self.light_count = count;
+            self.tex_slots = slots;
+            self.write_filter_table();
+            self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+            self.fit_tiles();
+            self.fit_wavefront();
+        }
+        self.reset();
+        Ok(())
+    }
+
+    /// `opts` with the filter and estimator in use.
+    fn keep_filter_and_estimator(&self, opts: RenderOptions) -> RenderOptions {
+        RenderOptions {
+            filter: self.opts.filter,
+            filter_forward: self.opts.filter_forward,
+            estimator: self.opts.estimator,
+            ..opts
+        }
+    }
+
+    /// Replace the scene: BVH, buffers and (if its features differ) the pipeline are rebuilt;
+    /// compiled pipelines stay cached. Options as [`GpuRenderer::set_options`] (the filter
+    /// and estimator stay).
+    pub fn set_scene(&mut self, scene: Scene, opts: RenderOptions) -> Result<()> {
+        scene.validate()?;
+        upload::check_supported(&scene)?;
+        opts.check()?;
+        let opts = self.keep_filter_and_estimator(opts);
+        let bvh = upload::build_bvh(&scene)?;
+        let light_set = LightSet::build(&scene);
+        let (buffers, count, slots) = Self::create_buffers(
+            &self.ctx,
+            &scene,
+            &bvh,
+            &light_set,
+            &opts,
+            self.tiles_allowed(),
+        )?;
+        self.tex_slots = slots;
+        self.scene = scene;
+        self.opts = opts;
+        self.bvh = bvh;
+        self.light_set = light_set;
+        self.buffers = buffers;
+        self.light_count = count;
+        self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
+        self.features = self.scene.features();
+        self.write_filter_table();
+        self.respecialize();
+        self.fit_tiles();
+        self.reset();
+        Ok(())
+    }
+
+    /// Set the Heckbert path filter (None or an accept-all filter = every path). Only the
+    /// uniform table is rewritten when a filter replaces another; switching between filtered
+    /// and unfiltered selects the other specialisation (compiled once, then cached).
+    /// Accumulation restarts.
+    pub fn set_filter(&mut self, filter: Option<&PathFilter>) {
+        self.opts.set_filter(filter);
+        self.write_filter_table();
+        self.respecialize();
+        self.reset();
+    }
+
+    /// The eye→light table in use (None = unfiltered).
+    pub fn filter(&self) -> Option<&DfaTable> {
+        self.opts.filter.as_ref()
+    }
+
+    pub(super) fn write_filter_table(&self) {
+        let mut words = [0u32; layout::FILTER_WORDS];
+        if let Some(t) = self.opts.filter {
+            let w = t.words();
+            words[..w.len()].copy_from_slice(&w);
+        }
+        self.ctx
+            .queue
+            .write_buffer(&self.buffers.filter, 0, bytemuck::cast_slice(&words));
+    }
+}

@@ -1,0 +1,368 @@
+//! Dispatch and submission: planning batches and row bands, encoding the kernels, queueing
+//! submissions and retiring them, and the pipelines' readiness.
+
+use super::{GpuImage, GpuRenderer, photon_paths, wavefront};
+use crate::gpu::layout::Params;
+use crate::gpu::photons;
+use crate::gpu::pipeline::Kernel;
+use anyhow::Result;
+use std::time::{Duration, Instant};
+
+/// A submission of [`GpuRenderer::render_with`] not yet known to be finished.
+struct Queued {
+    index: wgpu::SubmissionIndex,
+    submitted: Instant,
+    /// Pixel samples it adds.
+    samples: u64,
+    /// The spp accumulated once it finishes, where it completes a pass.
+    completes: Option<u64>,
+}
+
+impl GpuRenderer {
+    /// Collect pipelines compiled on a worker thread (never waits): Ok(true) once those of
+    /// the current specialisation are ready, an `Err` if their compilation failed.
+    pub fn pipelines_ready(&mut self) -> Result<bool> {
+        self.pipelines.poll()?;
+        Ok(self.pipelines.is_ready(self.spec))
+    }
+
+    /// True while the current specialisation's pipelines are not compiled yet.
+    pub fn is_compiling(&self) -> bool {
+        !self.pipelines.is_ready(self.spec)
+    }
+
+    /// Submissions [`GpuRenderer::render_with`] keeps queued (at least 1; default
+    /// [`BATCHES_IN_FLIGHT`]).
+    ///
+    /// [`BATCHES_IN_FLIGHT`]: super::BATCHES_IN_FLIGHT
+    pub fn set_batches_in_flight(&mut self, n: usize) {
+        self.batches_in_flight = n.max(1);
+    }
+
+    /// Drop all accumulated samples and counters (the next sample index is 0 again). While
+    /// the specialisation's pipelines compile, the film keeps the last image until the first
+    /// submission clears it (the viewer shows it meanwhile).
+    pub fn reset(&mut self) {
+        if self.pipelines.is_ready(self.spec) {
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            self.encode_clear(&mut enc);
+            self.ctx.queue.submit([enc.finish()]);
+            self.clear_pending = false;
+        } else {
+            self.clear_pending = true;
+        }
+        self.spp = 0;
+        self.elapsed = Duration::ZERO;
+        self.photon_r0 = self.sppm_radius0();
+        if let Some(mean) = &mut self.tiled {
+            mean.fill([0.0; 4]);
+        }
+    }
+
+    /// Zero the film, the counters, the splats and the photon grid.
+    fn encode_clear(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.clear_buffer(&self.buffers.accum, 0, None);
+        enc.clear_buffer(&self.buffers.stats, 0, None);
+        enc.clear_buffer(&self.buffers.splats, 0, None);
+        enc.clear_buffer(&self.buffers.photon_store.grid, 0, None);
+    }
+
+    /// The uniforms of a dispatch adding `batch` samples per pixel to the `first` accumulated.
+    fn params(&self, first: u64, batch: u32) -> Params {
+        let cam = &self.scene.camera;
+        let (w, h) = (self.opts.width, self.opts.height);
+        let n = first as f64;
+        let k = batch as f64;
+        let rot = cam.rotation;
+        // sppm: one iteration per dispatch, iteration s = sample index s.
+        let paths = f64::from(photon_paths(true, &self.opts));
+        let r = photons::radius(self.photon_r0, first as u32);
+        Params {
+            cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
+            cam_right: rot.x_axis.extend(w as f32 / h as f32).to_array(),
+            cam_up: rot.y_axis.extend(0.0).to_array(),
+            cam_back: rot.z_axis.extend(0.0).to_array(),
+            environment: self.scene.environment.extend(0.0).to_array(),
+            width: w,
+            height: h,
+            seed: self.opts.seed,
+            max_depth: self.opts.max_depth.max(1),
+            rr_depth: self.opts.rr_depth,
+            sample_offset: first as u32,
+            batch,
+            light_count: self.light_count,
+            w_old: (n / (n + k)) as f32,
+            w_new: (1.0 / (n + k)) as f32,
+            debug_pixel: self.debug_pixel,
+            offset_scale: self.bvh.offset_scale,
+            tile_y0: 0,
+            film_y0: self.film_y0,
+            photon_radius: r,
+            photon_norm: (1.0 / (paths * std::f64::consts::PI * f64::from(r) * f64::from(r)))
+                as f32,
+            grid_mask: self.buffers.photon_store.buckets - 1,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
+        }
+    }
+
+    /// r₁ of `sppm` for the current camera, scene and image size.
+    pub(super) fn sppm_radius0(&self) -> f32 {
+        photons::radius0(&self.scene.camera, self.scene.bounds(), self.opts.height)
+    }
+
+    /// Samples per pixel per dispatch: [`RenderOptions::pass_spp`] until a submission has
+    /// been timed, then what [`GpuRenderer::render_with`] last planned.
+    ///
+    /// [`RenderOptions::pass_spp`]: crate::render::RenderOptions::pass_spp
+    pub fn batch_spp(&self) -> u32 {
+        self.submissions
+            .last_k
+            .unwrap_or_else(|| self.opts.pass_spp())
+    }
+
+    /// Bound the wall time of one submission of [`GpuRenderer::render_with`] (default
+    /// [`SUBMISSION_BUDGET`]).
+    pub fn set_submission_budget(&mut self, budget: Duration) {
+        self.submissions.budget = budget;
+    }
+
+    /// Queue one dispatch adding `k` samples per pixel to the whole image (does not wait).
+    pub fn dispatch(&mut self, k: u32) {
+        if k == 0 || self.refuse_tiled() {
+            return;
+        }
+        self.submit(k, 0, self.opts.height);
+        self.spp += k as u64;
+    }
+
+    /// Queue `k` samples per pixel for the rows `y0 .. y0 + rows` only (does not wait): one
+    /// band of a pass the caller completes with [`GpuRenderer::end_pass`] once every row has
+    /// its `k` samples (the viewer's bounded frames). Not with light tracing, whose splats need
+    /// whole-image passes, nor with sppm, whose iterations are whole-image submissions (the
+    /// band is ignored there; [`GpuRenderer::needs_whole_image`]).
+    pub fn dispatch_band(&mut self, k: u32, y0: u32, rows: u32) {
+        if k > 0 && rows > 0 && y0 < self.opts.height && !self.refuse_tiled() {
+            self.submit(k, y0, rows.min(self.opts.height - y0));
+        }
+    }
+
+    /// Every row of a banded pass now has `k` more samples.
+    pub fn end_pass(&mut self, k: u32) {
+        self.spp += k as u64;
+    }
+
+    /// True when every submission must cover the whole image (light tracing, sppm).
+    pub fn needs_whole_image(&self) -> bool {
+        self.spec.light_tracing || self.spec.sppm
+    }
+
+    /// Queue `k` samples per pixel for image rows `y0 .. y0 + rows` (all rows with light
+    /// tracing, whose splats land anywhere, and with sppm, one submission per iteration);
+    /// `self.spp` is not advanced.
+    /// Returns the last submission's index (None: nothing submitted, the pipelines failed
+    /// to compile; the error is recorded for [`GpuContext::check_errors`]).
+    ///
+    /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
+    fn submit(&mut self, k: u32, y0: u32, rows: u32) -> Option<wgpu::SubmissionIndex> {
+        if self.spec.sppm {
+            // Iteration s = sample index s: its own photons, then its camera paths.
+            let mut last = None;
+            for i in 0..u64::from(k) {
+                last = self.submit_pass(self.spp + i, 1, 0, self.opts.height);
+            }
+            last
+        } else if self.spec.wavefront {
+            // As many samples per submission as the chunk table holds.
+            let pixels = self.opts.width * rows;
+            let part =
+                wavefront::samples_per_submission(pixels, k, self.buffers.wavefront.max_paths);
+            let (mut last, mut done) = (None, 0);
+            while done < k {
+                let kk = part.min(k - done);
+                last = self.submit_pass(self.spp + u64::from(done), kk, y0, rows);
+                done += kk;
+            }
+            last
+        } else {
+            self.submit_pass(self.spp, k, y0, rows)
+        }
+    }
+
+    /// The current specialisation's pipelines, waiting for (or doing) their compilation;
+    /// false (the error recorded) if it fails.
+    fn ensure_pipelines(&mut self) -> bool {
+        if self.pipelines.is_ready(self.spec) {
+            return true;
+        }
+        match self.pipelines.compile(self.spec) {
+            Ok(()) => true,
+            Err(e) => {
+                super::super::context::record(&self.ctx.errors, format!("{e:#}"));
+                false
+            }
+        }
+    }
+
+    /// Compile the current specialisation's pipelines (on a worker thread with background
+    /// compilation); a failure is recorded for [`GpuContext::check_errors`].
+    ///
+    /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
+    pub(super) fn request_pipelines(&mut self) {
+        let r = if self.background_compile {
+            self.pipelines.compile_in_background(self.spec)
+        } else {
+            self.pipelines.compile(self.spec)
+        };
+        if let Err(e) = r {
+            super::super::context::record(&self.ctx.errors, format!("{e:#}"));
+        }
+    }
+
+    /// One submission: `k` samples per pixel from sample index `first` for rows `y0 ..`.
+    pub(super) fn submit_pass(
+        &mut self,
+        first: u64,
+        k: u32,
+        y0: u32,
+        rows: u32,
+    ) -> Option<wgpu::SubmissionIndex> {
+        if !self.ensure_pipelines() {
+            return None;
+        }
+        let mut params = self.params(first, k);
+        params.tile_y0 = y0;
+        self.ctx
+            .queue
+            .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
+        let mut enc = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        if std::mem::take(&mut self.clear_pending) {
+            self.encode_clear(&mut enc);
+        }
+        let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
+        // Light subpaths first: `render` folds their splats into the film; photons first:
+        // `render` gathers them (wgpu orders the passes' storage accesses).
+        if self.spec.light_tracing && !self.spec.wavefront {
+            self.encode_kernel(&mut enc, Kernel::LightTrace, groups);
+        }
+        if self.spec.sppm {
+            self.buffers.photon_store.encode_clear(&mut enc);
+            self.encode_kernel(&mut enc, Kernel::PhotonTrace, groups);
+        }
+        if self.spec.wavefront {
+            self.encode_wavefront(&mut enc, self.opts.width * rows, k);
+        } else {
+            self.encode_kernel(&mut enc, Kernel::Render, groups);
+        }
+        Some(self.ctx.queue.submit([enc.finish()]))
+    }
+
+    /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is
+    /// compiled: [`GpuRenderer::ensure_pipelines`]; the wavefront's kernels are recorded by
+    /// `encode_wavefront`).
+    fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
+        let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
+            return;
+        };
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(kernel.entry()),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        // The chunk table's dynamic offset: only the wavefront's kernels read it.
+        pass.set_bind_group(0, &self.bind_group, &[0]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+    }
+
+    /// Add `spp` samples per pixel (in batches) and return the accumulated image.
+    pub fn render(&mut self, spp: u32) -> Result<GpuImage> {
+        self.render_with(spp, None, |_| {})
+    }
+
+    /// Add up to `spp` samples per pixel, stopping early once `budget` is spent (at least one
+    /// batch); `progress` gets the spp accumulated after each batch. Up to
+    /// [`GpuRenderer::set_batches_in_flight`] submissions are queued at a time: the next is
+    /// submitted before waiting for the one running. The submissions, and so the image, are
+    /// those of one at a time; only the waiting differs.
+    pub fn render_with(
+        &mut self,
+        spp: u32,
+        budget: Option<Duration>,
+        mut progress: impl FnMut(u64),
+    ) -> Result<GpuImage> {
+        if self.tiled.is_some() {
+            return self.render_tiled(spp, budget, progress);
+        }
+        self.pipelines.compile(self.spec)?;
+        let start = Instant::now();
+        let mut queued = std::collections::VecDeque::new();
+        // When the GPU finished the last retired submission (the next one starts then).
+        let mut last_done = start;
+        let mut done = 0u32;
+        while done < spp && !budget.is_some_and(|b| done > 0 && start.elapsed() >= b) {
+            let (w, h) = (self.opts.width, self.opts.height);
+            let (k, rows) = self
+                .submissions
+                .plan(w, h, spp - done, self.needs_whole_image());
+            for y0 in (0..h).step_by(rows as usize) {
+                let band = rows.min(h - y0);
+                let submitted = Instant::now();
+                let index = self.submit(k, y0, band);
+                let last_band = y0 + band >= h;
+                let Some(index) = index else {
+                    return Err(self
+                        .ctx
+                        .check_errors()
+                        .err()
+                        .unwrap_or_else(|| anyhow::anyhow!("the GPU kernels are not compiled")));
+                };
+                queued.push_back(Queued {
+                    index,
+                    submitted,
+                    samples: u64::from(w) * u64::from(band) * u64::from(k),
+                    completes: last_band.then_some(self.spp + u64::from(k)),
+                });
+                while queued.len() >= self.batches_in_flight {
+                    self.retire(&mut queued, &mut last_done, &mut progress)?;
+                }
+            }
+            self.spp += k as u64;
+            done += k;
+        }
+        while !queued.is_empty() {
+            self.retire(&mut queued, &mut last_done, &mut progress)?;
+        }
+        self.elapsed += start.elapsed();
+        self.image()
+    }
+
+    /// Wait for the oldest queued submission and time it: from its submission, or from when
+    /// the one before it finished if that was later (it waited in the queue until then).
+    fn retire(
+        &mut self,
+        queued: &mut std::collections::VecDeque<Queued>,
+        last_done: &mut Instant,
+        progress: &mut impl FnMut(u64),
+    ) -> Result<()> {
+        let Some(q) = queued.pop_front() else {
+            return Ok(());
+        };
+        self.ctx.wait_for(q.index)?;
+        let now = Instant::now();
+        let began = q.submitted.max(*last_done);
+        self.submissions
+            .observe(now.saturating_duration_since(began), q.samples);
+        *last_done = now;
+        if let Some(spp) = q.completes {
+            progress(spp);
+        }
+        Ok(())
+    }
+}
