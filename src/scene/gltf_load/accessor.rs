@@ -159,41 +159,34 @@ impl Elements<'_> {
         ) {
             return Err(format!("accessor {ai}: indices must be unsigned integers"));
         }
-        let mut v: Vec<u32> = decoded_vec(ai, self.count * self.comps)?;
-        match &self.strided {
-            Some(s) => {
-                let cs = comp_size(self.ct);
-                let bad = || format!("accessor {ai} reads out of bounds");
-                for i in 0..self.count {
-                    for k in 0..self.comps {
-                        v.push(read_uint(s.data, s.at(i) + k * cs, self.ct).ok_or_else(bad)?);
-                    }
-                }
-            }
-            None => v.resize(self.count * self.comps, 0),
-        }
-        Ok(v)
+        self.components(|b, at| read_uint(b, at, self.ct))
     }
 
     /// The `count × comps` components as floats (normalised integers mapped to [0, 1] or
     /// [−1, 1]).
     fn floats(&self) -> Result<Vec<f32>, String> {
+        self.components(|b, at| read_comp(b, at, self.ct, self.normalized))
+    }
+
+    /// Every component read by `read(buffer, byte offset)`, in element order; an accessor
+    /// without a buffer view is all zeros (glTF 2.0: before sparse substitution, if any).
+    fn components<T: Copy + Default>(
+        &self,
+        read: impl Fn(&[u8], usize) -> Option<T>,
+    ) -> Result<Vec<T>, String> {
         let ai = self.ai;
-        let mut v: Vec<f32> = decoded_vec(ai, self.count * self.comps)?;
+        let mut v: Vec<T> = decoded_vec(ai, self.count * self.comps)?;
         match &self.strided {
             Some(s) => {
                 let cs = comp_size(self.ct);
                 let bad = || format!("accessor {ai} reads out of bounds");
                 for i in 0..self.count {
                     for k in 0..self.comps {
-                        v.push(
-                            read_comp(s.data, s.at(i) + k * cs, self.ct, self.normalized)
-                                .ok_or_else(bad)?,
-                        );
+                        v.push(read(s.data, s.at(i) + k * cs).ok_or_else(bad)?);
                     }
                 }
             }
-            None => v.resize(self.count * self.comps, 0.0),
+            None => v.resize(self.count * self.comps, T::default()),
         }
         Ok(v)
     }
