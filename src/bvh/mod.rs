@@ -29,8 +29,9 @@ use traverse::{QueryRay, Tree};
 use watertight::{LeafTri, WatertightRay};
 use wide::WideNode;
 
-/// The mesh's triangles in obvhs' form, in scene order.
-fn triangles(mesh: &Mesh) -> Vec<Triangle> {
+/// The mesh's triangles in obvhs' form, in scene order: the build input of the CPU's wide
+/// BVH and of the GPU's BVH2 (`gpu::upload`).
+pub(crate) fn triangles(mesh: &Mesh) -> Vec<Triangle> {
     (0..mesh.triangle_count())
         .map(|t| {
             let [a, b, c] = mesh.tri(t);

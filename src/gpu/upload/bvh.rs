@@ -2,9 +2,9 @@
 //! against the fixed-size WGSL traversal stack.
 
 use crate::gpu::layout::BvhNode;
-use crate::scene::{Mesh, Scene};
+use crate::scene::Scene;
 use anyhow::{Result, bail, ensure};
-use obvhs::{BvhBuildParams, bvh2::Bvh2, triangle::Triangle as ObvhsTriangle};
+use obvhs::{BvhBuildParams, bvh2::Bvh2};
 use std::time::{Duration, Instant};
 
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
@@ -39,7 +39,7 @@ pub struct GpuBvh {
 pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
     let start = Instant::now();
     let mesh = &scene.mesh;
-    let tris = obvhs_triangles(mesh);
+    let tris = crate::bvh::triangles(mesh);
     if tris.is_empty() {
         return Ok(empty_bvh(start));
     }
@@ -60,20 +60,6 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
         build_time: start.elapsed(),
         offset_scale: crate::bvh::offset_scale(mesh),
     })
-}
-
-/// The mesh's triangles as obvhs build input, in scene order.
-fn obvhs_triangles(mesh: &Mesh) -> Vec<ObvhsTriangle> {
-    (0..mesh.triangle_count())
-        .map(|t| {
-            let [a, b, c] = mesh.tri(t);
-            ObvhsTriangle {
-                v0: a.into(),
-                v1: b.into(),
-                v2: c.into(),
-            }
-        })
-        .collect()
 }
 
 /// The BVH of a scene without triangles: one leaf with an empty (inverted) box, so every
