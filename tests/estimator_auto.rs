@@ -15,15 +15,15 @@ fn load(name: &str) -> Scene {
 }
 
 /// What `auto` picks for each built-in (the README states the same list): sppm for specular
-/// surfaces lit by a small or punctual light (on the GPU too), lt+pt for dispersive glass lit
-/// so, path tracing otherwise.
+/// surfaces lit by a punctual light or by emitters that look small from them (< 0.13 sr; on
+/// the GPU too), lt+pt for dispersive or only rough glass lit so, path tracing otherwise.
 #[test]
 fn auto_picks_the_documented_estimator_for_each_builtin() {
     let expect = [
-        ("cornell-glass", Estimator::Path, Estimator::Path),
+        ("cornell-glass", Estimator::Sppm, Estimator::Sppm),
         ("glass-slab", Estimator::Path, Estimator::Path),
         ("furnace", Estimator::Path, Estimator::Path),
-        ("rough-glass", Estimator::Path, Estimator::Path),
+        ("rough-glass", Estimator::LtPt, Estimator::LtPt),
         ("prism", Estimator::LtPt, Estimator::LtPt),
         ("caustic", Estimator::Sppm, Estimator::Sppm),
         ("caustic-mirror", Estimator::Sppm, Estimator::Sppm),
@@ -112,11 +112,11 @@ fn cli_reports_the_auto_choice_and_its_reason() {
     for (scene, line) in [
         (
             "builtin:caustic",
-            "estimator auto: sppm (specular surfaces and a small light: photon-mapped caustics)",
+            "estimator auto: sppm (specular surfaces and a light that looks small from them: photon-mapped caustics)",
         ),
         (
             "builtin:materials",
-            "estimator auto: path (no glass: path tracing)",
+            "estimator auto: path (the lights look large from the glass and mirrors (≥ 0.13 sr): path tracing)",
         ),
     ] {
         let args: Vec<&str> = base
@@ -288,7 +288,7 @@ fn gpu_auto_and_time_budget() {
     assert!(ok, "{err}");
     assert!(
         err.contains(
-            "estimator auto: sppm (specular surfaces and a small light: photon-mapped caustics)"
+            "estimator auto: sppm (specular surfaces and a light that looks small from them: photon-mapped caustics)"
         ) && err.contains("estimator sppm"),
         "{err}"
     );

@@ -78,6 +78,7 @@ for i, m in enumerate(s["materials"]):
         if m["double_sided"]:
             print("warning: Mitsuba area lights are one-sided; double-sided emission differs")
     scene[f"shape{i}"] = shape
-img = mi.render(mi.load_dict(scene))
-mi.Bitmap(img).write(out)
-print("wrote", out)
+if __name__ == "__main__":  # `tools/mitsuba_rays.py` imports the scene dict instead
+    img = mi.render(mi.load_dict(scene))
+    mi.Bitmap(img).write(out)
+    print("wrote", out)

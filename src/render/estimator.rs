@@ -1,5 +1,6 @@
 //! The light-transport estimator, and the `auto` rule that picks one from a scene's features.
 
+use crate::scene::caustic_casters::{CASTERS, emitter_solid_angle_at_casters};
 use crate::scene::{Features, Scene};
 
 /// Light-transport estimator. The serde names ("auto", "path", "bdpt", "lt", "lt+pt" with
@@ -78,7 +79,9 @@ impl Estimator {
 
     /// [`Estimator::resolve`] and, for `Auto`, a few words on why (empty otherwise).
     ///
-    /// The rule: a small or delta light makes caustics, which path tracing samples badly.
+    /// The rule: a delta light, or emitters that look small from the glass and mirrors
+    /// (less than [`SMALL_LIGHT_SR`] on average), make caustics that path tracing samples
+    /// badly.
     /// With specular surfaces (mirror, smooth or thin glass) their caustics L S+ D are
     /// photon-mapped (`sppm`), which also renders them seen through glass or in a mirror;
     /// with dispersion or only rough glass, the bidirectional estimator (lt+pt: bdpt on the
@@ -90,11 +93,12 @@ impl Estimator {
         }
         let f = scene.features();
         if !has_small_light(scene, f) {
-            let glass_kinds = Features::SMOOTH_GLASS | Features::THIN_GLASS | Features::ROUGH_GLASS;
-            let why = if f.intersects(glass_kinds) {
-                "no small or delta light: path tracing"
+            let why = if !f.intersects(CASTERS) {
+                "no glass or mirror: path tracing"
+            } else if scene.emissive_triangles().is_empty() {
+                "no area or delta light (the environment only): path tracing"
             } else {
-                "no glass: path tracing"
+                "the lights look large from the glass and mirrors (≥ 0.13 sr): path tracing"
             };
             return (Estimator::Path, why);
         }
@@ -114,20 +118,21 @@ impl Estimator {
     }
 }
 
-/// Whether `scene` (with features `f`) has a delta light, or emitters covering less than
-/// 1 % of its bounding box's area, so that BSDF-sampled caustic paths rarely hit them. (No
-/// emitter at all, e.g. an environment-lit furnace: nothing to trace from, so not small.)
+/// Emitters that subtend less than this solid angle (sr), averaged over the surfaces that
+/// cast caustics, count as small. Set from measurements on the built-ins (README, "Choosing
+/// the estimator": time to a given relMSE, path against the photon and bidirectional
+/// estimators): cornell-glass (0.093 sr) and rough-glass (0.103 sr) converge 2–5× sooner
+/// with them, materials (0.17 sr), glass-of-water (0.28 sr) and glass-slab (0.56 sr) sooner
+/// with path tracing.
+pub const SMALL_LIGHT_SR: f32 = 0.13;
+
+/// Whether `scene` (with features `f`) has a delta light, or emitters that look small from
+/// its caustic casters ([`SMALL_LIGHT_SR`]), so that BSDF-sampled caustic paths rarely hit
+/// them. (No emitter at all, e.g. an environment-lit furnace: nothing to trace from, so not
+/// small.)
 fn has_small_light(scene: &Scene, f: Features) -> bool {
-    let (lo, hi) = scene.bounds();
-    let d = hi - lo;
-    let box_area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
-    let light_area: f32 = scene
-        .emissive_triangles()
-        .iter()
-        .map(|&t| scene.mesh.area(t as usize))
-        .sum();
-    let punctual = f.contains(Features::PUNCTUAL_LIGHTS);
-    punctual || (light_area > 0.0 && light_area < 0.01 * box_area)
+    f.contains(Features::PUNCTUAL_LIGHTS)
+        || emitter_solid_angle_at_casters(scene).is_some_and(|sr| sr < SMALL_LIGHT_SR)
 }
 
 /// The `auto` choice, and why, for a scene with features `f` and a small or delta light:
@@ -155,15 +160,15 @@ fn auto_with_small_light(f: Features) -> (Estimator, &'static str) {
     } else if specular {
         (
             Estimator::Sppm,
-            "specular surfaces and a small light: photon-mapped caustics",
+            "specular surfaces and a light that looks small from them: photon-mapped caustics",
         )
     } else if glass {
         (
             Estimator::LtPt,
-            "rough glass and a small light: bidirectional",
+            "rough glass and a light that looks small from it: bidirectional",
         )
     } else {
-        (Estimator::Path, "no glass: path tracing")
+        (Estimator::Path, "no glass or mirror: path tracing")
     }
 }
 

@@ -117,7 +117,7 @@ fn material_features(scene: &Scene, m: &Material) -> Features {
 
 /// The BSDF flag of what `m` becomes (`Material::bsdf` at uv 0), with its microfacet
 /// distribution, and for the metal-rough BRDF whether it reads a metallic-roughness texture.
-fn bsdf_features(scene: &Scene, m: &Material) -> Features {
+pub(crate) fn bsdf_features(scene: &Scene, m: &Material) -> Features {
     let dist = |d: MicrofacetDistribution| match d {
         MicrofacetDistribution::Ggx => Features::GGX,
         MicrofacetDistribution::Beckmann => Features::BECKMANN,

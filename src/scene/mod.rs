@@ -4,6 +4,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod caustic_casters;
 pub mod edits;
 pub mod env_map;
 pub mod features;

@@ -96,7 +96,7 @@ fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
             })
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut r.estimator, Estimator::Auto, "auto")
-                    .on_hover_text("Light + path tracing when the scene has glass and a small light (caustics), else path tracing.");
+                    .on_hover_text("Photon-mapped caustics (or light + path tracing for rough or dispersive glass) when the lights look small from the scene's glass and mirrors, else path tracing.");
                 ui.selectable_value(&mut r.estimator, Estimator::Path, "path")
                     .on_hover_text("Paths start at the eye; light is found by aiming at lights (NEE) and by chance: caustics from small lights converge slowly.");
                 ui.selectable_value(&mut r.estimator, Estimator::Bdpt, "bdpt")

@@ -18,7 +18,7 @@ pub mod glass_of_water;
 pub mod khronos;
 mod presets;
 mod prism;
-mod shapes;
+pub(crate) mod shapes;
 mod showcase;
 
 pub use caustic::{caustic, caustic_mirror};
