@@ -29,7 +29,7 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         ("caustic-mirror", Estimator::Sppm, Estimator::Sppm),
         ("materials", Estimator::Path, Estimator::Path),
         ("glass-of-water", Estimator::Path, Estimator::Path),
-        ("env-spheres", Estimator::Path, Estimator::Path),
+        ("env-spheres", Estimator::Sppm, Estimator::Sppm),
         ("sun-sky", Estimator::Path, Estimator::Path),
         ("metals", Estimator::Path, Estimator::Path),
     ];

@@ -19,9 +19,9 @@ use crate::scene::{Features, Scene};
 )]
 #[serde(rename_all = "lowercase")]
 pub enum Estimator {
-    /// Picked from the scene (`Estimator::resolve`): sppm for specular surfaces lit by a
-    /// small or delta light (caustics), lt+pt for dispersive or rough glass
-    /// lit so, else path tracing.
+    /// Picked from the scene (`Estimator::resolve`): sppm for specular surfaces under a
+    /// delta light or light that looks small from them (< 0.13 sr: caustics), lt+pt for
+    /// dispersive or rough glass lit so, else path tracing.
     Auto,
     /// Unidirectional path tracing with NEE + MIS.
     #[default]
@@ -93,12 +93,10 @@ impl Estimator {
         }
         let f = scene.features();
         if !has_small_light(scene, f) {
-            let why = if !f.intersects(CASTERS) {
-                "no glass or mirror: path tracing"
-            } else if scene.emissive_triangles().is_empty() {
-                "no area or delta light (the environment only): path tracing"
-            } else {
+            let why = if f.intersects(CASTERS) {
                 "the lights look large from the glass and mirrors (≥ 0.13 sr): path tracing"
+            } else {
+                "no glass or mirror: path tracing"
             };
             return (Estimator::Path, why);
         }
@@ -126,10 +124,10 @@ impl Estimator {
 /// with path tracing.
 pub const SMALL_LIGHT_SR: f32 = 0.13;
 
-/// Whether `scene` (with features `f`) has a delta light, or emitters that look small from
-/// its caustic casters ([`SMALL_LIGHT_SR`]), so that BSDF-sampled caustic paths rarely hit
-/// them. (No emitter at all, e.g. an environment-lit furnace: nothing to trace from, so not
-/// small.)
+/// Whether `scene` (with features `f`) has a delta light, or light (emissive triangles and
+/// the environment) that looks small from its caustic casters ([`SMALL_LIGHT_SR`]), so that
+/// BSDF-sampled caustic paths rarely reach it. (No light at all: nothing to trace from, so
+/// not small.)
 fn has_small_light(scene: &Scene, f: Features) -> bool {
     f.contains(Features::PUNCTUAL_LIGHTS)
         || emitter_solid_angle_at_casters(scene).is_some_and(|sr| sr < SMALL_LIGHT_SR)

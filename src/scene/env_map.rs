@@ -31,6 +31,9 @@ pub struct EnvMap {
     pub dist: Distribution2D,
     /// ∫ luminance dω over the sphere (exact for the piecewise-constant image).
     pub lum_integral: f32,
+    /// ∫ luminance² dω over the sphere: with `lum_integral`, how concentrated the light is
+    /// (`scene::caustic_casters`).
+    pub lum_sq_integral: f32,
     /// Where it came from (file name or generator), for logs and the viewer.
     pub name: String,
 }
@@ -114,13 +117,14 @@ impl EnvMap {
             })
             .collect();
         let dist = Distribution2D::new(&func, width as usize, height as usize);
-        let lum_integral = lum_integral(&texels, width, height);
+        let (lum_integral, lum_sq_integral) = lum_integrals(&texels, width, height);
         let map = EnvMap {
             width,
             height,
             texels,
             dist,
             lum_integral,
+            lum_sq_integral,
             name: name.to_string(),
         };
         (map, bad)
@@ -205,16 +209,21 @@ impl EnvMap {
 }
 
 /// Σ luminance × texel solid angle, a row's texels spanning (2π/W)(cos θ₀ − cos θ₁).
-fn lum_integral(texels: &[Vec3], width: u32, height: u32) -> f32 {
-    let mut sum = 0.0f64;
+/// ∫ luminance dω and ∫ luminance² dω over the sphere (exact for the piecewise-constant
+/// image).
+fn lum_integrals(texels: &[Vec3], width: u32, height: u32) -> (f32, f32) {
+    let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
     for (row, texels) in texels.chunks(width as usize).enumerate() {
         let t0 = row as f64 / height as f64 * std::f64::consts::PI;
         let t1 = (row + 1) as f64 / height as f64 * std::f64::consts::PI;
         let omega = 2.0 * std::f64::consts::PI / width as f64 * (t0.cos() - t1.cos());
-        let lum: f64 = texels.iter().map(|t| luminance(*t).max(0.0) as f64).sum();
-        sum += lum * omega;
+        for t in texels {
+            let lum = luminance(*t).max(0.0) as f64;
+            sum += lum * omega;
+            sum_sq += lum * lum * omega;
+        }
     }
-    sum as f32
+    (sum as f32, sum_sq as f32)
 }
 
 /// Replace or adjust the environment image of `scene` from the command line or the viewer:
