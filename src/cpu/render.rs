@@ -333,7 +333,9 @@ impl Renderer {
         let pass_spp = opts.pass_spp();
         let mut done = 0u32;
         while done < spp {
-            let n = pass_spp.min(spp - done);
+            let n = pass_spp
+                .min(spp - done)
+                .min(budget.map_or(u32::MAX, |b| spp_that_fit(b, start.elapsed(), done)));
             pass(done, n);
             done += n;
             progress(done as u64);
@@ -351,6 +353,22 @@ impl Renderer {
             pixels: opts.pixels(),
             segments: None,
         }
+    }
+}
+
+/// With a time `budget` of which `elapsed` is spent on `done` spp, how many more spp fit at
+/// the rate so far (rounded up, at least 1: the pass that reaches the budget overruns it by
+/// less than one spp's time, not by a whole pass). Before the first pass, no limit.
+fn spp_that_fit(budget: Duration, elapsed: Duration, done: u32) -> u32 {
+    if done == 0 {
+        return u32::MAX;
+    }
+    let per_spp = elapsed.as_secs_f64() / done as f64;
+    let left = budget.saturating_sub(elapsed).as_secs_f64();
+    if per_spp > 0.0 {
+        (left / per_spp).ceil().clamp(1.0, u32::MAX as f64) as u32
+    } else {
+        u32::MAX
     }
 }
 
@@ -411,5 +429,24 @@ impl<'a> BdptPass<'_, 'a> {
         };
         let v = self.bd.sample(x, y, &mut sampler, &mut splat, scratch);
         Film::add_sample_to(px, v, self.spectral) && !bad_splat
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spp_that_fit;
+    use std::time::Duration;
+
+    /// The pass that would cross a time budget shrinks to the spp that fit at the rate so
+    /// far, rounded up (never 0); the first pass is not limited.
+    #[test]
+    fn the_last_pass_shrinks_to_the_time_left() {
+        let s = Duration::from_secs_f64;
+        assert_eq!(spp_that_fit(s(10.0), s(0.0), 0), u32::MAX);
+        assert_eq!(spp_that_fit(s(10.0), s(4.0), 8), 12); // 0.5 s per spp, 6 s left
+        assert_eq!(spp_that_fit(s(10.0), s(9.8), 8), 1); // 0.2 s left: one more spp
+        assert_eq!(spp_that_fit(s(10.0), s(9.75), 39), 1);
+        assert_eq!(spp_that_fit(s(10.0), s(12.0), 8), 1); // already over: never 0
+        assert_eq!(spp_that_fit(s(10.0), s(0.0), 8), u32::MAX); // no time measured yet
     }
 }
