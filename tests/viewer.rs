@@ -706,3 +706,17 @@ fn light_line_choice_sets_the_spectrum_and_restarts_accumulation() {
     assert_eq!(h.state().settings.light.spectrum, LightSpectrum::White);
     assert_eq!(h.state().scene.settings.light_line_nm, None);
 }
+
+/// What the estimator panel shows for `auto` follows the scene at once: the default Cornell
+/// box photon-maps its caustics; its main light grown 2.5× (6.25× the area, ~0.58 sr from
+/// the casters) makes it path tracing in the next frame, not when the panel's memo expires.
+#[test]
+fn auto_follows_an_edit_of_the_light_size() {
+    let mut h = harness(small_app());
+    assert_eq!(h.state_mut().auto_choice().0.to_string(), "sppm");
+    let mut light = h.state().settings.light.clone();
+    light.size = 2.5;
+    h.state_mut().push(refract::app::Edit::Light(light));
+    h.step();
+    assert_eq!(h.state_mut().auto_choice().0.to_string(), "path");
+}

@@ -70,6 +70,7 @@ impl ViewerApp {
             dragging: false,
             closing: false,
             edits: Vec::new(),
+            auto_memo: None,
         };
         app.report_warnings(&warnings);
         app.backend.set_scene(&app.scene);

@@ -8,9 +8,11 @@
 use super::{Messages, ViewerApp};
 use crate::bvh::Bvh;
 use crate::paths::PathFilter;
+use crate::render::Estimator;
 use crate::render::settings::{DisplaySettings, RenderEdit, ViewerSettings};
 use crate::scene::edits::{LightEdit, Orbit};
 use crate::scene::{Material, Scene};
+use std::time::{Duration, Instant};
 
 /// One change the user asked for.
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +64,19 @@ impl ViewerApp {
         self.edits.push(edit);
     }
 
+    /// What `auto` picks for the scene as it is, and why (`Estimator::resolve_why`),
+    /// recomputed after an edit and at most once a second otherwise.
+    pub fn auto_choice(&mut self) -> (Estimator, &'static str) {
+        match self.auto_memo {
+            Some((at, choice)) if at.elapsed() < Duration::from_secs(1) => choice,
+            _ => {
+                let choice = Estimator::Auto.resolve_why(&self.scene);
+                self.auto_memo = Some((Instant::now(), choice));
+                choice
+            }
+        }
+    }
+
     /// Apply the queued edits in order.
     pub(super) fn apply_queued(&mut self) {
         for edit in std::mem::take(&mut self.edits) {
@@ -71,6 +86,7 @@ impl ViewerApp {
 
     /// Apply one edit and whatever it implies (see the module documentation).
     pub fn apply(&mut self, edit: Edit) {
+        self.auto_memo = None;
         match edit {
             Edit::Material { index, material } => self.apply_material(index, *material),
             Edit::Light(light) => {

@@ -28,6 +28,7 @@ mod status;
 mod window;
 
 use crate::bvh::Bvh;
+use crate::render::Estimator;
 use crate::render::settings::ViewerSettings;
 use crate::scene::Scene;
 use crate::scene::edits::Orbit;
@@ -112,6 +113,10 @@ pub struct ViewerApp {
     closing: bool,
     /// Edits pushed this frame, applied by [`ViewerApp::apply`] (src/app/edit.rs).
     edits: Vec<Edit>,
+    /// What `auto` picks for the scene, and when that was worked out: it walks the mesh
+    /// (~40–90 ms at a million triangles), so the estimator panel reuses it until an edit
+    /// (or a second) passes (`ViewerApp::auto_choice`).
+    auto_memo: Option<(Instant, (Estimator, &'static str))>,
 }
 
 impl eframe::App for ViewerApp {

@@ -23,8 +23,8 @@ pub const CASTERS: Features = Features::SMOOTH_GLASS
     .union(Features::ROUGH_GLASS);
 
 /// At most this many triangles of each kind enter the estimate (casters at their area
-/// quantiles, emitters at an even stride), so that the estimate costs at most 256² point pairs (the viewer's
-/// estimator panel asks for it every frame).
+/// quantiles, emitters at an even stride): at most 256² point pairs, since the viewer's
+/// estimator panel asks for it every frame (finding the triangles still walks the mesh).
 const MAX_POINTS: usize = 256;
 
 /// The solid angle (sr) of the scene's light as seen from its caster surfaces, averaged

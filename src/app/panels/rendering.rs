@@ -40,7 +40,8 @@ pub const PATH_PRESETS: &[(&str, &str, &str)] = &[
 
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut render = app.settings.render.clone();
-    depth_and_estimator(ui, &mut render, &app.scene);
+    let auto = (render.estimator == Estimator::Auto).then(|| app.auto_choice());
+    depth_and_estimator(ui, &mut render, &app.scene, auto);
     path_filter(app, ui);
     ui.separator();
     layer_views(app, ui);
@@ -72,8 +73,13 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     });
 }
 
-/// Max depth and the estimator (edits `r`).
-fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
+/// Max depth and the estimator (edits `r`); `auto` is what auto picks, when it is selected.
+fn depth_and_estimator(
+    ui: &mut egui::Ui,
+    r: &mut RenderEdit,
+    scene: &Scene,
+    auto: Option<(Estimator, &'static str)>,
+) {
     let scene_depth = scene.settings.max_depth;
     {
         let mut depth = r.max_depth.unwrap_or(scene_depth).clamp(1, 64);
@@ -87,8 +93,6 @@ fn depth_and_estimator(ui: &mut egui::Ui, r: &mut RenderEdit, scene: &Scene) {
     }
 
     {
-        // What `auto` picks and why (computed only when it is selected: it walks the mesh).
-        let auto = (r.estimator == Estimator::Auto).then(|| r.estimator.resolve_why(scene));
         egui::ComboBox::from_label("Estimator")
             .selected_text(match auto {
                 Some((resolved, _)) => format!("auto ({resolved})"),
