@@ -15,7 +15,7 @@ fn load(name: &str) -> Scene {
 }
 
 /// What `auto` picks for each built-in (the README states the same list): sppm for specular
-/// surfaces lit by a punctual light or by emitters that look small from them (< 0.13 sr; on
+/// surfaces lit by a punctual light or by emitters that look small from them (< 0.3 sr; on
 /// the GPU too), lt+pt for dispersive or only rough glass lit so, path tracing otherwise.
 #[test]
 fn auto_picks_the_documented_estimator_for_each_builtin() {
@@ -116,7 +116,7 @@ fn cli_reports_the_auto_choice_and_its_reason() {
         ),
         (
             "builtin:materials",
-            "estimator auto: path (the lights look large from the glass and mirrors (≥ 0.13 sr): path tracing)",
+            "estimator auto: path (the lights look large from the glass and mirrors (≥ 0.3 sr): path tracing)",
         ),
     ] {
         let args: Vec<&str> = base

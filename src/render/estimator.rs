@@ -20,7 +20,7 @@ use crate::scene::{Features, Scene};
 #[serde(rename_all = "lowercase")]
 pub enum Estimator {
     /// Picked from the scene (`Estimator::resolve`): sppm for specular surfaces under a
-    /// delta light or light that looks small from them (< 0.13 sr: caustics), lt+pt for
+    /// delta light or light that looks small from them (< 0.3 sr: caustics), lt+pt for
     /// dispersive or rough glass lit so, else path tracing.
     Auto,
     /// Unidirectional path tracing with NEE + MIS.
@@ -94,7 +94,7 @@ impl Estimator {
         let f = scene.features();
         if !has_small_light(scene, f) {
             let why = if f.intersects(CASTERS) {
-                "the lights look large from the glass and mirrors (≥ 0.13 sr): path tracing"
+                "the lights look large from the glass and mirrors (≥ 0.3 sr): path tracing"
             } else {
                 "no glass or mirror: path tracing"
             };
@@ -117,14 +117,15 @@ impl Estimator {
 }
 
 /// Emitters that subtend less than this solid angle (sr), averaged over the surfaces that
-/// cast caustics, count as small. Set from measurements on the built-ins (README, "Choosing
-/// the estimator": time to a given relMSE, path against the photon and bidirectional
-/// estimators): cornell-glass (0.093 sr), rough-glass (0.103 sr) and env-spheres (0.003 sr)
-/// converge 1.2–6× sooner with them, glass-of-water (0.35 sr), materials (0.44 sr),
-/// glass-slab (0.56 sr) and ior-grid (0.87 sr) sooner with path tracing. The threshold sits
-/// at the low end of the gap: where no scene was measured, the cheaper estimator (noise
-/// only, no photon-radius blur) keeps it.
-pub const SMALL_LIGHT_SR: f32 = 0.13;
+/// cast caustics, count as small. Set from measurements (README, "Choosing the estimator":
+/// relMSE at equal time, path against the photon and bidirectional estimators):
+/// cornell-glass (0.093 sr; its light grown 1.5×: 0.21 sr), rough-glass (0.103 sr) and
+/// env-spheres (0.003 sr) converge 1.9–6× sooner with them; glass-of-water (0.35 sr),
+/// materials (0.44 sr), glass-slab (0.56 sr) and ior-grid (0.87 sr) 1.1–1.9× sooner with
+/// path tracing. Not a sharp line — cornell-glass with its light grown 2× (0.37 sr) still
+/// photon-maps 1.4–1.6× better — so the threshold sits between the nearest scenes measured
+/// on either side.
+pub const SMALL_LIGHT_SR: f32 = 0.3;
 
 /// Whether `scene` (with features `f`) has a delta light, or light (emissive triangles and
 /// the environment) that looks small from its caustic casters ([`SMALL_LIGHT_SR`]), so that
