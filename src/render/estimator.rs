@@ -216,6 +216,9 @@ mod tests {
         assert_eq!(Estimator::Auto.resolve_gpu_why(&caustic).0, Estimator::Sppm);
         assert_eq!(Estimator::Sppm.resolve_gpu_why(&caustic).0, Estimator::Sppm);
         assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
+        // The reason states the threshold the rule uses (a literal in a `&'static str`).
+        let (_, why) = Estimator::Auto.resolve_why(&furnace);
+        assert!(why.contains(&format!("≥ {SMALL_LIGHT_SR} sr")), "{why}");
         let text = serde_json::to_string(&Estimator::LtPt).unwrap();
         assert_eq!(text, "\"lt+pt\"");
         let back: Estimator = serde_json::from_str(&text).unwrap();

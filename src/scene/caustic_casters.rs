@@ -42,7 +42,7 @@ pub fn emitter_solid_angle_at_casters(scene: &Scene) -> Option<f32> {
         return None;
     }
     let (mut sum, mut weight) = (0.0f64, 0.0f64);
-    for t in area_quantiles(scene, &casters) {
+    for t in area_quantiles(&casters) {
         let (p, _) = centroid_and_normal(scene, t);
         let (mut s1, mut s2) = (env, env_sq);
         for &(c, n_a, l) in &emitters {
@@ -62,26 +62,30 @@ pub fn emitter_solid_angle_at_casters(scene: &Scene) -> Option<f32> {
     (weight > 0.0).then(|| (sum / weight) as f32)
 }
 
-/// Up to [`MAX_POINTS`] of `tris` at the area quantiles (i + ½)/n: equally weighted points
-/// for an area-weighted mean (large triangles are never skipped, as an even stride would).
-fn area_quantiles(scene: &Scene, tris: &[usize]) -> Vec<usize> {
-    let mut cdf = Vec::with_capacity(tris.len());
-    let mut total = 0.0f64;
-    for &t in tris {
-        total += scene.mesh.area(t) as f64;
-        cdf.push(total);
-    }
+/// Up to [`MAX_POINTS`] of the triangles `(t, area)` at the area quantiles (i + ½)/n:
+/// equally weighted points for an area-weighted mean (large triangles are never skipped, as
+/// an even stride would).
+fn area_quantiles(tris: &[(usize, f32)]) -> Vec<usize> {
+    let cdf: Vec<f64> = tris
+        .iter()
+        .scan(0.0f64, |total, &(_, a)| {
+            *total += a as f64;
+            Some(*total)
+        })
+        .collect();
+    let total = cdf.last().copied().unwrap_or(0.0);
     let n = tris.len().min(MAX_POINTS);
     (0..n)
         .map(|i| {
             let u = (i as f64 + 0.5) / n as f64 * total;
-            tris[cdf.partition_point(|&c| c < u).min(tris.len() - 1)]
+            tris[cdf.partition_point(|&c| c < u).min(tris.len() - 1)].0
         })
         .collect()
 }
 
-/// The triangles (with area) of materials whose BSDF is a caster and that do not emit.
-fn caster_triangles(scene: &Scene) -> Vec<usize> {
+/// The triangles of materials whose BSDF is a caster and that do not emit, with their
+/// (positive) areas.
+fn caster_triangles(scene: &Scene) -> Vec<(usize, f32)> {
     let mesh = &scene.mesh;
     let caster_material: Vec<bool> = scene
         .materials
@@ -91,8 +95,10 @@ fn caster_triangles(scene: &Scene) -> Vec<usize> {
     (0..mesh.triangle_count())
         .filter(|&t| {
             let m = mesh.tri_material[t] as usize;
-            caster_material.get(m).copied().unwrap_or(false) && mesh.area(t) > 0.0
+            caster_material.get(m).copied().unwrap_or(false)
         })
+        .map(|t| (t, mesh.area(t)))
+        .filter(|&(_, a)| a > 0.0)
         .collect()
 }
 
@@ -106,8 +112,10 @@ fn emitter_points(scene: &Scene) -> Vec<(Vec3, Vec3, f64)> {
         .step_by(stride)
         .map(|&t| {
             let (c, n2a) = centroid_and_normal(scene, t as usize);
-            let m = &scene.materials[scene.mesh.tri_material[t as usize] as usize];
-            let l = luminance(m.emission).max(0.0) as f64;
+            let m = scene
+                .materials
+                .get(scene.mesh.tri_material[t as usize] as usize);
+            let l = m.map_or(0.0, |m| luminance(m.emission).max(0.0) as f64);
             (c, n2a * (0.5 * stride as f32), l)
         })
         .filter(|e| e.2 > 0.0)
