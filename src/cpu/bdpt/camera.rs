@@ -8,6 +8,8 @@ pub(super) struct CameraModel {
     pub pos: Vec3,
     /// World → camera (the camera's rotation transposed once, not per raster query).
     pub rot_t: glam::Mat3,
+    /// The optical axis (world, unit): the camera looks along it.
+    pub axis: Vec3,
     /// The camera's primary rays (`CameraRays::dir`).
     pub rays: CameraRays,
     pub tan_half: f32,
@@ -25,6 +27,7 @@ impl CameraModel {
         CameraModel {
             pos: c.position,
             rot_t: c.rotation.transpose(),
+            axis: -c.rotation.transpose().row(2),
             rays: CameraRays::new(c),
             tan_half,
             aspect,
@@ -53,11 +56,24 @@ impl CameraModel {
     }
 
     /// Solid-angle density of the camera's primary direction `w` (uniform on the image plane):
-    /// p(ω) = 1 / (A_plane cos³θ) (PBR 3rd ed. §16.1.1, `PerspectiveCamera::Pdf_We`).
+    /// p(ω) = 1 / (A_plane cos³θ) (PBR 3rd ed. §16.1.1, `PerspectiveCamera::Pdf_We`); 0 off
+    /// the film. The estimator itself knows when a direction is on the film (`pdf_at_cos`);
+    /// the tests' direct MIS forms use this.
+    #[cfg(test)]
     pub fn pdf_dir(&self, w: Vec3) -> f32 {
-        match self.raster(w) {
-            Some((_, _, c)) => 1.0 / (self.a_plane * c * c * c),
-            None => 0.0,
-        }
+        self.raster(w).map_or(0.0, |(_, _, c)| self.pdf_at_cos(c))
+    }
+
+    /// `pdf_dir` of a direction known to land on the film, from its cosine to the optical
+    /// axis (`raster`'s third value, or the primary ray's): no projection needed.
+    #[inline]
+    pub fn pdf_at_cos(&self, cos: f32) -> f32 {
+        1.0 / (self.a_plane * cos * cos * cos)
+    }
+
+    /// Cosine between the unit direction `w` and the optical axis.
+    #[inline]
+    pub fn cos_to_axis(&self, w: Vec3) -> f32 {
+        self.axis.dot(w)
     }
 }

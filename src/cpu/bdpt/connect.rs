@@ -58,6 +58,9 @@ impl Bdpt<'_> {
         d2: f32,
         sp: &Spectral,
     ) -> Option<Color> {
+        if !self.media {
+            return None;
+        }
         let m = v.medium_towards(w);
         m?;
         medium_transmittance(self.pt.scene, m, d2.sqrt(), sp)
@@ -110,8 +113,9 @@ impl Bdpt<'_> {
         }
         if self.mode == BdptMode::Full {
             // Camera density of generating y (area), for the MIS ratio.
-            let pdf_cam_y = to_area(self.cam.pdf_dir(-w), c0, yv);
-            let p = self.connection_pdfs_at(light, &cam[..1], Some(pdf_cam_y), None, ey.as_ref());
+            let pdf_cam_y = to_area(self.cam.pdf_at_cos(cos_c), c0, yv);
+            let p =
+                self.connection_pdfs_at(light, &cam[..1], Some(pdf_cam_y), (None, ey.as_ref()), w);
             v *= mis::weight(light, &cam[..1], &p);
         }
         Some((px, py, Self::finish(v, yv.collapsed)))
@@ -184,7 +188,7 @@ impl Bdpt<'_> {
         if self.mode != BdptMode::Full {
             return Self::finish(v, collapse);
         }
-        let p = self.connection_pdfs_at(light, cam, None, ez.as_ref(), ey.as_ref());
+        let p = self.connection_pdfs_at(light, cam, None, (ez.as_ref(), ey.as_ref()), -w_zy);
         Self::finish(v * mis::weight(light, cam, &p), collapse)
     }
 

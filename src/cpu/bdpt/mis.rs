@@ -92,18 +92,19 @@ impl Bdpt<'_> {
         let ey = y
             .filter(|_| light.len() >= 2)
             .and_then(|y| End::new(y, -w_zy));
-        self.connection_pdfs_at(light, cam, pdf_cam_y, ez.as_ref(), ey.as_ref())
+        self.connection_pdfs_at(light, cam, pdf_cam_y, (ez.as_ref(), ey.as_ref()), -w_zy)
     }
 
     /// `connection_pdfs` (t = cam.len()) with the end vertices already evaluated along the
-    /// connection: `ez` for t ≥ 2 and `ey` for s ≥ 2 (`None`: no non-delta BSDF there).
+    /// connection: `ez` for t ≥ 2 and `ey` for s ≥ 2 (`None`: no non-delta BSDF there);
+    /// `w_yz`: the unit direction from y to z.
     pub(super) fn connection_pdfs_at(
         &self,
         light: &[Vertex],
         cam: &[Vertex],
         pdf_cam_y: Option<f32>,
-        ez: Option<&End>,
-        ey: Option<&End>,
+        (ez, ey): (Option<&End>, Option<&End>),
+        w_yz: glam::Vec3,
     ) -> ConnectionPdfs {
         let (s, t) = (light.len(), cam.len());
         let z = &cam[t - 1];
@@ -119,7 +120,7 @@ impl Bdpt<'_> {
         let pdf = |e: Option<&End>, f: &dyn Fn(&End) -> f32| e.map_or(0.0, f);
         let towards = |v: &Vertex, to: &Vertex| (to.p - v.p).normalize_or_zero();
         p.z = if s == 1 {
-            to_area(self.light_pdf_dir(y, towards(y, z)), y, z)
+            to_area(self.light_pdf_dir(y, w_yz), y, z)
         } else {
             to_area(pdf(ey, &|e| e.pdf_out()), y, z)
         };

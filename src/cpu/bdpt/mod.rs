@@ -133,7 +133,8 @@ impl<'a> Bdpt<'a> {
         let start = WalkStart {
             ray: (self.cam.pos, dir),
             st: PathState::new(Color::ONE, false, self.pt.nested),
-            pdf_w: self.cam.pdf_dir(dir),
+            // A primary ray lands on the film by construction.
+            pdf_w: self.cam.pdf_at_cos(self.cam.cos_to_axis(dir)),
             mode: TransportMode::Radiance,
         };
         let escaped = self.walk(cam, start, cam_max, sampler, sp);
