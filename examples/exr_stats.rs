@@ -34,6 +34,30 @@ fn block_diff(a: &[Vec3], r: &[Vec3], w: usize, h: usize) -> (f32, f32) {
     (med, rel.last().copied().unwrap_or(0.0))
 }
 
+/// Where the relMSE comes from: the share of its sum carried by the worst 1 % and 10 % of
+/// pixels, and the pixel box of the worst 1 % (x0..x1, y0..y1).
+fn concentration(a: &[Vec3], r: &[Vec3], w: usize) -> (f64, f64, [usize; 4]) {
+    let mut e: Vec<(f64, usize)> = a
+        .iter()
+        .zip(r)
+        .enumerate()
+        .map(|(i, (a, r))| (refract::bench::rel_mse(&[*a], &[*r]), i))
+        .collect();
+    e.sort_by(|x, y| y.0.total_cmp(&x.0));
+    let total = e.iter().map(|x| x.0).sum::<f64>().max(1e-300);
+    let share = |f: f64| {
+        let n = ((e.len() as f64 * f).ceil() as usize).max(1);
+        (e[..n].iter().map(|x| x.0).sum::<f64>() / total, n)
+    };
+    let (s1, n1) = share(0.01);
+    let mut bx = [usize::MAX, 0, usize::MAX, 0];
+    for &(_, i) in &e[..n1] {
+        let (x, y) = (i % w, i / w);
+        bx = [bx[0].min(x), bx[1].max(x), bx[2].min(y), bx[3].max(y)];
+    }
+    (s1, share(0.1).0, bx)
+}
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     ensure!(
@@ -72,6 +96,16 @@ fn main() -> anyhow::Result<()> {
             m.x / mr.x,
             m.y / mr.y,
             m.z / mr.z
+        );
+        let (s1, s10, b) = concentration(&img, &reference, w as usize);
+        println!(
+            "  worst 1 % of pixels carry {:.0} % of it (within x {}..{}, y {}..{}), worst 10 % {:.0} %",
+            s1 * 100.0,
+            b[0],
+            b[1],
+            b[2],
+            b[3],
+            s10 * 100.0
         );
     }
     Ok(())

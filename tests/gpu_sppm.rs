@@ -92,7 +92,7 @@ fn agrees(name: &str, filter: Option<&str>) -> Option<f64> {
 fn gpu_radius_schedule_is_the_cpus() {
     for name in ["caustic", "caustic-mirror", "cornell-glass"] {
         let s = small(name);
-        let cpu = SppmParams::new(&s.camera, s.bounds(), W, H);
+        let cpu = SppmParams::new(&s.camera, s.bounds(), (W, H), 1.0);
         let r0 = photons::radius0(&s.camera, s.bounds(), H);
         assert_eq!(r0, cpu.radius0, "{name}");
         assert_eq!(

@@ -23,18 +23,27 @@ fn renderer(name: &str, w: u32, h: u32) -> Renderer {
 
 /// Where both work, sppm and path tracing (bdpt on the caustic scenes, where path tracing
 /// is too noisy to test against) render the same image: ≥ 90% of 8×8 blocks within 3σ
-/// over independent runs and the image means within 4σ.
+/// over independent runs and the image means within 4σ. In `caustic-mirror` BDPT does not
+/// work on what the mirror shows of the caustic (L S D S E: at 32 spp its runs all but never
+/// sample it and agree on a value 25 % below sppm's in the block holding it), so there the
+/// comparison is of the paths whose last vertex before the eye is diffuse.
 #[test]
 fn sppm_converges_to_the_unbiased_estimators() {
-    for (name, other, spp_other, spp) in [
-        ("cornell-glass", Estimator::Path, 64, 32),
-        ("glass-slab", Estimator::Path, 64, 32),
-        ("caustic", Estimator::Bdpt, 32, 32),
-        ("caustic-mirror", Estimator::Bdpt, 32, 32),
+    for (name, other, spp_other, spp, paths) in [
+        ("cornell-glass", Estimator::Path, 64, 32, None),
+        ("glass-slab", Estimator::Path, 64, 32, None),
+        ("caustic", Estimator::Bdpt, 32, 32, None),
+        (
+            "caustic-mirror",
+            Estimator::Bdpt,
+            32,
+            32,
+            Some("L(D|G|S)*DE"),
+        ),
     ] {
         let r = renderer(name, 32, 24);
-        let a = cpu_block_runs(&r, other, spp_other, None, 100, 6);
-        let b = cpu_block_runs(&r, Estimator::Sppm, spp, None, 200, 6);
+        let a = cpu_block_runs(&r, other, spp_other, paths, 100, 6);
+        let b = cpu_block_runs(&r, Estimator::Sppm, spp, paths, 200, 6);
         assert_blocks_agree(&format!("{name}: {other} vs sppm"), &a, &b);
     }
 }
@@ -139,7 +148,7 @@ fn sppm_images_do_not_depend_on_threads_or_passes() {
 #[test]
 fn radius_shrinks_with_alpha_two_thirds() {
     let s = Scene::load("builtin:caustic").expect("builtin");
-    let p = SppmParams::new(&s.camera, s.bounds(), 64, 48);
+    let p = SppmParams::new(&s.camera, s.bounds(), (64, 48), 1.0);
     assert_eq!(ALPHA, 2.0 / 3.0);
     for i in [0u32, 1, 7, 100, 4095] {
         let ratio = (p.radius(i) / p.radius0).powi(2) as f64;
@@ -149,7 +158,7 @@ fn radius_shrinks_with_alpha_two_thirds() {
             "s = {i}: {ratio} vs {want}"
         );
     }
-    let fine = SppmParams::new(&s.camera, s.bounds(), 128, 96);
+    let fine = SppmParams::new(&s.camera, s.bounds(), (128, 96), 1.0);
     assert!((fine.radius0 * 2.0 / p.radius0 - 1.0).abs() < 1e-5);
     assert_eq!(p.photons_per_iteration, 64 * 48);
 }

@@ -48,6 +48,8 @@ pub struct Renderer {
     pub absorption: bool,
     /// A material reads a texture.
     pub textures: bool,
+    /// Where `sppm` aims the photons of finite lights (the surfaces that can be specular).
+    pub photon_targets: super::sppm::PhotonTargets,
 }
 
 impl Renderer {
@@ -65,13 +67,14 @@ impl Renderer {
             nested: false,
             absorption: false,
             textures: false,
+            photon_targets: Default::default(),
         };
         r.refresh_features();
         Ok(r)
     }
 
     /// Re-derive what the walks specialise on (spectral transport, media, textures) from
-    /// the scene's features, after its materials changed.
+    /// the scene's features, and where photons are aimed, after its materials changed.
     pub fn refresh_features(&mut self) {
         let features = self.scene.features();
         self.spectral = features.contains(Features::DISPERSION);
@@ -79,6 +82,7 @@ impl Renderer {
         self.nested = features.contains(Features::NESTED);
         self.absorption = features.contains(Features::ABSORPTION);
         self.textures = features.contains(Features::TEXTURES);
+        self.photon_targets = super::sppm::PhotonTargets::new(&self.scene);
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
@@ -225,7 +229,8 @@ impl Renderer {
         use super::sppm::{Frame, SppmParams, render_iteration};
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
-        let params = SppmParams::new(&self.scene.camera, self.scene.bounds(), w, h);
+        let fraction = self.photon_targets.aimed_fraction(&self.lights);
+        let params = SppmParams::new(&self.scene.camera, self.scene.bounds(), (w, h), fraction);
         let mut dropped = 0u64;
         for s in first_spp..first_spp + count {
             let frame = Frame {
@@ -234,7 +239,8 @@ impl Renderer {
                 height: h,
                 seed: opts.seed,
             };
-            match render_iteration(&integ, &params, s, frame, cancelled) {
+            let aimed = Some(&self.photon_targets);
+            match render_iteration(&integ, (&params, aimed), s, frame, cancelled) {
                 Some(d) => dropped += d,
                 None => return false,
             }

@@ -6,6 +6,7 @@
 
 use crate::bsdf::{Event, Lobe, TransportMode};
 use crate::paths::{DfaTable, MAX_STATES, NUM_SYMBOLS, Symbol};
+use crate::render::photon_aim::MAX_TARGETS;
 use crate::scene::material::Wrap;
 
 /// Size and field offsets of a GPU struct, for the layout check.
@@ -174,9 +175,14 @@ gpu_struct! {
         pub photon_norm: f32,
         /// `sppm`: photon-grid buckets − 1 (a power of two minus one).
         pub grid_mask: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        /// `sppm`: photon paths this iteration (`render::photon_aim::photon_paths`).
+        pub photon_paths: u32,
+        /// `sppm`: spheres in `targets`; 0 = photons are emitted as the light does.
+        pub target_count: u32,
         pub _pad2: u32,
+        /// `sppm`: where finite lights aim their photons (centre xyz, radius w;
+        /// `render::photon_aim::PhotonTargets`).
+        pub targets: [[f32; 4]; MAX_TARGETS],
     }
 }
 
@@ -202,6 +208,8 @@ gpu_struct! {
 pub const PHOTON_COUNT: u32 = 0;
 pub const PHOTON_OVERFLOW: u32 = 1;
 pub const PHOTON_HEADS: u32 = 2;
+/// Length of `Params::targets` (`render::photon_aim::MAX_TARGETS`).
+pub const PHOTON_TARGETS: u32 = MAX_TARGETS as u32;
 
 gpu_struct! {
     /// Header of the stats buffer (64-bit counters as lo/hi u32 atomics); the debug records

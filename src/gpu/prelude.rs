@@ -72,6 +72,7 @@ wgsl_constants![
     PHOTON_COUNT,
     PHOTON_OVERFLOW,
     PHOTON_HEADS,
+    PHOTON_TARGETS,
 ];
 
 /// The prelude's WGSL text: one `const NAME: u32 = value;` line per [`WGSL_CONSTANTS`] entry.

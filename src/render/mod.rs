@@ -6,6 +6,7 @@
 pub mod device;
 pub mod estimator;
 pub mod options;
+pub mod photon_aim;
 pub mod photon_radius;
 pub mod settings;
 pub mod stats;

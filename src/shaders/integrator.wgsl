@@ -45,9 +45,13 @@ struct Params {
     photon_radius: f32,
     photon_norm: f32,
     grid_mask: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // photon paths this iteration (render::photon_aim::photon_paths)
+    photon_paths: u32,
+    // spheres in `targets` (0: photons leave as the light emits them)
+    target_count: u32,
     _pad2: u32,
+    // where finite lights aim their photons: centre xyz, radius w (photon.wgsl `photon_aim`)
+    targets: array<vec4<f32>, PHOTON_TARGETS>,
 }
 
 struct Stats {

@@ -106,7 +106,10 @@ fn photon_path(sampler: ptr<function, Sampler>, sp: Spectral) {
     if pick.prob <= 0.0 {
         return;
     }
-    let le = light_sample_le(pick.light, u_pos, u_dir, sampler, pick.prob);
+    var le = light_sample_le(pick.light, u_pos, u_dir, sampler, pick.prob);
+    if le.valid && params.target_count > 0u && !light_is_infinite(pick.light) {
+        le = photon_aimed(pick.light, le, sampler_next_1d(sampler), u_dir);
+    }
     if !le.valid || !(le.pdf_dir > 0.0) || !(le.pdf_pos > 0.0) || !(max_element3(le.l) > 0.0) {
         return;
     }
@@ -163,6 +166,82 @@ fn photon_path(sampler: ptr<function, Sampler>, sp: Spectral) {
     }
 }
 
+// Cone of target sphere i seen from p: axis, 1 − cos θ_max (2 = every direction: p is inside)
+// and solid angle (`PhotonTargets::cone`).
+struct AimCone {
+    axis: vec3<f32>,
+    omc: f32,
+    omega: f32,
+}
+
+fn photon_aim_cone(i: u32, p: vec3<f32>) -> AimCone {
+    let t = params.targets[i];
+    let to = t.xyz - p;
+    let d2 = dot(to, to);
+    let r2 = t.w * t.w;
+    if d2 <= r2 {
+        return AimCone(vec3<f32>(0.0, 0.0, 1.0), 2.0, 4.0 * PI);
+    }
+    let sin2 = r2 / d2;
+    let omc = sin2 / (1.0 + sqrt(1.0 - sin2));
+    return AimCone(to / sqrt(d2), omc, 2.0 * PI * omc);
+}
+
+// The emission `le` of `light` redirected towards the photon targets (twin of
+// `trace_photon` with `render::photon_aim::PhotonTargets::sample_dir`): the point as
+// sampled, a direction uniform in a cone picked by solid angle, density N(ω) / Σ Ω_j with
+// N(ω) the cones holding ω; the radiance and cosine along it. Invalid without a direction.
+fn photon_aimed(light: Light, le_in: LightLeSample, u_pick: f32, u: vec2<f32>) -> LightLeSample {
+    var le = le_in;
+    let n = min(params.target_count, PHOTON_TARGETS);
+    var total = 0.0;
+    for (var i = 0u; i < n; i++) {
+        total += photon_aim_cone(i, le.p).omega;
+    }
+    if !(total > 0.0) || !is_finite_f32(total) {
+        le.valid = false;
+        return le;
+    }
+    var rest = u_pick * total;
+    var j = n - 1u;
+    for (var i = 0u; i < n; i++) {
+        let om = photon_aim_cone(i, le.p).omega;
+        if rest < om {
+            j = i;
+            break;
+        }
+        rest -= om;
+    }
+    let cj = photon_aim_cone(j, le.p);
+    var w: vec3<f32>;
+    if cj.omc >= 2.0 {
+        w = uniform_sphere(u);
+    } else {
+        let one_minus_cos = u.x * cj.omc;
+        let sin_t = sqrt(max(one_minus_cos * (2.0 - one_minus_cos), 0.0));
+        let phi = 2.0 * PI * u.y;
+        w = frame_to_world(frame_from_normal(cj.axis), vec3<f32>(sin_t * cos(phi), sin_t * sin(phi), 1.0 - one_minus_cos));
+    }
+    var holding = 1.0;
+    for (var i = 0u; i < n; i++) {
+        let c = photon_aim_cone(i, le.p);
+        if i != j && (c.omc >= 2.0 || 1.0 - dot(w, c.axis) <= c.omc) {
+            holding += 1.0;
+        }
+    }
+    le.dir = w;
+    le.pdf_dir = holding / total;
+    le.l = light_le(light, le.p, le.n, w);
+    if !le.delta_pos {
+        // The emitting side faces w (a double-sided emitter; a one-sided one has l = 0 behind).
+        if dot(w, le.n) < 0.0 {
+            le.n = -le.n;
+        }
+        le.cos_n = abs(dot(w, le.n));
+    }
+    return le;
+}
+
 // The iteration's hero wavelengths, shared by its photons and camera paths (`sppm`:
 // `Sampler::new(u32::MAX, s, seed)`; sample_offset = s, one iteration per dispatch).
 fn photon_spectral() -> Spectral {
@@ -182,8 +261,9 @@ fn photon_trace(
     }
     OFFSET_SCALE = params.offset_scale;
     segments = 0u;
-    // Invocations past the image edge trace nothing but still take part in the reduction.
-    if gid.x < params.width && gid.y < params.height {
+    // Invocations past the image edge or the iteration's photon paths trace nothing but still
+    // take part in the reduction.
+    if gid.x < params.width && gid.y < params.height && gid.y * params.width + gid.x < params.photon_paths {
         var sampler = sampler_new(gid.y * params.width + gid.x, params.sample_offset, params.seed);
         sampler.dim = PHOTON_DIMS;
         photon_path(&sampler, photon_spectral());

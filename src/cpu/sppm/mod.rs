@@ -7,8 +7,10 @@
 //!
 //! 1. `photons_per_iteration` light subpaths are traced; those that pass through specular
 //!    vertices only and reach a diffuse surface are stored there (`photon`): the paths
-//!    L S^k D, k ≥ 1. All photons of an iteration share one set of hero wavelengths with
-//!    the iteration's camera paths (scenes with dispersion), so their lanes multiply.
+//!    L S^k D, k ≥ 1. Finite lights emit them towards the surfaces that can be specular
+//!    only (`render::photon_aim`), where every stored photon must start. All photons of an
+//!    iteration share one set of hero wavelengths with the iteration's camera paths (scenes
+//!    with dispersion), so their lanes multiply.
 //! 2. Every pixel traces one camera path with the path tracer (NEE + MIS); at each diffuse
 //!    vertex it adds the photons within radius r_s (`lookup`), and it leaves out the paths
 //!    the photons stand for (light reached from that vertex through specular vertices
@@ -17,9 +19,10 @@
 //! The radius shrinks with the iteration as in Knaus & Zwicker 2011 ("Progressive Photon
 //! Mapping: A Probabilistic Approach", eq. 15 in closed form): r_s² = r₁² · (s + 1)^(α − 1),
 //! α = 2/3, so the average over iterations is consistent — bias and variance both vanish.
-//! r₁ is a few pixel footprints at the distance of the scene's centre; the photon count per
-//! iteration is a multiple of the pixel count (one photon path per camera path, as VCM,
-//! Georgiev et al. 2012, times `PHOTONS_PER_PIXEL`).
+//! r₁ is a few pixel footprints at the distance of the scene's centre. Unaimed, an iteration
+//! traces one photon path per camera path (as VCM, Georgiev et al. 2012, times
+//! `PHOTONS_PER_PIXEL`); aimed, a share of that set by how much of the light reaches the
+//! casters (`render::photon_aim::photon_paths`).
 //!
 //! Images are identical for any thread count: photon paths are traced in fixed chunks whose
 //! results are concatenated in order, and each pixel's estimate depends only on its own
@@ -34,7 +37,8 @@ use super::render::camera_ray;
 use super::spectral::Spectral;
 use crate::film::Film;
 use crate::math::rng::Sampler;
-use crate::render::photon_radius;
+pub use crate::render::photon_aim::PhotonTargets;
+use crate::render::{photon_aim, photon_radius};
 use crate::scene::Camera;
 use grid::HashGrid;
 use lookup::PhotonLookup;
@@ -58,11 +62,21 @@ pub struct SppmParams {
 }
 
 impl SppmParams {
-    /// The defaults for an image of `width × height` of `scene` seen by `cam`.
-    pub fn new(cam: &Camera, bounds: (glam::Vec3, glam::Vec3), width: u32, height: u32) -> Self {
+    /// The defaults for an image of `width × height` of a scene with `bounds` seen by
+    /// `cam`, whose photons are aimed where `aimed_fraction` of the lights' power goes
+    /// (`render::photon_aim`; 1 = unaimed: one photon path per pixel).
+    pub fn new(
+        cam: &Camera,
+        bounds: (glam::Vec3, glam::Vec3),
+        (width, height): (u32, u32),
+        aimed_fraction: f32,
+    ) -> Self {
         SppmParams {
             radius0: photon_radius::radius0(cam, bounds, height),
-            photons_per_iteration: (width * height).saturating_mul(PHOTONS_PER_PIXEL).max(1),
+            photons_per_iteration: photon_aim::photon_paths(
+                (width * height).saturating_mul(PHOTONS_PER_PIXEL),
+                aimed_fraction,
+            ),
         }
     }
 
@@ -86,6 +100,7 @@ fn photon_pass(
     s: u32,
     seed: u32,
     sp: &Spectral,
+    targets: Option<&PhotonTargets>,
 ) -> PhotonPass {
     let n = params.photons_per_iteration;
     let limits = PhotonLimits {
@@ -97,7 +112,7 @@ fn photon_pass(
             let mut out = Vec::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                 let mut sampler = Sampler::new(i, s, seed).with_dim(PHOTON_DIMS);
-                out.extend(trace_photon(pt, &mut sampler, sp, limits));
+                out.extend(trace_photon(pt, &mut sampler, sp, limits, targets));
             }
             out
         })
@@ -121,12 +136,13 @@ pub struct Frame<'f> {
     pub seed: u32,
 }
 
-/// Render iteration (sample index) `s` into `frame.film`'s sums: one photon pass, then one
-/// camera path per pixel. Returns the dropped (non-finite or negative) samples, or None if
+/// Render iteration (sample index) `s` into `frame.film`'s sums: one photon pass (photons
+/// of finite lights aimed at `targets` when given, `render::photon_aim`), then one camera
+/// path per pixel. Returns the dropped (non-finite or negative) samples, or None if
 /// `cancelled` returned true (the film then holds a partial iteration).
 pub fn render_iteration(
     pt: &Integrator,
-    params: &SppmParams,
+    (params, targets): (&SppmParams, Option<&PhotonTargets>),
     s: u32,
     frame: Frame,
     cancelled: &(dyn Fn() -> bool + Sync),
@@ -139,7 +155,7 @@ pub fn render_iteration(
     } = frame;
     // One set of hero wavelengths per iteration, shared by its photons and camera paths.
     let sp = pt.lanes(|| Sampler::new(u32::MAX, s, seed).next_1d());
-    let pass = photon_pass(pt, params, s, seed, &sp);
+    let pass = photon_pass(pt, params, s, seed, &sp, targets);
     let lookup = PhotonLookup {
         photons: &pass.photons,
         grid: &pass.grid,
@@ -169,3 +185,6 @@ pub fn render_iteration(
         })
         .sum()
 }
+
+#[cfg(test)]
+mod tests;

@@ -12,6 +12,7 @@ use crate::cpu::interaction::{Bounce, Interaction, offset_ray_origin_towards};
 use crate::cpu::path_state::{Interface, PathState};
 use crate::cpu::spectral::Spectral;
 use crate::math::{Color, rng::Sampler};
+use crate::render::photon_aim::PhotonTargets;
 use glam::Vec3;
 
 /// One stored photon.
@@ -37,16 +38,26 @@ pub struct PhotonLimits {
     pub max_segments: u32,
 }
 
-/// Trace one photon path with `sampler`; returns the photon it stores, if any.
+/// Trace one photon path with `sampler`; returns the photon it stores, if any. With
+/// `targets`, a finite light emits towards them only (`render::photon_aim`); lights at
+/// infinity, and every light without `targets`, emit as `Light::sample_le` does.
 pub fn trace_photon(
     pt: &Integrator,
     sampler: &mut Sampler,
     sp: &Spectral,
     limits: PhotonLimits,
+    targets: Option<&PhotonTargets>,
 ) -> Option<Photon> {
     let (light, pick) = pt.lights.pick(sampler.next_1d())?;
     let (u_pos, u_dir, u_side) = (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
-    let le = light.sample_le(u_pos, u_dir, u_side, pick)?;
+    let mut le = light.sample_le(u_pos, u_dir, u_side, pick)?;
+    if let Some(t) = targets.filter(|_| !le.infinite) {
+        // The point as sampled, the direction towards a target.
+        let (w, pdf_w) = t.sample_dir(le.p, sampler.next_1d(), u_dir)?;
+        le.dir = w;
+        le.pdf_dir = pdf_w;
+        le.l = light.le(le.p, le.n, w);
+    }
     if le.pdf_dir <= 0.0 || le.pdf_pos <= 0.0 || le.l.max_element() <= 0.0 {
         return None;
     }

@@ -12,6 +12,7 @@ use crate::gpu::pipeline::{Pipelines, Specialization};
 use crate::gpu::submissions::Submissions;
 use crate::gpu::upload::{self, GpuBvh};
 use crate::render::RenderOptions;
+use crate::render::photon_aim::PhotonTargets;
 use crate::scene::{Scene, light::LightSet};
 use anyhow::Result;
 use std::time::Duration;
@@ -54,6 +55,8 @@ impl GpuRenderer {
             tex_slots,
             features,
             photon_r0: 0.0,
+            photon_targets: PhotonTargets::default(),
+            photon_fraction: 1.0,
             background_compile,
             clear_pending: false,
             batches_in_flight: BATCHES_IN_FLIGHT,
@@ -118,7 +121,15 @@ impl GpuRenderer {
         self.fit_tiles();
         self.fit_wavefront();
         self.photon_r0 = self.sppm_radius0();
+        self.fit_photon_aim();
         self.write_filter_table();
+    }
+
+    /// Where `sppm` aims the photons of finite lights, and the share of the power sent there
+    /// (`render::photon_aim`), for the current materials and lights.
+    pub(super) fn fit_photon_aim(&mut self) {
+        self.photon_targets = PhotonTargets::new(&self.scene);
+        self.photon_fraction = self.photon_targets.aimed_fraction(&self.light_set);
     }
 
     /// [`GpuRenderer::build_buffers`] in error scopes: a validation or out-of-memory error is

@@ -48,6 +48,8 @@ impl GpuRenderer {
         self.write_material(index);
         if emission_changed {
             self.rebuild_lights()?;
+        } else {
+            self.fit_photon_aim();
         }
         self.features = self.scene.features();
         self.respecialize();
@@ -253,6 +255,7 @@ impl GpuRenderer {
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         }
         self.light_count = count;
+        self.fit_photon_aim();
         Ok(())
     }
 
@@ -341,6 +344,7 @@ impl GpuRenderer {
         self.light_count = count;
         self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         self.features = self.scene.features();
+        self.fit_photon_aim();
         self.write_filter_table();
         self.respecialize();
         self.fit_tiles();

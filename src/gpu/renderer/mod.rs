@@ -23,6 +23,7 @@ use super::pipeline::{Pipelines, Specialization};
 use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
+use crate::render::photon_aim::PhotonTargets;
 use crate::render::{Estimator, RenderOptions};
 use crate::scene::{Features, Scene, light::LightSet};
 use anyhow::{Result, ensure};
@@ -112,6 +113,10 @@ pub struct GpuRenderer {
     features: Features,
     /// `sppm`: the first iteration's photon radius r₁ (`photons::radius0`).
     photon_r0: f32,
+    /// `sppm`: where finite lights aim their photons, and the share of the lights' power
+    /// that goes there (`render::photon_aim`; refreshed by material and light edits).
+    photon_targets: PhotonTargets,
+    photon_fraction: f32,
     /// Compile new specialisations on a worker thread (the viewer) instead of in the call
     /// that changes the specialisation (the CLI, tests).
     background_compile: bool,
@@ -166,7 +171,8 @@ fn sppm_for(opts: &RenderOptions, scene: &Scene) -> bool {
     matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::Sppm)
 }
 
-/// Photon paths per iteration: one per pixel with `sppm` (`cpu::sppm::PHOTONS_PER_PIXEL`),
+/// Photon slots per iteration: one per pixel with `sppm` (`cpu::sppm::PHOTONS_PER_PIXEL`;
+/// the aimed paths of an iteration, `render::photon_aim::photon_paths`, are at most that),
 /// else a placeholder store of one.
 fn photon_paths(sppm: bool, opts: &RenderOptions) -> u32 {
     if sppm {

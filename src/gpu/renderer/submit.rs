@@ -5,6 +5,7 @@ use super::{GpuImage, GpuRenderer, photon_paths, wavefront};
 use crate::gpu::layout::Params;
 use crate::gpu::photons;
 use crate::gpu::pipeline::Kernel;
+use crate::render::photon_aim;
 use anyhow::Result;
 use std::time::{Duration, Instant};
 
@@ -78,7 +79,12 @@ impl GpuRenderer {
         let k = batch as f64;
         let rot = cam.rotation;
         // sppm: one iteration per dispatch, iteration s = sample index s.
-        let paths = f64::from(photon_paths(true, &self.opts));
+        let aimed = photon_aim::photon_paths(photon_paths(true, &self.opts), self.photon_fraction);
+        let paths = f64::from(aimed);
+        let mut targets = [[0.0; 4]; photon_aim::MAX_TARGETS];
+        for (t, s) in targets.iter_mut().zip(&self.photon_targets.spheres) {
+            *t = s.center.extend(s.radius).to_array();
+        }
         let r = photons::radius(self.photon_r0, first as u32);
         Params {
             cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
@@ -104,9 +110,10 @@ impl GpuRenderer {
             photon_norm: (1.0 / (paths * std::f64::consts::PI * f64::from(r) * f64::from(r)))
                 as f32,
             grid_mask: self.buffers.photon_store.buckets - 1,
-            _pad0: 0,
-            _pad1: 0,
+            photon_paths: aimed,
+            target_count: self.photon_targets.spheres.len() as u32,
             _pad2: 0,
+            targets,
         }
     }
 
