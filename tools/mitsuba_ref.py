@@ -2,7 +2,7 @@
 """Render a scene dumped by `examples/dump_scene.rs` with Mitsuba 3's `path` integrator, as an
 independent reference (development only; not used in CI).
 
-usage: python3 tools/mitsuba_ref.py DUMP_DIR OUT.exr SPP [WIDTH HEIGHT]
+usage: python3 tools/mitsuba_ref.py DUMP_DIR OUT.exr SPP [WIDTH HEIGHT [SEED]]
 """
 import json, math, os, sys
 import mitsuba as mi
@@ -13,6 +13,7 @@ s = json.load(open(os.path.join(d, "scene.json")))
 st = s["settings"]
 w = int(sys.argv[4]) if len(sys.argv) > 4 else st["width"]
 h = int(sys.argv[5]) if len(sys.argv) > 5 else st["height"]
+seed = int(sys.argv[6]) if len(sys.argv) > 6 else 0
 c = s["camera"]
 pos, fwd = c["position"], c["forward"]
 scene = {
@@ -79,6 +80,6 @@ for i, m in enumerate(s["materials"]):
             print("warning: Mitsuba area lights are one-sided; double-sided emission differs")
     scene[f"shape{i}"] = shape
 if __name__ == "__main__":  # `tools/mitsuba_rays.py` imports the scene dict instead
-    img = mi.render(mi.load_dict(scene))
+    img = mi.render(mi.load_dict(scene), seed=seed)
     mi.Bitmap(img).write(out)
     print("wrote", out)
