@@ -9,6 +9,7 @@ use super::splat_buffer::SplatBuffer;
 use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
+use crate::render::photon_aim::PhotonTargets;
 use crate::render::{Estimator, RenderOptions, RenderStats};
 use crate::scene::camera::CameraRays;
 use crate::scene::{Features, Scene, light::LightSet};
@@ -48,8 +49,10 @@ pub struct Renderer {
     pub absorption: bool,
     /// A material reads a texture.
     pub textures: bool,
-    /// Where `sppm` aims the photons of finite lights (the surfaces that can be specular).
-    pub photon_targets: super::sppm::PhotonTargets,
+    /// Where `sppm` aims the photons of finite lights (the surfaces that can be specular)
+    /// and the share of the lights' power sent there, found at the first `sppm` pass after
+    /// the materials or lights changed (`Renderer::photon_aim`).
+    photon_aim: std::sync::OnceLock<(PhotonTargets, f32)>,
 }
 
 impl Renderer {
@@ -67,7 +70,7 @@ impl Renderer {
             nested: false,
             absorption: false,
             textures: false,
-            photon_targets: Default::default(),
+            photon_aim: Default::default(),
         };
         r.refresh_features();
         Ok(r)
@@ -82,7 +85,18 @@ impl Renderer {
         self.nested = features.contains(Features::NESTED);
         self.absorption = features.contains(Features::ABSORPTION);
         self.textures = features.contains(Features::TEXTURES);
-        self.photon_targets = super::sppm::PhotonTargets::new(&self.scene);
+        self.photon_aim = Default::default();
+    }
+
+    /// Where `sppm` aims photons and the share of the power that goes there
+    /// (`render::photon_aim`), computed once per scene state. Whoever replaces `lights` or
+    /// the materials calls [`Renderer::refresh_features`] (the viewer's render loop does).
+    pub fn photon_aim(&self) -> &(PhotonTargets, f32) {
+        self.photon_aim.get_or_init(|| {
+            let targets = PhotonTargets::new(&self.scene);
+            let fraction = targets.aimed_fraction(&self.lights);
+            (targets, fraction)
+        })
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {
@@ -229,8 +243,8 @@ impl Renderer {
         use super::sppm::{Frame, SppmParams, render_iteration};
         let integ = self.integrator(opts);
         let (w, h) = (opts.width, opts.height);
-        let fraction = self.photon_targets.aimed_fraction(&self.lights);
-        let params = SppmParams::new(&self.scene.camera, self.scene.bounds(), (w, h), fraction);
+        let (targets, fraction) = self.photon_aim();
+        let params = SppmParams::new(&self.scene.camera, self.scene.bounds(), (w, h), *fraction);
         let mut dropped = 0u64;
         for s in first_spp..first_spp + count {
             let frame = Frame {
@@ -239,8 +253,7 @@ impl Renderer {
                 height: h,
                 seed: opts.seed,
             };
-            let aimed = Some(&self.photon_targets);
-            match render_iteration(&integ, (&params, aimed), s, frame, cancelled) {
+            match render_iteration(&integ, (&params, Some(targets)), s, frame, cancelled) {
                 Some(d) => dropped += d,
                 None => return false,
             }

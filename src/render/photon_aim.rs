@@ -11,8 +11,8 @@
 //! zero — unbiased, with every photon path now reaching a caster instead of the few percent
 //! a cosine-weighted hemisphere sends there.
 //!
-//! The targets are the connected pieces of those surfaces (triangles sharing a vertex
-//! position), each in a bounding sphere, clustered into at most [`MAX_TARGETS`] spheres.
+//! The targets are the connected pieces of those surfaces (triangles sharing a vertex), each
+//! in a bounding sphere, clustered into at most [`MAX_TARGETS`] spheres.
 //! Lights at infinity keep their own emission (from the disk over the scene).
 //!
 //! Since every aimed photon path now meets a caster, an iteration needs fewer of them for as
@@ -23,7 +23,6 @@ use crate::math::{Frame, rng::Sampler};
 use crate::scene::light::LightSet;
 use crate::scene::{MaterialKind, Scene};
 use glam::{Vec2, Vec3};
-use std::collections::HashMap;
 use std::f32::consts::PI;
 
 /// At most this many target spheres (each photon looks at all of them).
@@ -204,7 +203,8 @@ impl PhotonTargets {
 }
 
 /// Bounding spheres of the connected pieces of the surfaces that can be specular (triangles
-/// joined by shared vertex positions).
+/// joined by shared vertices). Linear in the mesh but for one sort of the caster triangles:
+/// a mesh whose faces share no vertex gives one piece per triangle, which `cluster` merges.
 fn caster_pieces(scene: &Scene) -> Vec<Sphere> {
     let mesh = &scene.mesh;
     let specular: Vec<bool> = scene
@@ -218,45 +218,35 @@ fn caster_pieces(scene: &Scene) -> Vec<Sphere> {
             specular.get(m).copied().unwrap_or(false)
         })
         .collect();
-    // Weld by exact position, then join each triangle's corners (union–find).
-    let mut id: HashMap<[u32; 3], usize> = HashMap::new();
-    let mut parent: Vec<usize> = Vec::new();
-    let mut corner = |p: Vec3, parent: &mut Vec<usize>| {
-        *id.entry(p.to_array().map(f32::to_bits)).or_insert_with(|| {
-            parent.push(parent.len());
-            parent.len() - 1
-        })
-    };
-    let mut tri_corner = Vec::with_capacity(tris.len());
+    if tris.is_empty() {
+        return Vec::new();
+    }
+    // Union–find over the vertices the caster triangles use.
+    let mut parent: Vec<usize> = (0..mesh.positions.len()).collect();
     for &t in &tris {
-        let [a, b, c] = mesh.tri(t).map(|p| corner(p, &mut parent));
+        let [a, b, c] = mesh.indices[t].map(|i| i as usize);
         union(&mut parent, a, b);
         union(&mut parent, a, c);
-        tri_corner.push(a);
     }
-    let mut bounds: HashMap<usize, (Vec3, Vec3)> = HashMap::new();
-    for (&t, &a) in tris.iter().zip(&tri_corner) {
-        let root = find(&mut parent, a);
-        let b = bounds
-            .entry(root)
-            .or_insert((Vec3::INFINITY, Vec3::NEG_INFINITY));
-        for p in mesh.tri(t) {
-            b.0 = b.0.min(p);
-            b.1 = b.1.max(p);
-        }
-    }
-    let mut pieces: Vec<(usize, Sphere)> = bounds
-        .into_iter()
-        .filter(|(_, (lo, hi))| lo.is_finite() && hi.is_finite())
-        .map(|(root, (lo, hi))| {
-            let radius = 0.5 * (hi - lo).length();
-            let center = 0.5 * (lo + hi);
-            (root, Sphere { center, radius })
-        })
+    let mut by_piece: Vec<(usize, usize)> = tris
+        .iter()
+        .map(|&t| (find(&mut parent, mesh.indices[t][0] as usize), t))
         .collect();
-    // A deterministic order (the map's is not).
-    pieces.sort_by_key(|&(root, _)| root);
-    pieces.into_iter().map(|(_, s)| s).collect()
+    by_piece.sort_unstable();
+    by_piece
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter_map(|piece| {
+            let points = || piece.iter().flat_map(|&(_, t)| mesh.tri(t));
+            let (lo, hi) = points().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p), hi.max(p))
+            });
+            // Centred on the box, as wide as the farthest vertex (a ball's own radius, not
+            // its box's half-diagonal, √3 times wider).
+            let center = 0.5 * (lo + hi);
+            let radius = points().map(|p| p.distance(center)).fold(0.0f32, f32::max);
+            (center.is_finite() && radius.is_finite()).then_some(Sphere { center, radius })
+        })
+        .collect()
 }
 
 fn find(parent: &mut [usize], mut i: usize) -> usize {

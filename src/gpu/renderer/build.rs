@@ -55,8 +55,7 @@ impl GpuRenderer {
             tex_slots,
             features,
             photon_r0: 0.0,
-            photon_targets: PhotonTargets::default(),
-            photon_fraction: 1.0,
+            photon_aim: Default::default(),
             background_compile,
             clear_pending: false,
             batches_in_flight: BATCHES_IN_FLIGHT,
@@ -125,11 +124,20 @@ impl GpuRenderer {
         self.write_filter_table();
     }
 
-    /// Where `sppm` aims the photons of finite lights, and the share of the power sent there
-    /// (`render::photon_aim`), for the current materials and lights.
+    /// Forget where `sppm` aims photons (the materials or lights changed): the next `sppm`
+    /// submission finds it again ([`GpuRenderer::photon_aim`]).
     pub(super) fn fit_photon_aim(&mut self) {
-        self.photon_targets = PhotonTargets::new(&self.scene);
-        self.photon_fraction = self.photon_targets.aimed_fraction(&self.light_set);
+        self.photon_aim = Default::default();
+    }
+
+    /// Where `sppm` aims the photons of finite lights and the share of the power sent there
+    /// (`render::photon_aim`), for the current materials and lights.
+    pub(super) fn photon_aim(&self) -> &(PhotonTargets, f32) {
+        self.photon_aim.get_or_init(|| {
+            let targets = PhotonTargets::new(&self.scene);
+            let fraction = targets.aimed_fraction(&self.light_set);
+            (targets, fraction)
+        })
     }
 
     /// [`GpuRenderer::build_buffers`] in error scopes: a validation or out-of-memory error is

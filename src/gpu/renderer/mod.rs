@@ -114,9 +114,9 @@ pub struct GpuRenderer {
     /// `sppm`: the first iteration's photon radius r₁ (`photons::radius0`).
     photon_r0: f32,
     /// `sppm`: where finite lights aim their photons, and the share of the lights' power
-    /// that goes there (`render::photon_aim`; refreshed by material and light edits).
-    photon_targets: PhotonTargets,
-    photon_fraction: f32,
+    /// that goes there (`render::photon_aim`), found at the first `sppm` submission after
+    /// a material or light edit (`fit_photon_aim` forgets it).
+    photon_aim: std::sync::OnceLock<(PhotonTargets, f32)>,
     /// Compile new specialisations on a worker thread (the viewer) instead of in the call
     /// that changes the specialisation (the CLI, tests).
     background_compile: bool,

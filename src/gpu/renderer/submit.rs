@@ -79,12 +79,17 @@ impl GpuRenderer {
         let k = batch as f64;
         let rot = cam.rotation;
         // sppm: one iteration per dispatch, iteration s = sample index s.
-        let aimed = photon_aim::photon_paths(photon_paths(true, &self.opts), self.photon_fraction);
-        let paths = f64::from(aimed);
         let mut targets = [[0.0; 4]; photon_aim::MAX_TARGETS];
-        for (t, s) in targets.iter_mut().zip(&self.photon_targets.spheres) {
-            *t = s.center.extend(s.radius).to_array();
+        let (mut aimed, mut target_count) = (1, 0);
+        if self.spec.sppm {
+            let (aim, fraction) = self.photon_aim();
+            aimed = photon_aim::photon_paths(photon_paths(true, &self.opts), *fraction);
+            target_count = aim.spheres.len() as u32;
+            for (t, s) in targets.iter_mut().zip(&aim.spheres) {
+                *t = s.center.extend(s.radius).to_array();
+            }
         }
+        let paths = f64::from(aimed);
         let r = photons::radius(self.photon_r0, first as u32);
         Params {
             cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
@@ -111,7 +116,7 @@ impl GpuRenderer {
                 as f32,
             grid_mask: self.buffers.photon_store.buckets - 1,
             photon_paths: aimed,
-            target_count: self.photon_targets.spheres.len() as u32,
+            target_count,
             _pad2: 0,
             targets,
         }

@@ -140,13 +140,22 @@ fn disjoint_cones_sum_their_solid_angles() {
     }
 }
 
-/// The targets of the built-ins: caustic's glass ball and slab are two pieces, each inside
-/// its sphere; the same scene all diffuse has none.
+/// The targets of the built-ins: every vertex of caustic's glass is inside a sphere; the
+/// ball (one piece: its triangles share vertices) is in a sphere of its own radius, the
+/// slab's six faces (which share none) in one each; the same scene all diffuse has none.
 #[test]
 fn pieces_of_the_built_ins() {
     let scene = crate::scene::builtin::load("caustic").expect("built-in");
     let t = PhotonTargets::new(&scene);
-    assert_eq!(t.spheres.len(), 2, "{:?}", t.spheres);
+    assert_eq!(t.spheres.len(), 7, "{:?}", t.spheres);
+    let ball = Vec3::new(0.0, 0.3, 0.0);
+    assert!(
+        t.spheres
+            .iter()
+            .any(|s| s.center.distance(ball) < 1e-3 && (s.radius - 0.3).abs() < 1e-3),
+        "{:?}",
+        t.spheres
+    );
     let mesh = &scene.mesh;
     for tri in 0..mesh.triangle_count() {
         let m = &scene.materials[mesh.tri_material[tri] as usize];
