@@ -12,8 +12,8 @@
 //! a cosine-weighted hemisphere sends there.
 //!
 //! The targets are the connected pieces of those surfaces (triangles sharing a vertex), each
-//! in a bounding sphere, clustered into at most [`MAX_TARGETS`] spheres.
-//! Lights at infinity keep their own emission (from the disk over the scene).
+//! in a bounding sphere, clustered into at most [`MAX_TARGETS`] spheres. Lights at infinity
+//! keep their own emission (from the disk over the scene).
 //!
 //! Since every aimed photon path now meets a caster, an iteration needs fewer of them for as
 //! many stored photons: [`photon_paths`].
@@ -60,7 +60,8 @@ pub struct Sphere {
     pub radius: f32,
 }
 
-/// The spheres photons from finite lights are aimed at (`None` in the renderer: aiming off).
+/// The spheres photons from finite lights are aimed at (none when no surface can be
+/// specular: then no photon can be stored either).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PhotonTargets {
     pub spheres: Vec<Sphere>,
