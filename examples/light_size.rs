@@ -24,8 +24,7 @@ fn main() -> anyhow::Result<()> {
             .map_or("none".to_owned(), |sr| format!("{sr:.4} sr"));
         let (e, why) = Estimator::Auto.resolve_why(&scene);
         println!("{name:32} {sr:>10}  auto = {e} ({why})");
-        let targets = PhotonTargets::new(&scene);
-        let f = targets.aimed_fraction(&LightSet::build(&scene));
+        let (targets, f) = PhotonTargets::with_fraction(&scene, &LightSet::build(&scene));
         let per_pixel = photon_paths(1_000_000, f) as f64 / 1e6;
         println!(
             "{:32} photons: {} target spheres, {:.2} % of the light's power, {per_pixel:.3} paths per pixel",

@@ -92,11 +92,8 @@ impl Renderer {
     /// (`render::photon_aim`), computed once per scene state. Whoever replaces `lights` or
     /// the materials calls [`Renderer::refresh_features`] (the viewer's render loop does).
     pub fn photon_aim(&self) -> &(PhotonTargets, f32) {
-        self.photon_aim.get_or_init(|| {
-            let targets = PhotonTargets::new(&self.scene);
-            let fraction = targets.aimed_fraction(&self.lights);
-            (targets, fraction)
-        })
+        self.photon_aim
+            .get_or_init(|| PhotonTargets::with_fraction(&self.scene, &self.lights))
     }
 
     pub fn integrator<'a>(&'a self, opts: &'a RenderOptions) -> Integrator<'a> {

@@ -80,6 +80,14 @@ fn can_be_specular(kind: MaterialKind) -> bool {
 }
 
 impl PhotonTargets {
+    /// The targets of `scene` and the share of the power of `lights` (the scene's) sent
+    /// towards them: what an `sppm` render aims with.
+    pub fn with_fraction(scene: &Scene, lights: &LightSet) -> (PhotonTargets, f32) {
+        let targets = PhotonTargets::new(scene);
+        let fraction = targets.aimed_fraction(lights);
+        (targets, fraction)
+    }
+
     /// The target spheres of `scene` (none when nothing can be specular).
     pub fn new(scene: &Scene) -> PhotonTargets {
         let pieces = caster_pieces(scene);
@@ -245,7 +253,9 @@ fn caster_pieces(scene: &Scene) -> Vec<Sphere> {
             // its box's half-diagonal, √3 times wider).
             let center = 0.5 * (lo + hi);
             let radius = points().map(|p| p.distance(center)).fold(0.0f32, f32::max);
-            (center.is_finite() && radius.is_finite()).then_some(Sphere { center, radius })
+            // A piece of zero extent cannot be hit (and its cone would have no solid angle).
+            let ok = center.is_finite() && radius.is_finite() && radius > 0.0;
+            ok.then_some(Sphere { center, radius })
         })
         .collect()
 }

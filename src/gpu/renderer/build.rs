@@ -133,11 +133,8 @@ impl GpuRenderer {
     /// Where `sppm` aims the photons of finite lights and the share of the power sent there
     /// (`render::photon_aim`), for the current materials and lights.
     pub(super) fn photon_aim(&self) -> &(PhotonTargets, f32) {
-        self.photon_aim.get_or_init(|| {
-            let targets = PhotonTargets::new(&self.scene);
-            let fraction = targets.aimed_fraction(&self.light_set);
-            (targets, fraction)
-        })
+        self.photon_aim
+            .get_or_init(|| PhotonTargets::with_fraction(&self.scene, &self.light_set))
     }
 
     /// [`GpuRenderer::build_buffers`] in error scopes: a validation or out-of-memory error is
