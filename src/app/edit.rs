@@ -212,7 +212,7 @@ impl ViewerApp {
             Ok(base) => {
                 let warnings = base.warnings.clone();
                 self.base = base;
-                self.settings.scene = spec.to_owned();
+                self.settings.scene = Scene::canonical_spec(spec);
                 self.settings.clear_scene_edits();
                 self.settings.capture = None;
                 let (scene, w2) = self.settings.apply(&self.base);

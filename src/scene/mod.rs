@@ -164,6 +164,17 @@ impl Scene {
         }
     }
 
+    /// `spec` as a record that names the same scene from any working directory: a file's
+    /// canonical absolute path (what the viewer keeps in its settings and screenshot
+    /// sidecars, so `render --settings` finds the scene wherever it runs), a built-in or a
+    /// path that does not resolve unchanged (loading it reports the error).
+    pub fn canonical_spec(spec: &str) -> String {
+        if spec.starts_with("builtin:") {
+            return spec.to_owned();
+        }
+        std::fs::canonicalize(spec).map_or_else(|_| spec.to_owned(), |p| p.display().to_string())
+    }
+
     /// Which material kinds, lights and effects the scene uses.
     pub fn features(&self) -> Features {
         features::compute(self)

@@ -35,15 +35,33 @@ pub fn read_regular_file(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, S
     Ok(bytes)
 }
 
-/// The file a URI `rel` (already percent-decoded) names relative to the folder `base`; unless
-/// `allow_outside`, an error if it resolves outside that folder (absolute paths, `..`,
-/// symbolic links out of it).
+/// The folder a scene file's relative URIs are read from, the same whatever form `path` has
+/// (issue 41): a bare file name (`scene.gltf`, whose `Path::parent()` is the empty path) lies
+/// in the current directory, and a symbolic link is followed to the file it points at, since
+/// the buffers and textures an exporter writes lie beside the real file (the URIs themselves
+/// are resolved through links the same way by [`resolve_uri`]).
+pub fn scene_folder(path: &Path) -> Result<PathBuf, String> {
+    let real = std::fs::canonicalize(path)
+        .map_err(|e| format!("cannot resolve the scene path '{}': {e}", path.display()))?;
+    Ok(real
+        .parent()
+        .map_or_else(|| PathBuf::from("/"), Path::to_path_buf))
+}
+
+/// The file a URI `rel` (already percent-decoded) names relative to the folder `base` (the
+/// empty path is the current directory); unless `allow_outside`, an error if it resolves
+/// outside that folder (absolute paths, `..`, symbolic links out of it).
 pub fn resolve_uri(
     base: &Path,
     rel: &str,
     what: &str,
     allow_outside: bool,
 ) -> Result<PathBuf, String> {
+    let base = if base.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base
+    };
     let full = base.join(rel);
     let canon = std::fs::canonicalize(&full)
         .map_err(|e| format!("cannot read {what} '{}': {e}", full.display()))?;

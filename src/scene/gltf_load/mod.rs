@@ -39,7 +39,7 @@ mod textures;
 mod uri;
 
 pub use cameras::default_camera;
-pub use files::read_regular_file;
+pub use files::{read_regular_file, scene_folder};
 pub use limits::LoadLimits;
 
 use super::env_map::EnvImage;
@@ -78,8 +78,11 @@ pub fn load_path_with(path: &Path, limits: &LoadLimits) -> anyhow::Result<Scene>
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| path.display().to_string());
-    load_slice_with(&bytes, path.parent(), &name, limits)
-        .with_context(|| format!("cannot load glTF scene '{}'", path.display()))
+    let load = || {
+        let folder = files::scene_folder(path).map_err(|e| anyhow!(e))?;
+        load_slice_with(&bytes, Some(&folder), &name, limits)
+    };
+    load().with_context(|| format!("cannot load glTF scene '{}'", path.display()))
 }
 
 /// Load from bytes; `base` resolves relative URIs (None = only embedded data).
