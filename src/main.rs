@@ -42,6 +42,13 @@ enum Command {
     Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
+    /// Open a small hidden window with one presenter and close it (`view` probes risky
+    /// presenters this way, in a child process: `app::present`).
+    #[command(name = "__probe-window", hide = true)]
+    ProbeWindow {
+        /// `glow` or `wgpu:BACKENDS`.
+        presenter: String,
+    },
 }
 
 #[derive(clap::Args, Clone)]
@@ -160,6 +167,11 @@ struct ViewArgs {
     light_line: Option<f32>,
     #[command(flatten)]
     env: EnvArgs,
+    /// What draws the window: auto (wgpu's Vulkan/Metal/DX12, then wgpu's GL, then glow:
+    /// the first that can present), wgpu (WGPU_BACKEND picks its backends) or glow (OpenGL;
+    /// the GPU then renders headless and its image is copied through the CPU).
+    #[arg(long, value_enum, ignore_case = true, default_value_t = refract::app::present::WindowRenderer::Auto)]
+    window_renderer: refract::app::present::WindowRenderer,
 }
 
 #[derive(clap::Args, Clone)]
@@ -394,6 +406,7 @@ fn view(args: ViewArgs) -> Result<()> {
         limits: args.load.limits(),
         view: args.view,
         light_line: args.light_line,
+        window_renderer: args.window_renderer,
     })
 }
 
@@ -413,6 +426,7 @@ fn main() {
         Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::View(args)) => view(args),
+        Some(Command::ProbeWindow { presenter }) => refract::app::present::probe_window(&presenter),
         None => view(ViewArgs::default()),
     };
     if let Err(e) = result {

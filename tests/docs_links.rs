@@ -85,12 +85,13 @@ fn percent_decode(s: &str) -> String {
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let (Some(hi), Some(lo)) = (hex(bytes[i + 1]), hex(bytes[i + 2])) {
-                out.push(hi * 16 + lo);
-                i += 3;
-                continue;
-            }
+        if bytes[i] == b'%'
+            && i + 2 < bytes.len()
+            && let (Some(hi), Some(lo)) = (hex(bytes[i + 1]), hex(bytes[i + 2]))
+        {
+            out.push(hi * 16 + lo);
+            i += 3;
+            continue;
         }
         out.push(bytes[i]);
         i += 1;
@@ -126,7 +127,10 @@ fn is_external_or_anchor(target: &str) -> bool {
         let slash = target.find('/').unwrap_or(usize::MAX);
         if colon < slash
             && !scheme.is_empty()
-            && scheme.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+            && scheme
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic())
             && scheme
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.'))
@@ -237,16 +241,25 @@ fn links_in(file: &Path) -> Vec<Link> {
         }
         let line = strip_code_spans(raw);
         let mut push = |target: String| {
-            links.push(Link { file: file.to_path_buf(), line: n + 1, target });
+            links.push(Link {
+                file: file.to_path_buf(),
+                line: n + 1,
+                target,
+            });
         };
         // Reference definitions: `[label]: target`.
         let t = line.trim_start();
-        if t.starts_with('[') && !t.starts_with("[^") {
-            if let Some(close) = t.find("]:").filter(|&c| !t[1..c].contains(']')) {
-                if let Some(target) = t[close + 2..].split_whitespace().next() {
-                    push(target.trim_start_matches('<').trim_end_matches('>').to_string());
-                }
-            }
+        if t.starts_with('[')
+            && !t.starts_with("[^")
+            && let Some(close) = t.find("]:").filter(|&c| !t[1..c].contains(']'))
+            && let Some(target) = t[close + 2..].split_whitespace().next()
+        {
+            push(
+                target
+                    .trim_start_matches('<')
+                    .trim_end_matches('>')
+                    .to_string(),
+            );
         }
         // Inline links and images: `](target)`.
         let mut from = 0;
@@ -280,7 +293,9 @@ fn git_checkout() -> Result<(), String> {
         .current_dir(root())
         .output()
     {
-        Ok(out) if out.status.success() && String::from_utf8_lossy(&out.stdout).trim() == "true" => {
+        Ok(out)
+            if out.status.success() && String::from_utf8_lossy(&out.stdout).trim() == "true" =>
+        {
             Ok(())
         }
         Ok(out) => Err(format!(
@@ -378,9 +393,9 @@ fn readme_keeps_the_ci_test_command() {
     // The command alone on its line, or followed only by a shell comment.
     let found = text.lines().map(str::trim).any(|line| {
         line == TEST_COMMAND
-            || line
-                .strip_prefix(TEST_COMMAND)
-                .is_some_and(|rest| rest.starts_with(char::is_whitespace) && rest.trim_start().starts_with('#'))
+            || line.strip_prefix(TEST_COMMAND).is_some_and(|rest| {
+                rest.starts_with(char::is_whitespace) && rest.trim_start().starts_with('#')
+            })
     });
     assert!(
         found,
@@ -399,15 +414,35 @@ fn link_scanner_reads_what_markdown_means() {
               ```\n[i](in-fence.md)\n```\n[ref]: z%20z.md\n[j](f(1).md)\n";
     fs::write(dir.join("t.md"), md).unwrap();
     // links_in reads relative to the root; give it an absolute path (join keeps it).
-    let found: Vec<String> = links_in(&dir.join("t.md")).into_iter().map(|l| l.target).collect();
+    let found: Vec<String> = links_in(&dir.join("t.md"))
+        .into_iter()
+        .map(|l| l.target)
+        .collect();
     let _ = fs::remove_dir_all(&dir);
     assert_eq!(
         found,
-        ["x.md", "../img/p.png", "y.md#part", "sp ace.md", "z%20z.md", "f(1).md"],
+        [
+            "x.md",
+            "../img/p.png",
+            "y.md#part",
+            "sp ace.md",
+            "z%20z.md",
+            "f(1).md"
+        ],
         "the scanner's targets"
     );
-    let link = |file: &str, target: &str| Link { file: file.into(), line: 1, target: target.into() };
-    assert_eq!(link("docs/a.md", "../screenshots/x.png#y").resolved(), Some("screenshots/x.png".into()));
-    assert_eq!(link("README.md", "docs/z%20z.md").resolved(), Some("docs/z z.md".into()));
+    let link = |file: &str, target: &str| Link {
+        file: file.into(),
+        line: 1,
+        target: target.into(),
+    };
+    assert_eq!(
+        link("docs/a.md", "../screenshots/x.png#y").resolved(),
+        Some("screenshots/x.png".into())
+    );
+    assert_eq!(
+        link("README.md", "docs/z%20z.md").resolved(),
+        Some("docs/z z.md".into())
+    );
     assert_eq!(link("README.md", "../shared/DESIGN.md").resolved(), None);
 }

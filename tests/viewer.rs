@@ -8,7 +8,9 @@ use egui_kittest::kittest::Queryable;
 use refract::app::ViewerApp;
 use refract::render::settings::DEFAULT_SCENE;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+
+mod xvfb;
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 /// The glass sphere of the default scene.
@@ -304,111 +306,16 @@ fn reset_to_defaults_forgets_edits() {
     assert_eq!(h.state().scene.materials[GLASS].ior, 1.5);
 }
 
-/// Find an executable on PATH.
-fn which(name: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH").and_then(|p| {
-        std::env::split_paths(&p)
-            .map(|d| d.join(name))
-            .find(|f| f.is_file())
-    })
-}
-
-/// Mean brightness (0–255) of a PNG.
-fn png_mean(path: &Path) -> Option<f64> {
-    let img = image::open(path).ok()?.into_rgb8();
-    let n = (img.width() * img.height()) as f64;
-    Some(
-        img.pixels()
-            .map(|p| (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0)
-            .sum::<f64>()
-            / n,
-    )
-}
-
-/// What one run of the real window under Xvfb produced.
-struct WindowRun {
-    log: String,
-    /// Best mean brightness over the screenshots taken while it ran.
-    best: f64,
-    shots: usize,
-}
-
-/// Run `refract view ARGS` in a fresh Xvfb server, taking screenshots until it exits. None
-/// (with a SKIP message) where Xvfb or ImageMagick's `import` is missing; CI installs both.
-fn run_window_under_xvfb(test: &str, args: &[&str]) -> Option<WindowRun> {
-    let (Some(xvfb), Some(import)) = (which("Xvfb"), which("import")) else {
-        assert!(
-            std::env::var_os("REFRACT_REQUIRE_GPU").is_none(),
-            "CI must run the window test: Xvfb and ImageMagick are required"
-        );
-        eprintln!("SKIPPED {test}: Xvfb or ImageMagick `import` is not installed");
-        return None;
-    };
-    let dir = scratch_dir(test);
-    // A display number per test and process (tests run in parallel).
-    let offset = test.bytes().map(u32::from).sum::<u32>() % 7;
-    let display = format!(":{}", 90 + (std::process::id() % 50) * 7 + offset);
-    let mut server = Command::new(xvfb)
-        .args([
-            display.as_str(),
-            "-screen",
-            "0",
-            "1280x860x24",
-            "-br",
-            "-nolisten",
-            "tcp",
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start Xvfb");
-    std::thread::sleep(Duration::from_millis(1500));
-    let runtime = dir.join("runtime");
-    std::fs::create_dir_all(&runtime).unwrap();
-    let mut viewer = Command::new(env!("CARGO_BIN_EXE_refract"))
-        .args(args)
-        .env("DISPLAY", &display)
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .env("HOME", &dir) // keep the persisted settings out of the user's home
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start refract view");
-    let start = Instant::now();
-    let mut best = 0.0f64;
-    let mut shots = 0;
-    let status = loop {
-        if let Some(st) = viewer.try_wait().unwrap() {
-            break st;
-        }
-        if start.elapsed() > Duration::from_secs(150) {
-            let _ = viewer.kill();
-            let _ = server.kill();
-            panic!("refract {args:?} did not exit within 150 s");
-        }
-        std::thread::sleep(Duration::from_millis(700));
-        let shot = dir.join(format!("shot-{shots}.png"));
-        let ok = Command::new(&import)
-            .args(["-display", display.as_str(), "-window", "root"])
-            .arg(&shot)
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success());
-        if ok {
-            shots += 1;
-            best = best.max(png_mean(&shot).unwrap_or(0.0));
-        }
-    };
-    let mut log = String::new();
-    if let Some(mut e) = viewer.stderr.take() {
-        use std::io::Read;
-        let _ = e.read_to_string(&mut log);
-    }
-    let _ = server.kill();
-    let _ = server.wait();
-    assert!(status.success(), "refract {args:?} failed: {status}\n{log}");
-    Some(WindowRun { log, best, shots })
+/// `refract ARGS` in a plain Xvfb server; it must exit cleanly.
+fn run_window_under_xvfb(test: &str, args: &[&str]) -> Option<xvfb::WindowRun> {
+    let run = xvfb::run_under_xvfb(test, args, &xvfb::Setup::default())?;
+    assert!(
+        run.status.success(),
+        "refract {args:?} failed: {}\n{}",
+        run.status,
+        run.log
+    );
+    Some(run)
 }
 
 /// The real window under Xvfb: `refract view --frames 120` must show a non-black image and exit
@@ -417,7 +324,10 @@ fn run_window_under_xvfb(test: &str, args: &[&str]) -> Option<WindowRun> {
 fn real_window_under_xvfb_is_not_black() {
     let test = "real_window_under_xvfb_is_not_black";
     let args = ["view", "--frames", "120", "--exit-after", "90s"];
-    let Some(WindowRun { log, best, shots }) = run_window_under_xvfb(test, &args) else {
+    let Some(xvfb::WindowRun {
+        log, best, shots, ..
+    }) = run_window_under_xvfb(test, &args)
+    else {
         return;
     };
     assert!(log.contains("120 frames"), "no frame summary:\n{log}");
@@ -452,7 +362,10 @@ fn gpu_window_under_xvfb_is_not_black() {
         "--exit-after",
         "100s",
     ];
-    let Some(WindowRun { log, best, shots }) = run_window_under_xvfb(test, &args) else {
+    let Some(xvfb::WindowRun {
+        log, best, shots, ..
+    }) = run_window_under_xvfb(test, &args)
+    else {
         return;
     };
     eprintln!("{log}");

@@ -4,6 +4,7 @@
 use super::backend::{self, Backend, CpuBackend};
 use super::{FrameStats, Messages, ViewerApp, inspect, layer_view, lecture};
 use crate::bvh::Bvh;
+use crate::gpu::GpuContext;
 use crate::render::Device;
 use crate::render::settings::ViewerSettings;
 use crate::scene::Scene;
@@ -98,30 +99,71 @@ pub(super) fn choose_backend(
     cc: &eframe::CreationContext<'_>,
 ) -> anyhow::Result<(Box<dyn Backend>, Option<String>)> {
     let repaint = Some(cc.egui_ctx.clone());
-    let cpu = |repaint| -> Box<dyn Backend> { Box::new(CpuBackend::new(repaint)) };
     if device == Device::Cpu {
-        return Ok((cpu(repaint), None));
+        return Ok((cpu_backend(repaint), None));
     }
     let Some(rs) = &cc.wgpu_render_state else {
-        anyhow::ensure!(
-            device != Device::Gpu,
-            "--device gpu needs the wgpu renderer, which did not start"
-        );
-        return Ok((cpu(repaint), None));
+        // The window is drawn by glow: the GPU renders on a device of its own.
+        return Ok(headless_backend(device, repaint));
     };
     let info = rs.adapter.get_info();
     if device == Device::Auto && info.device_type == eframe::wgpu::DeviceType::Cpu {
         // lavapipe & co. are ~15x slower than the CPU renderer on the same cores.
-        return Ok((cpu(repaint), None));
+        return Ok((cpu_backend(repaint), None));
     }
     match backend::GpuBackend::from_render_state(rs, repaint.clone()) {
         Ok(g) => Ok((Box::new(g), None)),
         Err(e) => Ok((
-            cpu(repaint),
+            cpu_backend(repaint),
             Some(format!(
                 "The GPU backend could not start on {} ({e:#}); rendering on the CPU.",
                 info.name
             )),
         )),
+    }
+}
+
+fn cpu_backend(repaint: Option<egui::Context>) -> Box<dyn Backend> {
+    Box::new(CpuBackend::new(repaint))
+}
+
+/// The backend for a window that egui-wgpu does not draw: the GPU renderer headless on the
+/// best adapter (its image read back through the CPU), or the CPU renderer where there is
+/// no adapter, or only a software one and `device` is auto; with a note saying which.
+fn headless_backend(
+    device: Device,
+    repaint: Option<egui::Context>,
+) -> (Box<dyn Backend>, Option<String>) {
+    let drawn = "The window is drawn with OpenGL (glow)";
+    let ctx = match GpuContext::headless() {
+        Ok(ctx) => ctx,
+        Err(e) => {
+            let note =
+                format!("{drawn}; no GPU adapter renders here ({e:#}): rendering on the CPU.");
+            return (cpu_backend(repaint), Some(note));
+        }
+    };
+    let name = ctx.info.name.clone();
+    if device == Device::Auto && ctx.is_software() {
+        let note = format!(
+            "{drawn}; the only GPU adapter is software ({name}), slower than the CPU renderer: \
+             rendering on the CPU (--device gpu renders on it anyway)."
+        );
+        return (cpu_backend(repaint), Some(note));
+    }
+    match backend::GpuBackend::headless(ctx, repaint.clone()) {
+        Ok(g) => {
+            let note = format!(
+                "{drawn}; the GPU ({name}) renders headless and each new image is copied \
+                 through the CPU."
+            );
+            (Box::new(g), Some(note))
+        }
+        Err(e) => {
+            let note = format!(
+                "{drawn}; the GPU backend could not start on {name} ({e:#}): rendering on the CPU."
+            );
+            (cpu_backend(repaint), Some(note))
+        }
     }
 }

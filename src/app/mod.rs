@@ -17,6 +17,7 @@ pub mod inspect_overlay;
 pub mod layer_view;
 pub mod lecture;
 pub mod panels;
+pub mod present;
 pub mod screenshot;
 pub mod viewport;
 
@@ -39,7 +40,7 @@ use eframe::egui;
 use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
-pub use window::{EnvOverride, ViewOptions, run, wgpu_configuration};
+pub use window::{EnvOverride, ViewOptions, run, wgpu_configuration, wgpu_configuration_on};
 
 /// How long a new viewport size must hold before the image restarts at it.
 pub const VIEWPORT_SETTLE: Duration = Duration::from_millis(250);

@@ -78,8 +78,13 @@ impl ViewerApp {
     pub fn frame_summary(&self) -> String {
         let s = &self.stats;
         let n = s.frames.max(1);
+        let display = if self.display_device.is_empty() {
+            String::new()
+        } else {
+            format!("; display: {}", self.display_device)
+        };
         format!(
-            "{} frames in {:.2} s: mean frame interval {:.2} ms, mean UI build {:.2} ms; {} spp at {}x{}; render: {}",
+            "{} frames in {:.2} s: mean frame interval {:.2} ms, mean UI build {:.2} ms; {} spp at {}x{}; render: {}{display}",
             s.frames,
             s.started.elapsed().as_secs_f64(),
             s.interval_sum.as_secs_f64() * 1e3 / (n.saturating_sub(1)).max(1) as f64,

@@ -2,12 +2,15 @@
 //! startup scene and creating the app with its persisted settings.
 
 use super::construct::choose_backend;
+use super::present::{self, WindowRenderer};
 use super::{STORAGE_KEY, ViewerApp, layer_view, lecture};
 use crate::render::Device;
 use crate::render::settings::{DEFAULT_SCENE, ViewerSettings};
 use crate::scene::Scene;
 use crate::scene::gltf_load::LoadLimits;
 use eframe::egui;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 /// Command-line options of `refract view`.
@@ -33,6 +36,8 @@ pub struct ViewOptions {
     pub lecture: Option<&'static str>,
     /// `--light-line NM`: the scene opens lit by one spectral line (its "as loaded" light).
     pub light_line: Option<f32>,
+    /// `--window-renderer`: what draws the window (`present`).
+    pub window_renderer: WindowRenderer,
 }
 
 /// An environment image given on the command line.
@@ -45,10 +50,21 @@ pub struct EnvOverride {
 
 /// The wgpu setup: our own device with the adapter's full limits (eframe's default asks for
 /// WebGL2-level limits, too small for compute). The GPU backend renders on this device.
+/// Backends: `WGPU_BACKEND`'s, else the primary ones and GL.
 pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
+    let backends = eframe::wgpu::Backends::from_env()
+        .unwrap_or(eframe::wgpu::Backends::PRIMARY | eframe::wgpu::Backends::GL);
+    wgpu_configuration_on(backends)
+}
+
+/// [`wgpu_configuration`] on exactly `backends` (`present::Presenter::Wgpu`).
+pub fn wgpu_configuration_on(
+    backends: eframe::wgpu::Backends,
+) -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     use eframe::wgpu;
     let mut create = WgpuSetupCreateNew::without_display_handle();
+    create.instance_descriptor.backends = backends;
     create.instance_descriptor.flags =
         crate::gpu::context::instance_flags(create.instance_descriptor.flags);
     create.device_descriptor =
@@ -65,21 +81,48 @@ pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     }
 }
 
-/// Open the viewer window (blocks until it is closed).
+/// Open the viewer window (blocks until it is closed). The window's renderer is the first
+/// of `present::plan` that presents (see `present`); each one tried and what it said is in
+/// the error when none does.
 pub fn run(opts: ViewOptions) -> anyhow::Result<()> {
     let spec = opts
         .scene
-        .clone()
-        .unwrap_or_else(|| DEFAULT_SCENE.to_owned());
+        .as_deref()
+        .map_or_else(|| DEFAULT_SCENE.to_owned(), Scene::canonical_spec);
     // Load before opening the window so a bad path is a plain CLI error.
     let base = load_startup_scene(&spec, &opts)?;
-    let native = native_options(&spec);
-    let result = eframe::run_native(
-        "refract",
-        native,
-        Box::new(move |cc| Ok(Box::new(create_app(cc, base, &spec, opts)?))),
-    );
-    result.map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))
+    let env = eframe::wgpu::Backends::from_env();
+    let mut tried = Vec::new();
+    for (i, p) in present::plan(opts.window_renderer, env)
+        .into_iter()
+        .enumerate()
+    {
+        if present::needs_probe(p, i)
+            && let Err(why) = present::probe_in_child(p)
+        {
+            tried.push((p, why));
+            continue;
+        }
+        let created = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&created);
+        let (base, spec2, opts2) = (base.clone(), spec.clone(), opts.clone());
+        let create: eframe::AppCreator<'_> = Box::new(move |cc| {
+            let app = create_app(cc, base, &spec2, opts2)?;
+            flag.store(true, Ordering::SeqCst);
+            Ok(Box::new(app))
+        });
+        let options = p.native_options(viewport(&spec));
+        match present::run_guarded("refract", options, create, &created) {
+            present::Outcome::Done(r) => return r,
+            present::Outcome::CannotPresent { why, poisoned } => {
+                tried.push((p, why));
+                if poisoned {
+                    break;
+                }
+            }
+        }
+    }
+    Err(present::nothing_presents(&tried, env))
 }
 
 /// The scene `spec` with the command line's environment and light-line overrides, validated;
@@ -105,18 +148,12 @@ fn load_startup_scene(spec: &str, opts: &ViewOptions) -> anyhow::Result<Scene> {
     Ok(base)
 }
 
-/// The viewer window's options: titled after `spec`, 1280×820, accepting dropped files,
-/// drawn with wgpu.
-fn native_options(spec: &str) -> eframe::NativeOptions {
-    eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title(format!("refract — {spec}"))
-            .with_inner_size([1280.0, 820.0])
-            .with_drag_and_drop(true),
-        renderer: eframe::Renderer::Wgpu,
-        wgpu_options: wgpu_configuration(),
-        ..Default::default()
-    }
+/// The viewer window: titled after `spec`, 1280×820, accepting dropped files.
+fn viewport(spec: &str) -> egui::ViewportBuilder {
+    egui::ViewportBuilder::default()
+        .with_title(format!("refract — {spec}"))
+        .with_inner_size([1280.0, 820.0])
+        .with_drag_and_drop(true)
 }
 
 /// The viewer on `base` for the window of `cc`: the persisted settings, the backend chosen
@@ -133,6 +170,8 @@ fn create_app(
     if let Some(rs) = &cc.wgpu_render_state {
         let info = rs.adapter.get_info();
         app.display_device = format!("{} ({:?})", info.name, info.backend);
+    } else if cc.gl.is_some() {
+        app.display_device = "OpenGL (glow)".to_owned();
     }
     if let Some(n) = note {
         app.messages.info = Some(n);

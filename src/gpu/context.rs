@@ -111,6 +111,46 @@ impl GpuContext {
         Self::from_adapter(adapter)
     }
 
+    /// [`GpuContext::new`] for a process that also draws a window: the primary backends (or
+    /// `WGPU_BACKEND`'s) first; wgpu's GL backend only where they have no adapter, and its
+    /// probe guarded, since on some drivers it panics (an NVIDIA EGL without an X11
+    /// display): the panic becomes the error.
+    pub fn headless() -> Result<GpuContext> {
+        let gl = wgpu::Backends::GL;
+        let allowed = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY | gl);
+        let primary = allowed - gl;
+        let mut last = anyhow::anyhow!("WGPU_BACKEND names no backend");
+        if !primary.is_empty() {
+            match Self::on_backends(primary) {
+                Ok(ctx) => return Ok(ctx),
+                Err(e) => last = e,
+            }
+        }
+        if allowed.contains(gl) {
+            let probe = std::panic::catch_unwind(|| Self::on_backends(gl));
+            return probe.unwrap_or_else(|_| {
+                Err(anyhow::anyhow!("wgpu's GL backend panicked while probing"))
+            });
+        }
+        Err(last)
+    }
+
+    /// The best adapter among `backends`.
+    fn on_backends(backends: wgpu::Backends) -> Result<GpuContext> {
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        descriptor.backends = backends;
+        descriptor.flags = instance_flags(descriptor.flags);
+        let instance = wgpu::Instance::new(descriptor);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .context("no GPU adapter found")?;
+        Self::from_adapter(adapter)
+    }
+
     /// The largest buffer one storage binding may hold on this device (from its limits, not a
     /// fixed cap: 128 MiB is the WebGPU default, desktop GPUs bind 2–4 GiB).
     pub fn max_binding_bytes(&self) -> u64 {

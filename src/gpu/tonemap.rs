@@ -307,14 +307,30 @@ impl ToneMapper {
     /// Read back the texture a UI samples: (width, height, RGBA8 sRGB bytes). Blocking; for
     /// tests and debugging only.
     pub fn read_pixels(&self, ctx: &GpuContext) -> Result<(u32, u32, Vec<u8>)> {
+        let (buf, size) = self.queue_readback(ctx, false)?;
+        let bytes = ctx.read_buffer(&buf, buf.size())?;
+        Ok((size[0], size[1], unpad_rows(&bytes, size)))
+    }
+
+    /// Queue a copy of the texture a UI samples into a new buffer (rows padded to wgpu's
+    /// copy alignment: read them with [`unpad_rows`]); and the image size. `mappable`: the
+    /// buffer can be mapped for reading once the queue gets there, else copied from.
+    pub fn queue_readback(
+        &self,
+        ctx: &GpuContext,
+        mappable: bool,
+    ) -> Result<(wgpu::Buffer, [u32; 2])> {
         let t = self.target.as_ref().context("no tone-mapped image yet")?;
-        let [w, h] = t.size;
-        let row = padded_row(w);
-        let size = row as u64 * h as u64;
+        let size = padded_row(t.size[0]) as u64 * t.size[1] as u64;
         let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("texture readback"),
             size,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            usage: wgpu::BufferUsages::COPY_DST
+                | if mappable {
+                    wgpu::BufferUsages::MAP_READ
+                } else {
+                    wgpu::BufferUsages::COPY_SRC
+                },
             mapped_at_creation: false,
         });
         let mut enc = ctx
@@ -326,14 +342,21 @@ impl ToneMapper {
             extent(t.size),
         );
         ctx.queue.submit([enc.finish()]);
-        let bytes = ctx.read_buffer(&buf, size)?;
-        let mut out = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h as usize {
-            let start = y * row as usize;
-            out.extend_from_slice(&bytes[start..start + w as usize * 4]);
-        }
-        Ok((w, h, out))
+        Ok((buf, t.size))
     }
+}
+
+/// The RGBA8 pixels of an image of `size` read back with rows padded to wgpu's copy
+/// alignment ([`ToneMapper::queue_readback`]), rows packed.
+pub fn unpad_rows(padded: &[u8], size: [u32; 2]) -> Vec<u8> {
+    let (w, h) = (size[0] as usize, size[1] as usize);
+    let row = padded_row(size[0]) as usize;
+    let mut out = Vec::with_capacity(w * h * 4);
+    for y in 0..h {
+        let start = y * row;
+        out.extend_from_slice(&padded[start..start + w * 4]);
+    }
+    out
 }
 
 #[cfg(test)]

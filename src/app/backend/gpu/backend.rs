@@ -206,7 +206,15 @@ impl Backend for GpuBackend {
     }
 
     fn device_name(&self) -> String {
-        let gpu = format!("{} ({:?})", self.ctx.info.name, self.ctx.info.backend);
+        let headless = if self.egui_renderer.is_none() {
+            ", headless, image read back"
+        } else {
+            ""
+        };
+        let gpu = format!(
+            "{} ({:?}{headless})",
+            self.ctx.info.name, self.ctx.info.backend
+        );
         if let Some(cpu) = &self.fallback {
             return format!("{} (GPU {gpu} cannot render this scene)", cpu.device_name());
         }
@@ -258,10 +266,11 @@ impl Backend for GpuBackend {
         self.display = Some(*display);
         self.refresh_display();
         let size = self.tonemap.target()?.size;
-        Some(DisplayTexture {
-            id: self.image_id?,
-            size,
-        })
+        let id = match self.egui_renderer {
+            Some(_) => self.image_id?,
+            None => self.cpu_texture(ctx)?,
+        };
+        Some(DisplayTexture { id, size })
     }
 
     fn read_image(&self) -> Option<Accumulated> {

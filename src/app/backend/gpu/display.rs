@@ -26,13 +26,10 @@ impl GpuBackend {
         let stale = r.spp() == 0 && r.is_compiling() && self.shown.is_some_and(|s| s.2 == size);
         // Nothing rendered for this generation yet: keep showing the previous image.
         if (r.spp() > 0 || stale) && self.shown != Some(key) {
-            if self.tonemap.ensure_target(&self.ctx, size) {
-                register_image(
-                    &self.ctx,
-                    &self.egui_renderer,
-                    &self.tonemap,
-                    &mut self.image_id,
-                );
+            if self.tonemap.ensure_target(&self.ctx, size)
+                && let Some(egui_renderer) = &self.egui_renderer
+            {
+                register_image(&self.ctx, egui_renderer, &self.tonemap, &mut self.image_id);
             }
             self.tonemap.run(
                 &self.ctx,
@@ -41,6 +38,7 @@ impl GpuBackend {
                 display.exposure,
             );
             self.shown = Some(key);
+            self.start_cpu_copy();
         }
     }
 }

@@ -60,6 +60,7 @@ use std::time::{Duration, Instant};
 mod backend;
 mod batching;
 mod completion;
+mod cpu_image;
 mod display;
 mod poller;
 
@@ -75,7 +76,11 @@ const DEFAULT_BUDGET: Duration = Duration::from_millis(8);
 /// Interactive rendering on eframe's wgpu device (see the module documentation).
 pub struct GpuBackend {
     ctx: GpuContext,
-    egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
+    /// egui-wgpu's renderer on the same device, which samples the tone-mapped texture; None
+    /// when the window is drawn by something else (glow): the image is then read back.
+    egui_renderer: Option<Arc<RwLock<egui_wgpu::Renderer>>>,
+    /// The read-back image (headless backends only).
+    cpu_image: cpu_image::CpuImage,
     repaint: Option<egui::Context>,
     renderer: Option<GpuRenderer>,
     /// Set while the GPU cannot render the current scene/options: everything goes here.
@@ -134,6 +139,20 @@ impl GpuBackend {
         egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
         repaint: Option<egui::Context>,
     ) -> Result<GpuBackend> {
+        GpuBackend::with_display(ctx, Some(egui_renderer), repaint)
+    }
+
+    /// A backend on a device of its own, for a window that egui-wgpu does not draw (glow):
+    /// each new tone-mapped image is read back and uploaded as an egui texture.
+    pub fn headless(ctx: GpuContext, repaint: Option<egui::Context>) -> Result<GpuBackend> {
+        GpuBackend::with_display(ctx, None, repaint)
+    }
+
+    fn with_display(
+        ctx: GpuContext,
+        egui_renderer: Option<Arc<RwLock<egui_wgpu::Renderer>>>,
+        repaint: Option<egui::Context>,
+    ) -> Result<GpuBackend> {
         let tonemap = ToneMapper::new(&ctx).context("cannot build the GPU tone-map pipeline")?;
         let readback = StatsReadback {
             staging: ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -148,7 +167,8 @@ impl GpuBackend {
         let poller = Poller::new(ctx.device.clone(), ctx.info.backend != wgpu::Backend::Gl);
         // GL runs a batch inside `submit`, and software Vulkan drivers (lavapipe) finish one
         // submission before accepting the next: a second batch would block the UI thread.
-        let depth = if poller.thread.is_some() && !ctx.is_software() {
+        // A read-back image waits for the queue, so there one batch is queued at a time too.
+        let depth = if poller.thread.is_some() && !ctx.is_software() && egui_renderer.is_some() {
             2
         } else {
             1
@@ -156,6 +176,7 @@ impl GpuBackend {
         Ok(GpuBackend {
             ctx,
             egui_renderer,
+            cpu_image: cpu_image::CpuImage::default(),
             repaint,
             renderer: None,
             fallback: None,
@@ -390,8 +411,8 @@ impl GpuBackend {
 
 impl Drop for GpuBackend {
     fn drop(&mut self) {
-        if let Some(id) = self.image_id.take() {
-            self.egui_renderer.write().free_texture(&id);
+        if let (Some(id), Some(r)) = (self.image_id.take(), &self.egui_renderer) {
+            r.write().free_texture(&id);
         }
     }
 }
