@@ -190,7 +190,7 @@ pub fn run_guarded(
             poisoned: false,
         },
         Ok(Err(e)) => Outcome::CannotPresent {
-            why: e.to_string(),
+            why: explain(&e.to_string()),
             poisoned: false,
         },
         Err(payload) => {
@@ -206,6 +206,18 @@ pub fn run_guarded(
                 }
             }
         }
+    }
+}
+
+/// eframe's error text, with what it means where wgpu's is cryptic: a surface "for any
+/// enabled backend: {}" failed because none of the backends started (no driver).
+fn explain(text: &str) -> String {
+    if text.contains("Failed to create surface for any enabled backend: {}") {
+        format!(
+            "{text} (no driver of these backends started: none installed, or it cannot reach this display)"
+        )
+    } else {
+        text.to_owned()
     }
 }
 
