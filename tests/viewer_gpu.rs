@@ -516,3 +516,73 @@ fn gpu_backend_keeps_two_batches_in_flight() {
     assert_eq!(img.spp, 12);
     assert!(img.pixels.iter().all(|p| p.is_finite()));
 }
+
+/// Issue 36: once its family's general kernel is compiled, an edit that changes the kernel
+/// (smooth glass made rough) shows its first image from the general kernel while the
+/// specialised one compiles — no frozen frame — and the specialised one takes over later.
+#[test]
+fn a_kernel_changing_edit_renders_at_once_with_the_general_kernel() {
+    let test = "a_kernel_changing_edit_renders_at_once_with_the_general_kernel";
+    let Some(mut ctx) = context(test) else {
+        return;
+    };
+    if ctx.info.backend == wgpu::Backend::Gl {
+        eprintln!("SKIP {test}: GL compiles on the UI thread");
+        return;
+    }
+    ctx.pipeline_cache_dir = None; // every compilation cold
+    let renderer = egui_wgpu::Renderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8Unorm,
+        egui_wgpu::RendererOptions::default(),
+    );
+    let mut b = GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("backend");
+    let scene = load(&mut b, 32, 24);
+    let wait = Duration::from_secs(300);
+    let start = Instant::now();
+    while b.spp() < 1 || b.compiles_in_background() {
+        assert!(
+            start.elapsed() < wait,
+            "the start-up kernels never compiled"
+        );
+        b.step(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let mut rough = scene.materials[GLASS].clone();
+    rough.roughness = 0.3;
+    b.update_material(GLASS, &rough);
+    assert!(b.is_compiling(), "rough glass needs another specialisation");
+    b.step(Duration::from_millis(8));
+    assert!(
+        b.batch_in_flight(),
+        "the edit's first batch is queued in the first step"
+    );
+    assert!(b.runs_general_kernel(), "…by the general kernel");
+    assert!(
+        b.device_name().contains("general kernel"),
+        "{}",
+        b.device_name()
+    );
+    let start = Instant::now();
+    while b.spp() < 1 {
+        assert!(start.elapsed() < wait, "no image after the edit");
+        b.step(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    while b.is_compiling() {
+        assert!(
+            start.elapsed() < wait,
+            "the specialised kernel never compiled"
+        );
+        b.step(Duration::from_millis(8));
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let spp = b.spp();
+    step_until(&mut b, "samples from the specialised kernel", |b| {
+        b.spp() > spp
+    });
+    assert!(
+        !b.runs_general_kernel(),
+        "the specialised kernel takes over"
+    );
+}

@@ -160,6 +160,27 @@ impl Specialization {
         }
     }
 
+    /// The general kernel of this specialisation's family (issue 36): every material, light,
+    /// texture and absorption part compiled in and the full traversal stack, with the same
+    /// estimator, colour representation (RGB or spectral), path filter, medium rule and
+    /// camera-walk form — the parts that change the maths or the buffers. The parts it adds
+    /// are all guarded by the scene's data (a material's kind, a light's kind, a texture
+    /// slot), so it renders any scene of the family with the same estimator as the
+    /// specialised kernel: the viewer runs it while that one compiles. One per family,
+    /// whatever the scene, so it is compiled once and kept.
+    pub fn general(self) -> Specialization {
+        Specialization {
+            light_tracing: self.light_tracing,
+            sppm: self.sppm,
+            filter: self.filter,
+            spectral: self.spectral,
+            nested: self.nested,
+            wavefront: self.wavefront,
+            bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+            ..Specialization::all()
+        }
+    }
+
     /// Every part compiled in, with photon mapping as the estimator (`sppm`).
     pub fn all_sppm() -> Specialization {
         Specialization {

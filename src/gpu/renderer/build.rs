@@ -57,6 +57,7 @@ impl GpuRenderer {
             photon_r0: 0.0,
             photon_aim: Default::default(),
             background_compile,
+            general_only: false,
             clear_pending: false,
             batches_in_flight: BATCHES_IN_FLIGHT,
             tiled: None,
@@ -91,7 +92,7 @@ impl GpuRenderer {
             Pipelines::new(ctx)
         })??;
         if background_compile {
-            pipelines.compile_in_background(spec)?;
+            super::submit::compile_family_in_background(&mut pipelines, spec)?;
         } else {
             pipelines.compile(spec)?;
         }

@@ -120,6 +120,8 @@ pub struct GpuRenderer {
     /// Compile new specialisations on a worker thread (the viewer) instead of in the call
     /// that changes the specialisation (the CLI, tests).
     background_compile: bool,
+    /// Always run the general kernel of the family (`set_general_kernel`; comparisons).
+    general_only: bool,
     /// A reset waits for the new specialisation's pipelines: the film is cleared by the
     /// first submission, and until then still holds the last image (the viewer shows it).
     clear_pending: bool,

@@ -22,14 +22,50 @@ struct Queued {
 impl GpuRenderer {
     /// Collect pipelines compiled on a worker thread (never waits): Ok(true) once those of
     /// the current specialisation are ready, an `Err` if their compilation failed.
+    ///
+    /// With background compilation, the general kernel of the specialisation's family
+    /// counts: it renders while the specialised one compiles ([`GpuRenderer::kernel_spec`]).
     pub fn pipelines_ready(&mut self) -> Result<bool> {
         self.pipelines.poll()?;
-        Ok(self.pipelines.is_ready(self.spec))
+        Ok(self.kernel_spec().is_some())
     }
 
     /// True while the current specialisation's pipelines are not compiled yet.
     pub fn is_compiling(&self) -> bool {
         !self.pipelines.is_ready(self.spec)
+    }
+
+    /// True while some specialisation compiles on a worker thread.
+    pub fn background_compiles_pending(&self) -> bool {
+        self.pipelines.is_compiling()
+    }
+
+    /// True while the next dispatch runs the general kernel (the specialised one compiles).
+    pub fn is_general(&self) -> bool {
+        self.kernel_spec()
+            .is_some_and(|k| k != self.spec && k == self.spec.general())
+    }
+
+    /// The specialisation whose pipelines run the next dispatch: the scene's own once
+    /// compiled; meanwhile, with background compilation, the general kernel of its family
+    /// once that is (`Specialization::general`: same estimator and maths, every kind of part
+    /// compiled in); None while neither is.
+    pub(super) fn kernel_spec(&self) -> Option<crate::gpu::pipeline::Specialization> {
+        let general = self.spec.general();
+        if self.general_only {
+            return self.pipelines.is_ready(general).then_some(general);
+        }
+        if self.pipelines.is_ready(self.spec) {
+            return Some(self.spec);
+        }
+        (self.background_compile && self.pipelines.is_ready(general)).then_some(general)
+    }
+
+    /// Run the general kernel of the specialisation's family even where the specialised
+    /// one is compiled (`on`), or the specialised one again: to compare the two (they
+    /// render the same image) and to measure what specialising buys. Accumulation goes on.
+    pub fn set_general_kernel(&mut self, on: bool) {
+        self.general_only = on;
     }
 
     /// Submissions [`GpuRenderer::render_with`] keeps queued (at least 1; default
@@ -208,10 +244,15 @@ impl GpuRenderer {
     /// The current specialisation's pipelines, waiting for (or doing) their compilation;
     /// false (the error recorded) if it fails.
     fn ensure_pipelines(&mut self) -> bool {
-        if self.pipelines.is_ready(self.spec) {
+        if self.kernel_spec().is_some() {
             return true;
         }
-        match self.pipelines.compile(self.spec) {
+        let want = if self.general_only {
+            self.spec.general()
+        } else {
+            self.spec
+        };
+        match self.pipelines.compile(want) {
             Ok(()) => true,
             Err(e) => {
                 super::super::context::record(&self.ctx.errors, format!("{e:#}"));
@@ -226,7 +267,7 @@ impl GpuRenderer {
     /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
     pub(super) fn request_pipelines(&mut self) {
         let r = if self.background_compile {
-            self.pipelines.compile_in_background(self.spec)
+            compile_family_in_background(&mut self.pipelines, self.spec)
         } else {
             self.pipelines.compile(self.spec)
         };
@@ -280,7 +321,10 @@ impl GpuRenderer {
     /// compiled: [`GpuRenderer::ensure_pipelines`]; the wavefront's kernels are recorded by
     /// `encode_wavefront`).
     fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
-        let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
+        let Some(spec) = self.kernel_spec() else {
+            return;
+        };
+        let Some(pipeline) = self.pipelines.get_kernel(spec, kernel) else {
             return;
         };
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -377,4 +421,21 @@ impl GpuRenderer {
         }
         Ok(())
     }
+}
+
+/// Start compiling, on worker threads, `spec`'s pipelines and its family's general kernel
+/// (which renders until they are ready), then the general kernel with the colour
+/// representation flipped (what a dispersion toggle asks for next): compilations already
+/// done or under way are not repeated.
+pub(super) fn compile_family_in_background(
+    pipelines: &mut crate::gpu::pipeline::Pipelines,
+    spec: crate::gpu::pipeline::Specialization,
+) -> Result<()> {
+    pipelines.compile_in_background(spec)?;
+    let general = spec.general();
+    pipelines.compile_in_background(general)?;
+    pipelines.compile_in_background(crate::gpu::pipeline::Specialization {
+        spectral: !general.spectral,
+        ..general
+    })
 }

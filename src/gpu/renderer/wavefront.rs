@@ -252,7 +252,10 @@ impl GpuRenderer {
     /// pass and makes each one's writes visible to the next; group 1, bound for the pass, is
     /// part of `wf_advance`'s layout only).
     fn dispatch_in(&self, pass: &mut wgpu::ComputePass, kernel: Kernel, size: Dispatch) {
-        let Some(pipeline) = self.pipelines.get_kernel(self.spec, kernel) else {
+        let Some(pipeline) = self
+            .kernel_spec()
+            .and_then(|spec| self.pipelines.get_kernel(spec, kernel))
+        else {
             return;
         };
         pass.set_pipeline(pipeline);

@@ -221,7 +221,14 @@ impl Backend for GpuBackend {
         let Some(r) = &self.renderer else {
             return format!("GPU {gpu}");
         };
-        let running = r.effective_estimator();
+        let running = if r.is_general() {
+            format!(
+                "{} (general kernel while its own compiles)",
+                r.effective_estimator()
+            )
+        } else {
+            r.effective_estimator().to_string()
+        };
         match self.options.map(|o| o.estimator) {
             Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
                 format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")

@@ -237,6 +237,20 @@ impl GpuBackend {
         self.fallback.is_none() && self.renderer.as_ref().is_some_and(|r| r.is_compiling())
     }
 
+    /// True while the current specialisation's own kernels compile and its family's general
+    /// kernel renders instead (`GpuRenderer::is_general`).
+    pub fn runs_general_kernel(&self) -> bool {
+        self.fallback.is_none() && self.renderer.as_ref().is_some_and(|r| r.is_general())
+    }
+
+    /// True while any kernel compiles on a worker thread (the current one, or a general
+    /// kernel compiled ahead).
+    pub fn compiles_in_background(&self) -> bool {
+        self.renderer
+            .as_ref()
+            .is_some_and(|r| r.background_compiles_pending())
+    }
+
     /// Samples per pixel queued for the current generation (finished or not).
     pub fn queued_spp(&self) -> u64 {
         self.renderer.as_ref().map_or(0, |r| r.spp())
