@@ -64,10 +64,12 @@ struct BenchArgs {
     /// Output folder for bench.csv, bench.png, bench.md.
     #[arg(long, default_value = "bench")]
     out: PathBuf,
-    #[arg(long, default_value_t = 128)]
-    width: u32,
-    #[arg(long, default_value_t = 128)]
-    height: u32,
+    /// Image width (default 128; with --viewer 1920).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height (default 128; with --viewer 1080).
+    #[arg(long)]
+    height: Option<u32>,
     /// Samples per pixel of the cached reference.
     #[arg(long, default_value_t = 1024)]
     ref_spp: u32,
@@ -89,6 +91,18 @@ struct BenchArgs {
     /// Only the micro-benchmarks (BVH rays/s, BSDF sampling).
     #[arg(long)]
     quick: bool,
+    /// The viewer itself, headless: a scripted lecture of edits (IOR drag, rough glass,
+    /// GGX → Beckmann, dispersion on/off, the caustic demo), each one's time to its first
+    /// image and compile time, the UI thread's longest frame, frames/s and samples/s at
+    /// --width × --height and in the default window; `--device cpu|gpu`, `--json FILE`.
+    #[arg(long)]
+    viewer: bool,
+    /// With --viewer: write the report here as JSON (also printed).
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// With --viewer: how long the IOR drag takes.
+    #[arg(long, default_value = "5s", value_parser = parse_duration)]
+    drag: Duration,
     /// Heckbert path classes, each benched on its own, e.g. 'LS+DE' 'LS+DS+E' (the caustic
     /// alone and its mirror image); default: all paths.
     #[arg(long, num_args = 1..)]
@@ -293,6 +307,9 @@ fn parse_gib(s: &str) -> Result<f64, String> {
 /// `refract bench`: the quick check of one scene, or the full run (arguments checked and
 /// outputs probed before any work) printing its table.
 fn bench(args: &BenchArgs) -> Result<()> {
+    if args.viewer {
+        return bench_viewer(args);
+    }
     if args.quick {
         let spec = args
             .scenes
@@ -315,14 +332,53 @@ fn bench(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// Check the image size, `--device`, every `--paths` and `--ref-spp`, in that order; returns
-/// whether to run (the CPU, a GPU).
-fn check_bench_args(args: &BenchArgs) -> Result<(bool, bool)> {
-    for (n, v) in [("width", args.width), ("height", args.height)] {
+/// `refract bench --viewer`: the headless viewer bench (`app::viewer_bench`), its report
+/// printed as JSON and written to `--json`.
+fn bench_viewer(args: &BenchArgs) -> Result<()> {
+    let (width, height) = checked_size(args, (1920, 1080))?;
+    let gpu = match args.device.to_ascii_lowercase().as_str() {
+        "cpu" => false,
+        "gpu" => true,
+        d => bail!("--device {d}: the viewer bench runs on cpu or gpu"),
+    };
+    if let Some(f) = &args.json {
+        film::probe_writable(f).context("--json")?;
+    }
+    let opts = refract::app::viewer_bench::ViewerBenchOptions {
+        gpu,
+        width,
+        height,
+        drag: args.drag,
+        measure: args.budget.min(Duration::from_secs(5)),
+    };
+    let report = refract::app::viewer_bench::run(&opts)?;
+    let json = serde_json::to_string_pretty(&report)?;
+    println!("{json}");
+    if let Some(f) = &args.json {
+        std::fs::write(f, json)
+            .with_context(|| format!("cannot write --json '{}'", f.display()))?;
+    }
+    Ok(())
+}
+
+/// `--width`/`--height`, or `default`; each within 1..=MAX_IMAGE_SIDE.
+fn checked_size(args: &BenchArgs, default: (u32, u32)) -> Result<(u32, u32)> {
+    let size = (
+        args.width.unwrap_or(default.0),
+        args.height.unwrap_or(default.1),
+    );
+    for (n, v) in [("width", size.0), ("height", size.1)] {
         if v == 0 || v > MAX_IMAGE_SIDE {
             bail!("--{n} {v} is out of range (1..={MAX_IMAGE_SIDE})");
         }
     }
+    Ok(size)
+}
+
+/// Check the image size, `--device`, every `--paths` and `--ref-spp`, in that order; returns
+/// whether to run (the CPU, a GPU).
+fn check_bench_args(args: &BenchArgs) -> Result<(bool, bool)> {
+    checked_size(args, (128, 128))?;
     let devices = Device::parse_bench(&args.device).map_err(anyhow::Error::msg)?;
     for p in &args.paths {
         refract::paths::PathFilter::parse(p)
@@ -360,8 +416,8 @@ fn bench_options(args: &BenchArgs, (cpu, gpu): (bool, bool)) -> refract::bench::
         limits: args.load.limits(),
         budget: args.budget,
         out: args.out.clone(),
-        width: args.width,
-        height: args.height,
+        width: args.width.unwrap_or(128),
+        height: args.height.unwrap_or(128),
         ref_spp: args.ref_spp,
         cache_dir: args.cache.clone(),
         estimators: args.estimators.clone(),

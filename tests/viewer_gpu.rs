@@ -537,6 +537,8 @@ fn a_kernel_changing_edit_renders_at_once_with_the_general_kernel() {
         egui_wgpu::RendererOptions::default(),
     );
     let mut b = GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("backend");
+    // Off by default on software drivers (lavapipe here), where compiling shares the cores.
+    b.set_compile_ahead(true);
     let scene = load(&mut b, 32, 24);
     let wait = Duration::from_secs(300);
     let start = Instant::now();

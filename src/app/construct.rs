@@ -69,6 +69,7 @@ impl ViewerApp {
                 ui_ema: 0.0,
             },
             dragging: false,
+            scripted_drag: false,
             closing: false,
             edits: Vec::new(),
             auto_memo: None,

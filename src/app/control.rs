@@ -10,6 +10,12 @@ impl ViewerApp {
         self.backend.as_ref()
     }
 
+    /// Hold a drag that no pointer makes (a scripted slider drag): the backend renders
+    /// interactively while it lasts, as for a real one.
+    pub fn hold_drag(&mut self, on: bool) {
+        self.scripted_drag = on;
+    }
+
     /// Show `mode`; a backend that cannot (the GPU) keeps the image and says so.
     pub fn set_view(&mut self, mode: layer_view::ViewMode) {
         if self.backend.set_view(mode) {

@@ -64,10 +64,13 @@ impl ViewerApp {
     }
 
     /// React to a drag starting or ending and to a click on the image (inspect or pick).
+    /// Any drag is interactive — the camera's, and a slider's (IOR, roughness, light): the
+    /// backend renders at a lower resolution until it ends, so each step shows at once.
     fn viewport_interaction(&mut self, ctx: &egui::Context, r: &viewport::ViewportResponse) {
-        if r.dragging != self.dragging {
-            self.dragging = r.dragging;
-            self.backend.set_interactive(r.dragging);
+        let dragging = r.dragging || ctx.dragged_id().is_some() || self.scripted_drag;
+        if dragging != self.dragging {
+            self.dragging = dragging;
+            self.backend.set_interactive(dragging);
         }
         if let Some((sx, sy)) = r.clicked {
             if r.alt || self.inspector.enabled {

@@ -19,6 +19,7 @@ pub mod lecture;
 pub mod panels;
 pub mod present;
 pub mod screenshot;
+pub mod viewer_bench;
 pub mod viewport;
 
 mod construct;
@@ -111,6 +112,8 @@ pub struct ViewerApp {
     exit_after: Option<Duration>,
     stats: FrameStats,
     dragging: bool,
+    /// A drag made by a script, not the pointer (`viewer_bench`): interactive as a real one.
+    scripted_drag: bool,
     closing: bool,
     /// Edits pushed this frame, applied by [`ViewerApp::apply`] (src/app/edit.rs).
     edits: Vec<Edit>,

@@ -102,6 +102,16 @@ pub trait Backend {
     ) -> Option<DisplayTexture>;
     /// The accumulated mean radiance (for screenshots; a GPU backend reads it back here).
     fn read_image(&self) -> Option<Accumulated>;
+    /// True while the kernel for the current scene and options compiles (the GPU; the image
+    /// meanwhile comes from the family's general kernel, or stays the last one).
+    fn compiling(&self) -> bool {
+        false
+    }
+    /// True while the image comes from the family's general kernel (the GPU, while the
+    /// specialised kernel compiles).
+    fn general_kernel(&self) -> bool {
+        false
+    }
     /// A notice for the user since the last call (e.g. "the GPU cannot render this scene,
     /// rendering on the CPU"); the viewer shows it in the side panel.
     fn take_message(&mut self) -> Option<String> {

@@ -51,6 +51,14 @@ pub struct Pipelines {
     cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
     /// Specialisations being compiled on worker threads.
     pending: Vec<Pending>,
+    /// Specialisations to compile ahead of need, one at a time once nothing else compiles
+    /// (`compile_ahead`): compilations running side by side share the CPU the driver
+    /// compiles and, on software drivers, executes on.
+    ahead: std::collections::VecDeque<Specialization>,
+    /// Whether to compile ahead at all: not on software drivers, where a compilation and the
+    /// batches share the same CPU cores, so a general kernel could not render while the
+    /// specialised one compiles anyway, and compiling it ahead only slows both.
+    ahead_enabled: bool,
     /// Number of pipelines compiled so far (tests check that edits do not recompile).
     pub compiled: u32,
     /// Wall time of the last specialisation's pipeline creation (all its kernels).
@@ -137,6 +145,8 @@ impl Pipelines {
             disk_cache,
             cache: HashMap::new(),
             pending: Vec::new(),
+            ahead: std::collections::VecDeque::new(),
+            ahead_enabled: !ctx.is_software(),
             compiled: 0,
             last_compile: None,
         })
@@ -201,14 +211,52 @@ impl Pipelines {
         Ok(())
     }
 
-    /// True while some specialisation is being compiled on a worker thread.
-    pub fn is_compiling(&self) -> bool {
-        !self.pending.is_empty()
+    /// Queue `spec` to compile on a worker thread once nothing else compiles (ahead of need:
+    /// a general kernel, what an edit may ask for next); [`Pipelines::poll`] starts it.
+    pub fn compile_ahead(&mut self, spec: Specialization) -> Result<()> {
+        if !self.ahead_enabled {
+            return Ok(());
+        }
+        if !self.ahead.contains(&spec) {
+            self.ahead.push_back(spec);
+        }
+        self.start_ahead()
     }
 
-    /// Collect the pipelines of finished worker threads (never waits). An `Err` if one
-    /// failed.
+    /// Compile ahead of need (`on`) or not; the default is on except on software drivers.
+    pub fn set_compile_ahead(&mut self, on: bool) {
+        self.ahead_enabled = on;
+        if !on {
+            self.ahead.clear();
+        }
+    }
+
+    /// Start the next queued compilation ahead of need if no worker is compiling.
+    fn start_ahead(&mut self) -> Result<()> {
+        while self.pending.is_empty()
+            && let Some(spec) = self.ahead.pop_front()
+        {
+            self.compile_in_background(spec)?;
+        }
+        Ok(())
+    }
+
+    /// True while some specialisation is being compiled on a worker thread (or waits to be,
+    /// ahead of need).
+    pub fn is_compiling(&self) -> bool {
+        !self.pending.is_empty() || !self.ahead.is_empty()
+    }
+
+    /// Collect the pipelines of finished worker threads (never waits), and start the next
+    /// compilation ahead of need. An `Err` if one failed.
     pub fn poll(&mut self) -> Result<()> {
+        let r = self.collect();
+        let started = self.start_ahead();
+        r.and(started)
+    }
+
+    /// Collect the pipelines of finished worker threads (never waits).
+    fn collect(&mut self) -> Result<()> {
         let mut result = Ok(());
         let mut i = 0;
         while i < self.pending.len() {

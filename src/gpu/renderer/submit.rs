@@ -61,6 +61,15 @@ impl GpuRenderer {
         (self.background_compile && self.pipelines.is_ready(general)).then_some(general)
     }
 
+    /// Compile general kernels ahead of need (`on`; the default except on software
+    /// drivers), starting with this specialisation's family.
+    pub fn set_compile_ahead(&mut self, on: bool) {
+        self.pipelines.set_compile_ahead(on);
+        if on && self.background_compile {
+            self.request_pipelines();
+        }
+    }
+
     /// Run the general kernel of the specialisation's family even where the specialised
     /// one is compiled (`on`), or the specialised one again: to compare the two (they
     /// render the same image) and to measure what specialising buys. Accumulation goes on.
@@ -423,18 +432,18 @@ impl GpuRenderer {
     }
 }
 
-/// Start compiling, on worker threads, `spec`'s pipelines and its family's general kernel
-/// (which renders until they are ready), then the general kernel with the colour
-/// representation flipped (what a dispersion toggle asks for next): compilations already
-/// done or under way are not repeated.
+/// Start compiling `spec`'s pipelines on a worker thread now; queue its family's general
+/// kernel (which renders while a later edit's specialisation compiles) and the general kernel
+/// with the colour representation flipped (what a dispersion toggle asks for next) to compile
+/// one at a time after it. Compilations already done or under way are not repeated.
 pub(super) fn compile_family_in_background(
     pipelines: &mut crate::gpu::pipeline::Pipelines,
     spec: crate::gpu::pipeline::Specialization,
 ) -> Result<()> {
-    pipelines.compile_in_background(spec)?;
     let general = spec.general();
-    pipelines.compile_in_background(general)?;
-    pipelines.compile_in_background(crate::gpu::pipeline::Specialization {
+    pipelines.compile_in_background(spec)?;
+    pipelines.compile_ahead(general)?;
+    pipelines.compile_ahead(crate::gpu::pipeline::Specialization {
         spectral: !general.spectral,
         ..general
     })

@@ -300,6 +300,14 @@ impl Backend for GpuBackend {
         })
     }
 
+    fn compiling(&self) -> bool {
+        self.is_compiling()
+    }
+
+    fn general_kernel(&self) -> bool {
+        self.runs_general_kernel()
+    }
+
     fn take_message(&mut self) -> Option<String> {
         self.message.take()
     }

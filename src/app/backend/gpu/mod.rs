@@ -118,6 +118,9 @@ pub struct GpuBackend {
     /// Display settings of the last `display_texture` call.
     display: Option<DisplayParams>,
     readback: StatsReadback,
+    /// Compile general kernels ahead of need regardless of the adapter (None: the
+    /// renderer's default, off on software drivers).
+    compile_ahead: Option<bool>,
     poller: Poller,
     message: Option<String>,
 }
@@ -200,6 +203,7 @@ impl GpuBackend {
             shown: None,
             display: None,
             readback,
+            compile_ahead: None,
             poller,
             message: None,
         })
@@ -241,6 +245,15 @@ impl GpuBackend {
     /// kernel renders instead (`GpuRenderer::is_general`).
     pub fn runs_general_kernel(&self) -> bool {
         self.fallback.is_none() && self.renderer.as_ref().is_some_and(|r| r.is_general())
+    }
+
+    /// Compile general kernels ahead of need (`on`) whatever the adapter (by default not on
+    /// software drivers); applies to the renderer now and to later ones.
+    pub fn set_compile_ahead(&mut self, on: bool) {
+        self.compile_ahead = Some(on);
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_compile_ahead(on);
+        }
     }
 
     /// True while any kernel compiles on a worker thread (the current one, or a general
@@ -327,6 +340,9 @@ impl GpuBackend {
         }
         if let Some(r) = self.renderer.as_mut() {
             r.set_filter_table(o.filter);
+            if let Some(on) = self.compile_ahead {
+                r.set_compile_ahead(on);
+            }
         }
         self.sync_estimator();
         Ok(true)
