@@ -105,10 +105,14 @@ fn or_cpu<T>(r: Result<T>, forced: bool, what: &str) -> Result<Option<T>> {
 /// path filter and spectral mode.
 fn log_start(args: &RenderArgs, scene: &Scene, job: &Job, r: &GpuRenderer, name: &str) {
     let (bvh_time, depth, nodes) = r.bvh_info();
+    let tree = match r.bvh_layout() {
+        refract::gpu::upload::BvhLayout::Bvh2 => "BVH2",
+        refract::gpu::upload::BvhLayout::Cwbvh => "CWBVH",
+    };
     let s = &scene.settings;
     let filter = &job.filter;
     eprintln!(
-        "scene {} on GPU {name}: {} triangles, BVH2 {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {}, max depth {}, estimator {}{}{}",
+        "scene {} on GPU {name}: {} triangles, {tree} {nodes} nodes depth {depth} built in {:.1} ms; {}x{}, {}, max depth {}, estimator {}{}{}",
         scene.name,
         scene.mesh.triangle_count(),
         bvh_time.as_secs_f64() * 1e3,

@@ -48,6 +48,60 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    /// A compressed 8-wide BVH node (Ylitie, Karras & Laine 2017, "Efficient Incoherent Ray
+    /// Traversal on GPUs Through Compressed Wide BVHs", HPG, §3.1; obvhs' `CwBvhNode` byte
+    /// for byte, its child boxes re-quantised by `upload::cwbvh`). Child c's box on axis a is
+    /// `p[a] + e[a]·q` for its two 8-bit planes q, e[a] = 2^(byte a of `e_imask` − 127).
+    pub struct CwNode {
+        /// The node box's minimum corner (the quantisation grid's origin).
+        pub p: [f32; 3],
+        /// Bytes 0–2: the biased exponents of e per axis; byte 3: `imask` (bit c set: child
+        /// c is an inner node).
+        pub e_imask: u32,
+        /// Index of the first inner child (inner children are consecutive, in slot order).
+        pub child_base: u32,
+        /// First triangle slot of the leaf children.
+        pub prim_base: u32,
+        /// Child c's meta byte (byte c of the 8): 0 = empty slot; inner: 24 + c with the
+        /// high bits 001; leaf: triangle offset (low 5 bits) and unary count (high 3 bits).
+        pub child_meta: [u32; 2],
+        /// Quantised planes per axis: words 0–1 the minima of children 0–3 and 4–7 (a byte
+        /// each), words 2–3 the maxima.
+        pub q_x: [u32; 4],
+        pub q_y: [u32; 4],
+        pub q_z: [u32; 4],
+    }
+}
+
+gpu_struct! {
+    /// A ray of the traversal probe (bvh_probe.wgsl).
+    pub struct BvhProbeRay {
+        pub org: [f32; 3],
+        pub tmax: f32,
+        pub dir: [f32; 3],
+        /// 1: occlusion (first hit), 0: closest hit.
+        pub any_hit: u32,
+    }
+}
+
+gpu_struct! {
+    /// The traversal probe's answer for one ray: the hit (`found` = 1) and, for `traverse`,
+    /// its work.
+    pub struct BvhProbeOut {
+        pub t: f32,
+        /// Leaf slot of the triangle hit.
+        pub slot: u32,
+        pub b1: f32,
+        pub b2: f32,
+        pub found: u32,
+        /// Node records visited, child boxes tested, triangles tested.
+        pub nodes: u32,
+        pub boxes: u32,
+        pub tris: u32,
+    }
+}
+
+gpu_struct! {
     /// A triangle in BVH leaf order (slot k holds scene triangle `primitive_indices[k]`).
     pub struct Triangle {
         pub p0: [f32; 3],

@@ -11,6 +11,8 @@
 //!   (compiled on a worker thread where the caller asks for it).
 //! - [`pipeline_cache`]: wgpu's driver pipeline cache, kept on disk between runs.
 //! - [`light_probe`]: the light twin probe (light.wgsl against `scene::light::Light`).
+//! - [`bvh_probe`]: the traversal probe (closest hits and work per ray, brute force);
+//!   [`probe_rays`]: its ray workloads (camera, bounce and shadow rays of a scene).
 //! - [`kernels`]: each entry point of a specialisation as WGSL and SPIR-V (dumps, register budgets).
 //! - [`photons`]: the `sppm` photon store (radius schedule, photons, hash grid).
 //! - [`prelude`]: the WGSL constants generated from their Rust definitions.
@@ -19,6 +21,7 @@
 //! - [`tonemap`]: display tone mapping of the accumulation buffer into an sRGB texture.
 
 pub mod buffers;
+pub mod bvh_probe;
 pub mod context;
 pub mod kernels;
 pub mod layout;
@@ -27,6 +30,7 @@ pub mod photons;
 pub mod pipeline;
 pub mod pipeline_cache;
 pub mod prelude;
+pub mod probe_rays;
 pub mod renderer;
 pub mod submissions;
 pub mod tonemap;

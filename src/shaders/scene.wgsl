@@ -1,6 +1,8 @@
 // scene.wgsl — scene buffers (layouts = gpu::layout, checked by naga reflection in
-// tests/gpu.rs), BVH2 traversal with a short stack and the watertight triangle test.
-// Twin of src/bvh.rs (the CPU walks a CWBVH over the same triangles; closest hits agree).
+// tests/gpu.rs), the traversal entry (`traverse`: the BVH2 here, or the compressed wide BVH
+// of cwbvh.wgsl by `BVH_WIDE`) with a short stack, and the watertight triangle test.
+// Twin of src/bvh.rs (the CPU walks its own wide BVH over the same triangles; closest hits
+// agree).
 
 struct BvhNode {
     lo: array<f32, 3>,
@@ -93,7 +95,9 @@ struct Light {
     _pad1: u32,
 }
 
-@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+// The tree's nodes as 16-byte words: a BVH2 node is two (`bvh2_node`), a CWBVH node five
+// (`cw_node` in cwbvh.wgsl); `BVH_WIDE` says which tree `upload::GpuBvh` put here.
+@group(0) @binding(1) var<storage, read> nodes: array<vec4<u32>>;
 @group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(3) var<storage, read> vertices: array<Vertex>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
@@ -193,12 +197,20 @@ fn watertight_ray_intersect(r: WatertightRay, tri: Triangle, tmax: f32) -> vec4<
 }
 
 // Slab test; far distance widened by 1 + 2γ₃ so boxes never miss a hit on their faces.
-// Ize 2013, "Robust BVH Ray Traversal" (JCGT 2(2)), §3.
+// Ize 2013, "Robust BVH Ray Traversal" (JCGT 2(2)), §3. An axis the ray does not move along
+// (`ray_inv_dir`'s ±F32_MAX) constrains nothing when the origin lies in its slab, faces
+// included, and excludes the box otherwise — the CPU's NaN-ignoring min/max (bvh::slab): with
+// the finite stand-in alone, a ray lying in a box's face plane got the distance 0 there and
+// missed boxes ahead of it (tests/gpu_bvh.rs, rays in box faces).
 fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax: f32) -> f32 {
+    let flat = abs(inv_d) == vec3<f32>(F32_MAX);
+    if any(flat & ((org < lo) | (org > hi))) {
+        return F32_MAX;
+    }
     let t0 = (lo - org) * inv_d;
     let t1 = (hi - org) * inv_d;
-    let tn = min(t0, t1);
-    let tf = max(t0, t1);
+    let tn = select(min(t0, t1), vec3<f32>(-F32_MAX), flat);
+    let tf = select(max(t0, t1), vec3<f32>(F32_MAX), flat);
     let tnear = max(max(tn.x, tn.y), max(tn.z, 0.0));
     let tfar = min(min(tf.x, tf.y), min(tf.z, tmax)) * 1.0000004;
     if tnear <= tfar {
@@ -207,11 +219,13 @@ fn ray_box(lo: vec3<f32>, hi: vec3<f32>, org: vec3<f32>, inv_d: vec3<f32>, tmax:
     return F32_MAX;
 }
 
-// Entries of each invocation's traversal stack (override; `Specialization::bvh_stack`): the
-// uploaded BVH2's depth rounded up to a multiple of 8, at most 64 (gpu::upload checks the
-// depth). An ordered traversal of a binary tree holds at most one entry per level above the
-// current node, so the depth bounds it; sized to the scene, the stack takes no more workgroup
-// memory than the tree needs (the memory that limits occupancy: README "Register pressure").
+// Words of each invocation's traversal stack (override; `Specialization::bvh_stack`): for the
+// BVH2 one per entry, the uploaded tree's depth rounded up to a multiple of 8, at most 64
+// (gpu::upload checks the depth); for the CWBVH two per node group
+// (`upload::cwbvh_stack_words`). An ordered traversal holds at most one entry per level above
+// the current node, so the depth bounds it; sized to the scene, the stack takes no more
+// workgroup memory than the tree needs (the memory that limits occupancy: docs/gpu.md
+// "Register pressure").
 override BVH_STACK_SIZE: u32 = 64u;
 // The workgroup's stacks (a named override: naga cannot specialise an array size written as
 // an override expression).
@@ -228,12 +242,34 @@ var<workgroup> BVH_STACK: array<u32, BVH_STACK_WORDS>;
 // This invocation's lane (local_invocation_index), set first thing by every entry point.
 var<private> LANE: u32;
 
-// Closest hit (any_hit = false) or first hit (any_hit = true) along org + t·dir, t ∈ (0, tmax).
-fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
-    var hit = Hit(false, tmax_in, 0u, 0.0, 0.0);
-    let wr = watertight_ray_new(org, dir);
-    // 1/±0 = ±Inf is what the slab test wants; WGSL gives an indeterminate value there, so
-    // substitute a huge finite reciprocal of the right sign.
+// The tree is the compressed 8-wide BVH (cwbvh.wgsl), not the BVH2 (override;
+// `Specialization::bvh_wide`).
+override BVH_WIDE: bool = true;
+
+// Traversal work of the BVH probe (bvh_probe.wgsl sets BVH_COUNT; every other kernel leaves
+// it false, so the counting compiles out): node records visited, child boxes tested,
+// triangles tested.
+override BVH_COUNT: bool = false;
+var<private> BVH_WORK: vec3<u32>;
+
+fn bvh_count(nodes_visited: u32, boxes: u32, tris: u32) {
+    if BVH_COUNT {
+        BVH_WORK += vec3<u32>(nodes_visited, boxes, tris);
+    }
+}
+
+// BVH2 node i.
+fn bvh2_node(i: u32) -> BvhNode {
+    let a = nodes[2u * i];
+    let b = nodes[2u * i + 1u];
+    let lo = array<f32, 3>(bitcast<f32>(a.x), bitcast<f32>(a.y), bitcast<f32>(a.z));
+    let hi = array<f32, 3>(bitcast<f32>(b.x), bitcast<f32>(b.y), bitcast<f32>(b.z));
+    return BvhNode(lo, a.w, hi, b.w);
+}
+
+// 1/dir for the slab tests. 1/±0 = ±Inf is what the slab test wants; WGSL gives an
+// indeterminate value there, so substitute a huge finite reciprocal of the right sign.
+fn ray_inv_dir(dir: vec3<f32>) -> vec3<f32> {
     var inv_d: vec3<f32>;
     for (var k = 0u; k < 3u; k++) {
         if dir[k] == 0.0 {
@@ -242,17 +278,36 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
             inv_d[k] = 1.0 / dir[k];
         }
     }
+    return inv_d;
+}
+
+// Closest hit (any_hit = false) or first hit (any_hit = true) along org + t·dir, t ∈ (0, tmax).
+fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
+    if BVH_WIDE {
+        return traverse_cwbvh(org, dir, tmax_in, any_hit);
+    }
+    return traverse_bvh2(org, dir, tmax_in, any_hit);
+}
+
+// `traverse` over the BVH2: the nearer child first, the farther one on the stack.
+fn traverse_bvh2(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit {
+    var hit = Hit(false, tmax_in, 0u, 0.0, 0.0);
+    let wr = watertight_ray_new(org, dir);
+    let inv_d = ray_inv_dir(dir);
     var sp = 0u;
     var node = 0u;
-    let root = nodes[0];
+    let root = bvh2_node(0u);
+    bvh_count(0u, 1u, 0u);
     if ray_box(v3(root.lo), v3(root.hi), org, inv_d, hit.t) == F32_MAX {
         return hit;
     }
     loop {
-        let n = nodes[node];
+        let n = bvh2_node(node);
+        bvh_count(1u, 0u, 0u);
         if n.prim_count > 0u {
             for (var i = 0u; i < n.prim_count; i++) {
                 let slot = n.first_index + i;
+                bvh_count(0u, 0u, 1u);
                 let r = watertight_ray_intersect(wr, triangles[slot], hit.t);
                 if r.w > 0.0 {
                     hit = Hit(true, r.x, slot, r.y, r.z);
@@ -263,8 +318,9 @@ fn traverse(org: vec3<f32>, dir: vec3<f32>, tmax_in: f32, any_hit: bool) -> Hit 
             }
         } else {
             let l = n.first_index;
-            let nl = nodes[l];
-            let nr = nodes[l + 1u];
+            let nl = bvh2_node(l);
+            let nr = bvh2_node(l + 1u);
+            bvh_count(0u, 2u, 0u);
             let tl = ray_box(v3(nl.lo), v3(nl.hi), org, inv_d, hit.t);
             let tr = ray_box(v3(nr.lo), v3(nr.hi), org, inv_d, hit.t);
             let hl = tl != F32_MAX;

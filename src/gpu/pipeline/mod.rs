@@ -30,7 +30,10 @@ use layouts::{IntegratorLayouts, check_storage_buffer_limit};
 pub(crate) use probe::dispatch_once;
 pub use probe::run_probe;
 pub use specialization::Specialization;
-pub use wgsl::{SHADER_FILES, create_module, integrator_source, light_probe_source, probe_source};
+pub use wgsl::{
+    SHADER_FILES, bvh_probe_source, create_module, integrator_source, light_probe_source,
+    probe_source,
+};
 
 /// Storage buffers the integrator binds (group 0: bindings 1–8, 10–13, 15 and 16; and
 /// `wf_advance`'s group 1).

@@ -1,5 +1,6 @@
 //! [`Specialization`]: which parts of the kernel a scene needs, the pipeline cache key.
 
+use crate::gpu::upload::{BvhLayout, GpuBvh};
 use crate::scene::Features;
 
 /// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
@@ -48,6 +49,8 @@ pub struct Specialization {
     /// tree's depth; the full 64 where the tree is not known). Workgroup memory, so it
     /// bounds occupancy: 64 entries allow 4 subgroups per SIMD on RDNA2, 24 allow 10.
     pub bvh_stack: u32,
+    /// The tree is the compressed 8-wide BVH (`upload::BvhLayout::Cwbvh`), not the BVH2.
+    pub bvh_wide: bool,
 }
 
 impl Default for Specialization {
@@ -84,6 +87,7 @@ impl Specialization {
             nested: f.contains(Features::NESTED),
             wavefront: false,
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+            bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
         }
     }
 
@@ -103,13 +107,13 @@ impl Specialization {
     }
 
     /// The kernel parts `scene` needs (as [`Specialization::from_features`]) with the
-    /// traversal stack sized for the BVH2 the renderer uploads for it (built here) and the
-    /// camera walk's form by [`Specialization::wants_wavefront`] — what the renderer runs
-    /// for the path estimator.
+    /// traversal sized for the tree the renderer uploads for it (built here, layout by
+    /// `BvhLayout::from_env`) and the camera walk's form by
+    /// [`Specialization::wants_wavefront`] — what the renderer runs for the path estimator.
     pub fn for_scene(scene: &crate::scene::Scene) -> anyhow::Result<Specialization> {
-        let depth = crate::gpu::upload::build_bvh(scene)?.depth;
+        let bvh = crate::gpu::upload::build_gpu_bvh(scene, BvhLayout::from_env())?;
         Ok(Specialization::from_features(scene.features())
-            .with_bvh_depth(depth)
+            .with_bvh(&bvh)
             .with_wavefront_rule())
     }
 
@@ -125,6 +129,16 @@ impl Specialization {
     pub fn with_bvh_depth(self, depth: u32) -> Specialization {
         Specialization {
             bvh_stack: crate::gpu::upload::bvh_stack_entries(depth),
+            bvh_wide: false,
+            ..self
+        }
+    }
+
+    /// The same kernel parts traversing `bvh` (its layout, its stack size).
+    pub fn with_bvh(self, bvh: &GpuBvh) -> Specialization {
+        Specialization {
+            bvh_stack: bvh.stack_words(),
+            bvh_wide: bvh.layout == BvhLayout::Cwbvh,
             ..self
         }
     }
@@ -157,6 +171,7 @@ impl Specialization {
             env_image: true,
             wavefront: true,
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+            bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
         }
     }
 
@@ -217,6 +232,7 @@ impl Specialization {
             ("HAS_SPPM", b(self.sppm)),
             ("HAS_NESTED", b(self.nested)),
             ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
+            ("BVH_WIDE", b(self.bvh_wide)),
         ]
     }
 }

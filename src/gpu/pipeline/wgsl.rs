@@ -19,6 +19,7 @@ const GLOSSY: &str = include_str!("../../shaders/glossy.wgsl");
 const ROUGH_DIELECTRIC: &str = include_str!("../../shaders/rough_dielectric.wgsl");
 const METAL_ROUGH: &str = include_str!("../../shaders/metal_rough.wgsl");
 const SCENE: &str = include_str!("../../shaders/scene.wgsl");
+const CWBVH: &str = include_str!("../../shaders/cwbvh.wgsl");
 const LIGHT: &str = include_str!("../../shaders/light.wgsl");
 const SPECTRAL: &str = include_str!("../../shaders/spectral.wgsl");
 const MATERIAL: &str = include_str!("../../shaders/material.wgsl");
@@ -31,6 +32,7 @@ const WAVEFRONT: &str = include_str!("../../shaders/wavefront.wgsl");
 const LIGHT_WAVEFRONT: &str = include_str!("../../shaders/light_wavefront.wgsl");
 const PROBE: &str = include_str!("../../shaders/probe.wgsl");
 const LIGHT_PROBE: &str = include_str!("../../shaders/light_probe.wgsl");
+const BVH_PROBE: &str = include_str!("../../shaders/bvh_probe.wgsl");
 
 /// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
 const MATHS: &[&str] = &[
@@ -65,6 +67,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("rough_dielectric.wgsl", ROUGH_DIELECTRIC),
     ("metal_rough.wgsl", METAL_ROUGH),
     ("scene.wgsl", SCENE),
+    ("cwbvh.wgsl", CWBVH),
     ("light.wgsl", LIGHT),
     ("spectral.wgsl", SPECTRAL),
     ("material.wgsl", MATERIAL),
@@ -77,6 +80,7 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("light_wavefront.wgsl", LIGHT_WAVEFRONT),
     ("probe.wgsl", PROBE),
     ("light_probe.wgsl", LIGHT_PROBE),
+    ("bvh_probe.wgsl", BVH_PROBE),
 ];
 
 /// The generated prelude, then `parts`.
@@ -94,6 +98,7 @@ fn assemble(parts: &[&str]) -> String {
 pub fn integrator_source() -> String {
     let kernel = [
         SCENE,
+        CWBVH,
         LIGHT,
         SPECTRAL,
         MATERIAL,
@@ -115,7 +120,12 @@ pub fn probe_source() -> String {
 
 /// The light probe kernel's full WGSL source: prelude, maths, scene bindings, lights.
 pub fn light_probe_source() -> String {
-    assemble(&[MATHS, &[SCENE, LIGHT, LIGHT_PROBE]].concat())
+    assemble(&[MATHS, &[SCENE, CWBVH, LIGHT, LIGHT_PROBE]].concat())
+}
+
+/// The traversal probe's full WGSL source: prelude, maths, scene bindings, both traversals.
+pub fn bvh_probe_source() -> String {
+    assemble(&[MATHS, &[SCENE, CWBVH, BVH_PROBE]].concat())
 }
 
 /// Compile a WGSL module, turning validation errors into `Err` instead of a panic.

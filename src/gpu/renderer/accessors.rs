@@ -50,9 +50,13 @@ impl GpuRenderer {
     pub fn specialization(&self) -> Specialization {
         self.spec
     }
-    /// BVH2 build time and depth.
+    /// The tree's build time, depth and node count.
     pub fn bvh_info(&self) -> (Duration, u32, usize) {
-        (self.bvh.build_time, self.bvh.depth, self.bvh.nodes.len())
+        (self.bvh.build_time, self.bvh.depth, self.bvh.node_count())
+    }
+    /// Which tree the kernels traverse.
+    pub fn bvh_layout(&self) -> crate::gpu::upload::BvhLayout {
+        self.bvh.layout
     }
 
     // ---- BEGIN viewer accessors (used by app::backend::gpu; keep this block last) ----------

@@ -29,9 +29,9 @@ impl GpuRenderer {
         Self::check_renderable(&scene, &opts)?;
         let features = scene.features();
         // The tree first: its depth sizes the kernels' traversal stack.
-        let bvh = upload::build_bvh(&scene)?;
+        let bvh = upload::build_gpu_bvh(&scene, upload::BvhLayout::from_env())?;
         let wavefront_override = wavefront_override_from_env();
-        let spec = Self::specialization_for(features, &opts, &scene, bvh.depth, wavefront_override);
+        let spec = Self::specialization_for(features, &opts, &scene, &bvh, wavefront_override);
         let pipelines = Self::compiled_pipelines(&ctx, spec, background_compile)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
@@ -178,7 +178,7 @@ impl GpuRenderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            nodes: checked_storage(ctx, "bvh nodes", "BVH", &bvh.nodes)?,
+            nodes: checked_storage(ctx, "bvh nodes", "BVH", bvh.node_bytes())?,
             triangles: checked_storage(ctx, "triangles", "triangles", &tris)?,
             vertices: checked_storage(ctx, "vertices", "vertices", &verts)?,
             materials: checked_storage(ctx, "materials", "materials", &mats)?,

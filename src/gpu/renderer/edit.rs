@@ -9,7 +9,7 @@ use crate::gpu::buffers::{checked_bytes, storage};
 use crate::gpu::layout;
 use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::Specialization;
-use crate::gpu::upload;
+use crate::gpu::upload::{self, GpuBvh};
 use crate::paths::{DfaTable, PathFilter};
 use crate::render::{Estimator, RenderOptions};
 use crate::scene::{Camera, Features, Material, Scene, light::LightSet};
@@ -103,10 +103,10 @@ impl GpuRenderer {
         features: Features,
         opts: &RenderOptions,
         scene: &Scene,
-        bvh_depth: u32,
+        bvh: &GpuBvh,
         wavefront: Option<bool>,
     ) -> Specialization {
-        let mut spec = Specialization::from_features(features).with_bvh_depth(bvh_depth);
+        let mut spec = Specialization::from_features(features).with_bvh(bvh);
         spec.filter = opts.filter.is_some();
         spec.light_tracing = light_tracing_for(opts, scene);
         spec.sppm = sppm_for(opts, scene);
@@ -164,7 +164,7 @@ impl GpuRenderer {
             self.features,
             &self.opts,
             &self.scene,
-            self.bvh.depth,
+            &self.bvh,
             self.wavefront_override,
         );
         self.fit_wavefront();
@@ -325,7 +325,7 @@ impl GpuRenderer {
         upload::check_supported(&scene)?;
         opts.check()?;
         let opts = self.keep_filter_and_estimator(opts);
-        let bvh = upload::build_bvh(&scene)?;
+        let bvh = upload::build_gpu_bvh(&scene, self.bvh.layout)?;
         let light_set = LightSet::build(&scene);
         let (buffers, count, slots) = Self::create_buffers(
             &self.ctx,

@@ -1,11 +1,38 @@
-//! The BVH2 for the GPU: built with obvhs, repacked into the GPU node layout and checked
-//! against the fixed-size WGSL traversal stack.
+//! The GPU's tree: obvhs' BVH2 repacked into the GPU node layout, or its compressed 8-wide
+//! BVH (`cwbvh`), checked against the fixed-size WGSL traversal stack.
 
-use crate::gpu::layout::BvhNode;
+use super::cwbvh::{build_cwbvh, cwbvh_stack_words};
+use crate::gpu::layout::{BvhNode, CwNode};
 use crate::scene::Scene;
 use anyhow::{Result, bail, ensure};
 use obvhs::{BvhBuildParams, bvh2::Bvh2};
 use std::time::{Duration, Instant};
+
+/// Which tree the GPU traverses (`REFRACT_GPU_BVH=bvh2|cwbvh` overrides the default).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BvhLayout {
+    /// obvhs' BVH2, two children per node (scene.wgsl `traverse_bvh2`).
+    Bvh2,
+    /// The compressed 8-wide BVH (cwbvh.wgsl `traverse_cwbvh`).
+    #[default]
+    Cwbvh,
+}
+
+impl BvhLayout {
+    /// `REFRACT_GPU_BVH` (`bvh2` or `cwbvh`), else the default.
+    pub fn from_env() -> BvhLayout {
+        match std::env::var("REFRACT_GPU_BVH").as_deref() {
+            Ok("bvh2") => BvhLayout::Bvh2,
+            Ok("cwbvh") => BvhLayout::Cwbvh,
+            _ => BvhLayout::default(),
+        }
+    }
+}
+
+/// obvhs' build preset of the GPU CWBVH (chosen by traversal cost: docs/gpu.md).
+pub fn cwbvh_params() -> BvhBuildParams {
+    BvhBuildParams::medium_build()
+}
 
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
 pub const MAX_BVH_DEPTH: u32 = 64;
@@ -21,18 +48,82 @@ pub fn bvh_stack_entries(depth: u32) -> u32 {
         .clamp(8, MAX_BVH_DEPTH)
 }
 
-/// The BVH2 in GPU form.
+/// The GPU's tree.
 #[derive(Clone, Debug, Default)]
 pub struct GpuBvh {
+    pub layout: BvhLayout,
+    /// The BVH2's nodes (layout `Bvh2`; empty otherwise).
     pub nodes: Vec<BvhNode>,
+    /// The CWBVH's nodes (layout `Cwbvh`; empty otherwise).
+    pub wide_nodes: Vec<CwNode>,
     /// Scene triangle of each leaf slot (obvhs `primitive_indices`).
     pub primitive_indices: Vec<u32>,
     /// Leaf slot of each scene triangle (inverse of `primitive_indices`).
     pub slot_of_tri: Vec<u32>,
+    /// Levels of the uploaded tree's nodes (root = 1).
     pub depth: u32,
     pub build_time: Duration,
     /// The ray-offset scale of the scene (`bvh::offset_scale`, the CPU's rule).
     pub offset_scale: f32,
+}
+
+impl GpuBvh {
+    /// The node buffer's contents (binding 1: `nodes` in scene.wgsl).
+    pub fn node_bytes(&self) -> &[u8] {
+        match self.layout {
+            BvhLayout::Bvh2 => bytemuck::cast_slice(&self.nodes),
+            BvhLayout::Cwbvh => bytemuck::cast_slice(&self.wide_nodes),
+        }
+    }
+
+    /// Nodes of the uploaded tree.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len() + self.wide_nodes.len()
+    }
+
+    /// Traversal stack words per invocation (`BVH_STACK_SIZE`) for this tree.
+    pub fn stack_words(&self) -> u32 {
+        match self.layout {
+            BvhLayout::Bvh2 => bvh_stack_entries(self.depth),
+            BvhLayout::Cwbvh => cwbvh_stack_words(self.depth),
+        }
+    }
+}
+
+/// Build the tree of `layout` over the scene's triangles.
+pub fn build_gpu_bvh(scene: &Scene, layout: BvhLayout) -> Result<GpuBvh> {
+    match layout {
+        BvhLayout::Bvh2 => build_bvh(scene),
+        BvhLayout::Cwbvh => build_wide_bvh(scene, cwbvh_params()),
+    }
+}
+
+/// Build the CWBVH over the scene's triangles with obvhs preset `params`.
+pub fn build_wide_bvh(scene: &Scene, params: BvhBuildParams) -> Result<GpuBvh> {
+    let start = Instant::now();
+    let mesh = &scene.mesh;
+    let tris = crate::bvh::triangles(mesh);
+    if tris.is_empty() {
+        return Ok(GpuBvh {
+            layout: BvhLayout::Cwbvh,
+            nodes: Vec::new(),
+            wide_nodes: vec![CwNode::default()],
+            depth: 1,
+            ..empty_bvh(start)
+        });
+    }
+    let cw = build_cwbvh(&tris, params)?;
+    let slot_of_tri = leaf_slots(&cw.primitive_indices, tris.len());
+    Ok(GpuBvh {
+        layout: BvhLayout::Cwbvh,
+        nodes: Vec::new(),
+        wide_nodes: cw.nodes,
+        primitive_indices: cw.primitive_indices,
+        slot_of_tri,
+        depth: cw.depth,
+        build_time: start.elapsed(),
+        offset_scale: crate::bvh::offset_scale(mesh),
+    })
 }
 
 /// Build an obvhs BVH2 over the scene's triangles and repack its nodes.
@@ -53,7 +144,9 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
     let depth = checked_depth(&nodes, bvh2.primitive_indices.len())?;
     let slot_of_tri = leaf_slots(&bvh2.primitive_indices, tris.len());
     Ok(GpuBvh {
+        layout: BvhLayout::Bvh2,
         nodes,
+        wide_nodes: Vec::new(),
         primitive_indices: bvh2.primitive_indices.clone(),
         slot_of_tri,
         depth,
@@ -66,6 +159,7 @@ pub fn build_bvh(scene: &Scene) -> Result<GpuBvh> {
 /// ray misses; `start` is when the build began.
 fn empty_bvh(start: Instant) -> GpuBvh {
     GpuBvh {
+        layout: BvhLayout::Bvh2,
         nodes: vec![BvhNode {
             lo: [f32::MAX; 3],
             prim_count: 0,
