@@ -9,7 +9,7 @@
 # Measured: cornell-glass (the default scene, megakernel) at 1920×1080 with 1 spp per
 # submission — the viewer's frame — and with 64 spp for throughput; the same with the
 # wavefront forced on; env-spheres (wavefront by the rule) both ways; caustic lt+pt and sppm;
-# `bench --quick` (CPU) on the machine's cores.
+# `bench --quick` (CPU) on the machine's cores; `bench --viewer` on the GPU and the CPU.
 # Each render prints samples/s and path segments/s; a 1-spp 1080p frame takes
 # 2,073,600 / (samples/s) of GPU time (the viewer adds its tone map and the UI).
 set -uo pipefail
@@ -53,3 +53,8 @@ done
 run "caustic sppm $size 16 spp" A=1 -- --scene builtin:caustic --estimator sppm "${common[@]}" --spp 16
 # The CPU renderer on that machine's cores, for scale (`bench --quick` is CPU-only).
 "$BIN" bench --quick >"$OUT/bench-quick-cpu.txt" 2>&1 || true
+# The viewer itself, headless (issue 36): the scripted lecture's edit-to-image latencies,
+# compile times, UI frame times, frames/s and samples/s at 1920×1080 and in the default
+# window, on the GPU (rendering headless, its image read back, as under glow) and the CPU.
+"$BIN" bench --viewer --device gpu --json "$OUT/viewer-gpu.json" >"$OUT/viewer-gpu.log" 2>&1 || true
+"$BIN" bench --viewer --device cpu --json "$OUT/viewer-cpu.json" >"$OUT/viewer-cpu.log" 2>&1 || true

@@ -177,8 +177,8 @@ impl Specialization {
 
     /// The general kernel of this specialisation's family (issue 36): every material, light,
     /// texture and absorption part compiled in and the full traversal stack, with the same
-    /// estimator, colour representation (RGB or spectral), path filter, medium rule and
-    /// camera-walk form — the parts that change the maths or the buffers. The parts it adds
+    /// estimator, colour representation (RGB or spectral), path filter, medium rule,
+    /// camera-walk form and tree layout — the parts that change the maths or the buffers. The parts it adds
     /// are all guarded by the scene's data (a material's kind, a light's kind, a texture
     /// slot), so it renders any scene of the family with the same estimator as the
     /// specialised kernel: the viewer runs it while that one compiles. One per family,
@@ -191,7 +191,10 @@ impl Specialization {
             spectral: self.spectral,
             nested: self.nested,
             wavefront: self.wavefront,
+            // The deepest stack either layout uses (both at most `MAX_BVH_DEPTH` words),
+            // and the layout of the uploaded tree.
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
+            bvh_wide: self.bvh_wide,
             ..Specialization::all()
         }
     }
