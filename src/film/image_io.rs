@@ -82,21 +82,26 @@ pub fn save_image(
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
     }
+    // Written whole or not at all (`atomic`): a killed process leaves no truncated image.
     match ext.as_str() {
         "exr" => {
             let data: Vec<f32> = img.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
             let buf = image::Rgb32FImage::from_raw(width, height, data)
                 .context("image buffer size does not match its dimensions")?;
-            image::DynamicImage::ImageRgb32F(buf)
-                .save_with_format(path, image::ImageFormat::OpenExr)
-                .with_context(|| format!("cannot write '{}'", path.display()))?;
+            super::write_atomically(path, |tmp| {
+                image::DynamicImage::ImageRgb32F(buf)
+                    .save_with_format(tmp, image::ImageFormat::OpenExr)
+                    .with_context(|| format!("cannot write '{}'", path.display()))
+            })?;
         }
         "png" => {
             let data = to_srgb8(img, exposure, tone);
             let buf = image::RgbaImage::from_raw(width, height, data)
                 .context("image buffer size does not match its dimensions")?;
-            buf.save_with_format(path, image::ImageFormat::Png)
-                .with_context(|| format!("cannot write '{}'", path.display()))?;
+            super::write_atomically(path, |tmp| {
+                buf.save_with_format(tmp, image::ImageFormat::Png)
+                    .with_context(|| format!("cannot write '{}'", path.display()))
+            })?;
         }
         _ => anyhow::bail!(
             "unsupported output format '{}': use .exr (linear) or .png (sRGB)",

@@ -2,9 +2,11 @@
 //! for display ([`tonemap`]) and image files ([`image_io`]). Colour transfer functions live in
 //! [`crate::math::color`].
 
+pub mod atomic;
 pub mod image_io;
 pub mod tonemap;
 
+pub use atomic::write_atomically;
 pub use image_io::{check_output_path, load_exr, probe_writable, save_image};
 pub use tonemap::{ToneMap, exposure_scale, to_srgb8};
 

@@ -224,7 +224,9 @@ impl ViewerSettings {
 
     pub fn save(&self, path: &Path) -> anyhow::Result<()> {
         let text = serde_json::to_string_pretty(self)?;
-        std::fs::write(path, text).with_context(|| format!("cannot write '{}'", path.display()))
+        crate::film::write_atomically(path, |tmp| {
+            std::fs::write(tmp, text).with_context(|| format!("cannot write '{}'", path.display()))
+        })
     }
 
     /// Record the current state of material `index` as an override.
