@@ -24,7 +24,7 @@ use cli_load::LoadArgs;
 #[derive(Parser)]
 #[command(
     name = "refract",
-    version,
+    version = concat!(env!("CARGO_PKG_VERSION"), " (git ", env!("REFRACT_GIT_REV"), ")"),
     about = "Physically based light transport: glass, mirrors, Fresnel, caustics"
 )]
 struct Cli {
@@ -42,6 +42,11 @@ enum Command {
     Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
+    /// Print a shell completion script: `refract completions bash > /etc/bash_completion.d/refract`
+    /// (bash, zsh, fish, elvish, powershell).
+    Completions { shell: clap_complete::Shell },
+    /// Print the manual page (roff): `refract man > refract.1 && man ./refract.1`.
+    Man,
     /// Open a small hidden window with one presenter and close it (`view` probes risky
     /// presenters this way, in a child process: `app::present`).
     #[command(name = "__probe-window", hide = true)]
@@ -482,6 +487,17 @@ fn main() {
         Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::View(args)) => view(args),
+        Some(Command::Completions { shell }) => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            clap_complete::generate(shell, &mut cmd, "refract", &mut std::io::stdout());
+            Ok(())
+        }
+        Some(Command::Man) => {
+            let cmd = <Cli as clap::CommandFactory>::command();
+            clap_mangen::Man::new(cmd)
+                .render(&mut std::io::stdout())
+                .context("cannot write the manual page")
+        }
         Some(Command::ProbeWindow { presenter }) => refract::app::present::probe_window(&presenter),
         None => view(ViewArgs::default()),
     };
