@@ -3,6 +3,7 @@
 
 use super::cli_job::{Job, prepare};
 use super::cli_layers::Layers;
+use super::cli_race::race_cpu;
 use super::{RenderArgs, thread_pool};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -45,7 +46,23 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
 fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers>) -> Result<()> {
     let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
-    let opts = cpu_options(&renderer, job);
+    let mut opts = cpu_options(&renderer, job);
+    // `auto`: the estimators race on short trials, inside the time budget (`cli_race`).
+    let started = std::time::Instant::now();
+    let raced = layers
+        .is_none()
+        .then(|| pool.install(|| race_cpu(&renderer, job, &opts, args.time_budget)))
+        .flatten();
+    if let Some((report, size)) = &raced {
+        opts.estimator = report.winner;
+        eprintln!("{}", report.line(*size));
+    } else if job.choice == Estimator::Auto {
+        let (_, why) = job.choice.resolve_why(&renderer.scene);
+        eprintln!("estimator auto: {} ({why})", job.estimator);
+    }
+    let budget = args
+        .time_budget
+        .map(|b| b.saturating_sub(started.elapsed()));
     log_start(args, &renderer, &opts, job.spp);
     let bar = spp_progress_bar(job.spp, args.quiet);
     let n = job.spp.unwrap_or(u32::MAX);
@@ -53,12 +70,11 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
         Some(l) => {
             let proto = l.proto();
             let progress = |d| bar.set_position(d);
-            let (f, lf, s) =
-                renderer.render_layered(&opts, (n, args.time_budget), &proto, progress);
+            let (f, lf, s) = renderer.render_layered(&opts, (n, budget), &proto, progress);
             (f, Some(lf), s)
         }
         None => {
-            let (f, s) = renderer.render(&opts, n, args.time_budget, |d| bar.set_position(d));
+            let (f, s) = renderer.render(&opts, n, budget, |d| bar.set_position(d));
             (f, None, s)
         }
     });
@@ -80,17 +96,13 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     Ok(())
 }
 
-/// The CPU renderer's options for `job`; logs what `auto` chose and why.
+/// The CPU renderer's options for `job` (`auto` as the rule resolves it).
 fn cpu_options(renderer: &Renderer, job: &Job) -> RenderOptions {
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
     opts.set_filter(Some(&job.filter));
     opts.estimator = job.estimator;
-    if job.choice == Estimator::Auto {
-        let (_, why) = job.choice.resolve_why(&renderer.scene);
-        eprintln!("estimator auto: {} ({why})", job.estimator);
-    }
     if job.estimator == Estimator::LtPt {
         eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
     }

@@ -14,6 +14,7 @@ mod cli_duration;
 mod cli_job;
 mod cli_layers;
 mod cli_load;
+mod cli_race;
 mod cli_render;
 mod cli_trace;
 mod gpu_render;

@@ -34,7 +34,7 @@ fn small(name: &str) -> Scene {
 }
 
 /// `RUNS` independent GPU sppm renders (seeds 1000…) as block means, and the fewest photons a
-/// run's last iteration stored; none may drop a sample or overflow the photon store.
+/// run's last submission stored; none may drop a sample or overflow the photon store.
 fn gpu_sppm_runs(ctx: GpuContext, scene: &Scene, filter: Option<&str>) -> (Vec<Vec<f64>>, u32) {
     let filter = filter.map(|f| PathFilter::parse(f).expect("valid regex"));
     let mut opts = RenderOptions::from_scene(scene);
@@ -52,14 +52,20 @@ fn gpu_sppm_runs(ctx: GpuContext, scene: &Scene, filter: Option<&str>) -> (Vec<V
             assert_eq!(img.dropped, 0, "the firewall dropped samples");
             let (stored, overflow) = g.photon_counts().expect("photon counts");
             assert_eq!(overflow, 0, "the photon store overflowed");
-            assert!(stored <= W * H, "{stored} photons from {} paths", W * H);
+            // The last submission ran at most `k` iterations of W·H paths each.
+            let k = g.photon_iterations();
+            assert!(
+                stored <= W * H * k,
+                "{stored} photons from {k} × {} paths",
+                W * H
+            );
             fewest = fewest.min(stored);
             block_means(&img.mean, W, H)
         })
         .collect();
     eprintln!(
         "GPU sppm: {RUNS} × {SPP} spp of {W}×{H} in {:.2} s, ≥ {fewest} photons stored per \
-         iteration",
+         submission",
         t.elapsed().as_secs_f64()
     );
     (runs, fewest)
@@ -297,6 +303,43 @@ fn gpu_sppm_studio_agrees_with_cpu_path() {
         &gpu,
         &path,
     );
+}
+
+/// sppm batches its iterations like path tracing batches samples: where its camera walk is a
+/// wavefront (nested glass: `glass-of-water`) and on the megakernel (`caustic`), 64 spp take
+/// no more submissions than path tracing's 64 spp — with one iteration per submission they
+/// took 64, each paying the wavefront's every bounce dispatch and the GPU's wait for the
+/// longest paths of one sample (issue 35: 10× fewer samples/s than path on an H200).
+#[test]
+fn gpu_sppm_batches_iterations_like_path_batches_samples() {
+    let name = "sppm submissions";
+    let Some(ctx) = gpu_context(name) else {
+        return;
+    };
+    for scene in ["glass-of-water", "caustic"] {
+        let scene = small(scene);
+        let submissions = |estimator| {
+            let mut opts = RenderOptions::from_scene(&scene);
+            opts.estimator = estimator;
+            let mut g =
+                GpuRenderer::with_context(ctx.clone(), scene.clone(), opts).expect("GPU renderer");
+            // No wall-time bound: the batches are the estimators' own, not the device's speed.
+            g.set_submission_budget(std::time::Duration::from_secs(3600));
+            let img = g.render(64).expect("render");
+            assert_eq!(img.spp, 64);
+            let wavefront = g.specialization().wavefront;
+            (g.submissions_made(), g.photon_iterations(), wavefront)
+        };
+        let (sppm, iterations, wavefront) = submissions(Estimator::Sppm);
+        let (path, _, _) = submissions(Estimator::Path);
+        eprintln!(
+            "{}: 64 spp in {sppm} sppm submissions ({iterations} iterations each at most, wavefront {wavefront}), {path} path submissions",
+            scene.name
+        );
+        assert_eq!(iterations, 16, "{}: a 32×24 store holds 16", scene.name);
+        assert!(sppm <= path, "{}: {sppm} sppm > {path} path", scene.name);
+        assert!(sppm <= 64 / 16, "{}: {sppm} submissions", scene.name);
+    }
 }
 
 /// A measurement, run by hand (`cargo test --release --test gpu_sppm -- --ignored --nocapture

@@ -223,17 +223,19 @@ gpu_struct! {
         /// First image row the accumulation film holds (an image larger than one binding
         /// renders in tiles of rows; 0 otherwise).
         pub film_y0: u32,
-        /// `sppm`: this iteration's photon radius r (world units).
-        pub photon_radius: f32,
-        /// `sppm`: 1 / (photon paths · π r²).
-        pub photon_norm: f32,
-        /// `sppm`: photon-grid buckets − 1 (a power of two minus one).
+        /// `sppm`: the first iteration's photon radius r₁ (world units); iteration s (sample
+        /// index s) has r₁ (s + 1)^`photon_radius_exp` (`render::photon_radius`).
+        pub photon_radius0: f32,
+        /// `sppm`: 1 / (photon paths per iteration · π); the density divides by r_s² too.
+        pub photon_norm0: f32,
+        /// `sppm`: photon-grid buckets per iteration − 1 (a power of two minus one).
         pub grid_mask: u32,
-        /// `sppm`: photon paths this iteration (`render::photon_aim::photon_paths`).
+        /// `sppm`: photon paths per iteration (`render::photon_aim::photon_paths`).
         pub photon_paths: u32,
         /// `sppm`: spheres in `targets`; 0 = photons are emitted as the light does.
         pub target_count: u32,
-        pub _pad2: u32,
+        /// `sppm`: (α − 1) / 2, the exponent of the radius schedule.
+        pub photon_radius_exp: f32,
         /// `sppm`: where finite lights aim their photons (centre xyz, radius w;
         /// `render::photon_aim::PhotonTargets`).
         pub targets: [[f32; 4]; MAX_TARGETS],

@@ -1,14 +1,26 @@
 //! The GPU photon store of `sppm` (src/shaders/photon.wgsl): the radius schedule, the two
-//! buffers (photons, and the hash grid's counters, bucket heads and links) and the per-iteration
-//! clear. Twin of `cpu::sppm` (`SppmParams`, `HashGrid`): same radius schedule, same number of
-//! photon paths per iteration (one per pixel), same hash and 2r cells; the radius schedule
-//! is `render::photon_radius`, shared by both renderers.
+//! buffers (photons, and the hash grids' counters, links and bucket heads) and the clear at
+//! the start of a submission. Twin of `cpu::sppm` (`SppmParams`, `HashGrid`): same radius
+//! schedule (`render::photon_radius`, shared by both renderers), same number of photon paths
+//! per iteration, same hash and 2r cells.
+//!
+//! A submission runs several iterations (sample index s = iteration s), each with its own
+//! photons and grid: one iteration per submission left a GPU waiting on each iteration's
+//! longest photon and camera paths, and, where sppm's camera walk is a wavefront, paid the
+//! wavefront's every bounce dispatch (`max_depth` + 1, with nested media + 65 more, × 5) per
+//! sample where path tracing pays them once per 16 (docs/performance.md, "sppm's photon
+//! pass"). The store holds [`PhotonStore::iterations`] of them.
 
 use super::GpuContext;
 use super::layout::{PHOTON_HEADS, Photon};
+use crate::gpu::submissions::MAX_SPP_PER_SUBMISSION;
 use anyhow::{Result, ensure};
 
-pub use crate::render::photon_radius::{ALPHA, RADIUS_PIXELS, radius, radius0};
+pub use crate::render::photon_radius::{ALPHA, RADIUS_EXPONENT, RADIUS_PIXELS, radius, radius0};
+
+/// The most memory the photon store takes for its iterations together (at least one
+/// iteration, whatever it needs): 512×512 fits 16 iterations, 1080p 2.
+pub const STORE_BUDGET: u64 = 256 << 20;
 
 /// Buckets of the hash grid for `paths` photon paths (`HashGrid::build` with every path
 /// stored: a power of two ≥ 2 × paths, at least 16).
@@ -16,25 +28,53 @@ pub fn buckets(paths: u32) -> u32 {
     (2 * paths.max(1)).next_power_of_two().max(16)
 }
 
-/// The photon store: `photons` holds one slot per photon path of an iteration (each path
-/// stores at most one photon), `grid` the counters, `buckets` heads and one link per slot.
+/// (photon bytes, grid bytes) of a store for `iterations` iterations of `paths` photon paths.
+fn store_bytes(paths: u32, iterations: u32) -> (u64, u64) {
+    let (p, k) = (u64::from(paths), u64::from(iterations));
+    let photons = k * p * std::mem::size_of::<Photon>() as u64;
+    let grid = 4 * (u64::from(PHOTON_HEADS) + k * p + k * u64::from(buckets(paths)));
+    (photons, grid)
+}
+
+/// Iterations a store of `paths` photon paths per iteration holds: as many as fit `cap` bytes
+/// per binding and [`STORE_BUDGET`] in all, at most [`MAX_SPP_PER_SUBMISSION`], at least 1.
+pub fn iterations_for(paths: u32, cap: u64) -> u32 {
+    (1..=MAX_SPP_PER_SUBMISSION)
+        .rev()
+        .find(|&k| {
+            let (p, g) = store_bytes(paths, k);
+            p.max(g) <= cap && p + g <= STORE_BUDGET
+        })
+        .unwrap_or(1)
+}
+
+/// The photon store: `photons` holds one slot per photon path of each of `iterations`
+/// iterations (each path stores at most one photon), `grid` the counters, one link per slot and
+/// `buckets` heads per iteration.
 pub struct PhotonStore {
     pub photons: wgpu::Buffer,
     pub grid: wgpu::Buffer,
     pub buckets: u32,
-    /// Photon slots (photon paths per iteration).
+    /// Photon slots per iteration (photon paths per iteration).
     pub paths: u32,
+    /// Iterations one submission may run.
+    pub iterations: u32,
 }
 
 impl PhotonStore {
     /// A store for `paths` photon paths per iteration (1 for a placeholder: kernels without
-    /// photons still bind the buffers). Errors if a buffer exceeds the device's binding size.
+    /// photons still bind the buffers). Errors if one iteration exceeds the device's binding
+    /// size.
     pub fn new(ctx: &GpuContext, paths: u32) -> Result<PhotonStore> {
         let paths = paths.max(1);
         let buckets = buckets(paths);
-        let photon_bytes = u64::from(paths) * std::mem::size_of::<Photon>() as u64;
-        let grid_bytes = 4 * (u64::from(PHOTON_HEADS) + u64::from(buckets) + u64::from(paths));
         let cap = ctx.max_binding_bytes();
+        let iterations = if paths > 1 {
+            iterations_for(paths, cap)
+        } else {
+            1
+        };
+        let (photon_bytes, grid_bytes) = store_bytes(paths, iterations);
         ensure!(
             photon_bytes.max(grid_bytes) <= cap,
             "{paths} photon paths per iteration need a {} MiB photon store; the device binds at \
@@ -57,25 +97,52 @@ impl PhotonStore {
             grid: buffer("photon grid", grid_bytes),
             buckets,
             paths,
+            iterations,
         })
     }
 
-    /// Queue the start of an iteration: no photons stored, every bucket empty (the overflow
-    /// counter and the links stay; links are written before they are read).
-    pub fn encode_clear(&self, enc: &mut wgpu::CommandEncoder) {
+    /// Queue the start of a submission of `k` iterations: no photons stored, every bucket of
+    /// their grids empty (the overflow counter and the links stay; links are written before
+    /// they are read).
+    pub fn encode_clear(&self, enc: &mut wgpu::CommandEncoder, k: u32) {
         enc.clear_buffer(&self.grid, 0, Some(4));
+        let heads = u64::from(PHOTON_HEADS) + u64::from(self.iterations) * u64::from(self.paths);
         enc.clear_buffer(
             &self.grid,
-            4 * u64::from(PHOTON_HEADS),
-            Some(4 * u64::from(self.buckets)),
+            4 * heads,
+            Some(4 * u64::from(self.buckets) * u64::from(k.min(self.iterations))),
         );
     }
 
-    /// (photons stored by the last iteration, photons refused by a full store since the last
-    /// clear of the whole grid).
+    /// (photons stored by the last submission, all its iterations together; photons refused
+    /// by a full store since the last clear of the whole grid).
     pub fn counts(&self, ctx: &GpuContext) -> Result<(u32, u32)> {
         let bytes = ctx.read_buffer(&self.grid, 8)?;
         let w: [u32; 2] = bytemuck::pod_read_unaligned(&bytes);
         Ok((w[0], w[1]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Small images batch the most iterations, large ones fewer, never none; every store
+    /// fits the binding and the budget.
+    #[test]
+    fn iterations_fit_the_bindings() {
+        let cap = 128 << 20;
+        assert_eq!(iterations_for(32 * 24, cap), MAX_SPP_PER_SUBMISSION);
+        assert_eq!(iterations_for(512 * 512, cap), 10);
+        assert_eq!(iterations_for(1920 * 1080, cap), 1);
+        assert_eq!(iterations_for(3840 * 2160, cap), 1);
+        for paths in [1, 1000, 512 * 512, 1920 * 1080] {
+            let k = iterations_for(paths, cap);
+            let (p, g) = store_bytes(paths, k);
+            assert!(
+                k == 1 || (p.max(g) <= cap && p + g <= STORE_BUDGET),
+                "{paths}"
+            );
+        }
     }
 }

@@ -23,6 +23,8 @@ pub struct Submissions {
     seconds_per_sample: Option<f64>,
     /// The samples per pixel of the last plan (for reports).
     pub last_k: Option<u32>,
+    /// Submissions queued so far (for reports and tests: how many the samples took).
+    pub submitted: u64,
 }
 
 impl Default for Submissions {
@@ -31,6 +33,7 @@ impl Default for Submissions {
             budget: SUBMISSION_BUDGET,
             seconds_per_sample: None,
             last_k: None,
+            submitted: 0,
         }
     }
 }

@@ -8,6 +8,7 @@ pub mod estimator;
 pub mod options;
 pub mod photon_aim;
 pub mod photon_radius;
+pub mod race;
 pub mod settings;
 pub mod stats;
 

@@ -18,10 +18,11 @@
 //! Since every aimed photon path now meets a caster, an iteration needs fewer of them for as
 //! many stored photons: [`photon_paths`].
 
+use crate::bsdf;
 use crate::math::color::luminance;
 use crate::math::{Frame, rng::Sampler};
 use crate::scene::light::LightSet;
-use crate::scene::{MaterialKind, Scene};
+use crate::scene::{Material, MaterialKind, Scene};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -68,15 +69,38 @@ pub struct PhotonTargets {
 }
 
 /// Materials whose BSDF can be a delta lobe (`Bsdf::is_delta`) somewhere: only these can be
-/// a photon's first vertex (a superset is safe, a subset would lose caustics).
-fn can_be_specular(kind: MaterialKind) -> bool {
-    matches!(
-        kind,
-        MaterialKind::Mirror
-            | MaterialKind::GlossyMetal
-            | MaterialKind::Glass
-            | MaterialKind::ThinGlass
-    )
+/// a photon's first vertex (a superset is safe, a subset would lose caustics). Mirrors and
+/// thin glass always; glass and glossy metal only when smooth (`Material::bsdf`), or, for
+/// rough glass, where an interface can be index-matched (η = 1 is a smooth pass-through):
+/// IOR 1 or the IOR of another dielectric of the scene (`iors`). Rough glass and rough metal
+/// scatter every photon off a glossy lobe, which stores nothing: aimed at them, photon paths
+/// are traced for nothing (`transmission-roughness`: 120 photons stored from 128,000 paths
+/// an iteration; docs/performance.md, "sppm's photon pass").
+fn can_be_specular(m: &Material, iors: &[f32]) -> bool {
+    let smooth = bsdf::effectively_smooth(bsdf::roughness_to_alpha(m.roughness));
+    match m.kind {
+        MaterialKind::Mirror | MaterialKind::ThinGlass => true,
+        MaterialKind::GlossyMetal => smooth,
+        MaterialKind::Glass => {
+            smooth || m.ior == 1.0 || iors.iter().filter(|&&n| n == m.ior).count() > 1
+        }
+        MaterialKind::MetalRough | MaterialKind::Diffuse => false,
+    }
+}
+
+/// Per material of `scene`: can it be a photon's specular vertex ([`can_be_specular`])?
+fn specular_materials(scene: &Scene) -> Vec<bool> {
+    let iors: Vec<f32> = scene
+        .materials
+        .iter()
+        .filter(|m| matches!(m.kind, MaterialKind::Glass | MaterialKind::ThinGlass))
+        .map(|m| m.ior)
+        .collect();
+    scene
+        .materials
+        .iter()
+        .map(|m| can_be_specular(m, &iors))
+        .collect()
 }
 
 impl PhotonTargets {
@@ -216,11 +240,7 @@ impl PhotonTargets {
 /// a mesh whose faces share no vertex gives one piece per triangle, which `cluster` merges.
 fn caster_pieces(scene: &Scene) -> Vec<Sphere> {
     let mesh = &scene.mesh;
-    let specular: Vec<bool> = scene
-        .materials
-        .iter()
-        .map(|m| can_be_specular(m.kind))
-        .collect();
+    let specular = specular_materials(scene);
     let tris: Vec<usize> = (0..mesh.triangle_count())
         .filter(|&t| {
             let m = mesh.tri_material[t] as usize;

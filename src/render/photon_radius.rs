@@ -9,6 +9,9 @@ use glam::Vec3;
 
 /// The radius exponent of Knaus & Zwicker 2011 (and Hachisuka & Jensen 2009's α).
 pub const ALPHA: f32 = 2.0 / 3.0;
+/// The exponent of the radius schedule, (α − 1)/2: r_s = r₁ (s + 1)^RADIUS_EXPONENT (the GPU
+/// evaluates it per iteration, `gpu::layout::Params::photon_radius_exp`).
+pub const RADIUS_EXPONENT: f32 = (ALPHA - 1.0) / 2.0;
 /// The first iteration's radius in pixel footprints at the scene's centre.
 pub const RADIUS_PIXELS: f32 = 1.5;
 

@@ -41,15 +41,16 @@ struct Params {
     tile_y0: u32,
     // first image row the accumulation film holds (tiles of an image larger than a binding)
     film_y0: u32,
-    // sppm (photon.wgsl): this iteration's radius r, 1 / (photon paths · π r²), buckets − 1
-    photon_radius: f32,
-    photon_norm: f32,
+    // sppm (photon.wgsl): r₁, 1 / (photon paths · π) and buckets − 1 per iteration; sample
+    // index s is iteration s, of radius r₁ (s + 1)^photon_radius_exp
+    photon_radius0: f32,
+    photon_norm0: f32,
     grid_mask: u32,
-    // photon paths this iteration (render::photon_aim::photon_paths)
+    // photon paths per iteration (render::photon_aim::photon_paths)
     photon_paths: u32,
     // spheres in `targets` (0: photons leave as the light emits them)
     target_count: u32,
-    _pad2: u32,
+    photon_radius_exp: f32,
     // where finite lights aim their photons: centre xyz, radius w (photon.wgsl `photon_aim`)
     targets: array<vec4<f32>, PHOTON_TARGETS>,
 }
@@ -647,7 +648,7 @@ fn integrator_vertex(ps: ptr<function, PathState>, sampler: ptr<function, Sample
     // Photon-mapped caustics at a diffuse vertex (HAS_SPPM, photon.wgsl).
     let gathered = sppm_is_gather_vertex(bsdf, ps.depth);
     if gathered && mode != WALK_NEE {
-        let g = GatherPoint(hit.p, on.ng, on.ns, frame, wo, ps.depth, ps.q, ps.collapsed);
+        let g = GatherPoint(hit.p, on.ng, on.ns, frame, wo, ps.depth, ps.q, ps.collapsed, photon_radius());
         ps.l += ps.beta * photon_gather(g, bsdf);
     }
 
@@ -744,6 +745,9 @@ fn render_pixel(x: u32, y: u32) -> u32 {
     for (var k = 0u; k < params.batch; k++) {
         let s = params.sample_offset + k;
         debug_on = pixel == params.debug_pixel && k == 0u;
+        if HAS_SPPM {
+            SPPM_ITER = k;
+        }
         var sampler = sampler_new(pixel, s, params.seed);
         let j = sampler_next_2d(&sampler);
         let sx = (f32(x) + j.x) / f32(w);

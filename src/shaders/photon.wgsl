@@ -1,19 +1,21 @@
 // photon.wgsl — the GPU twin of `cpu::sppm` (src/cpu/sppm/): caustic photons, their hash grid
 // and the density estimate at the camera walk's diffuse vertices (`sppm`, HAS_SPPM).
 //
-// Per iteration (one sample index s, one submission; gpu::photons): the photon grid's counter
-// and bucket heads are cleared, `photon_trace` traces width·height photon paths (one per
-// invocation) through specular vertices only and stores each where it first reaches a Lambert
-// surface after k ≥ 1 specular vertices (the paths L S^k D, Jensen 1996's caustic photon map;
-// twin of `sppm::photon::trace_photon`), pushing it onto its bucket's linked list
-// (`atomicExchange` on the head); then `render` gathers them (integrator.wgsl) and leaves out
-// the paths they stand for. Hash and 2r cells as `sppm::grid::HashGrid` (Teschner et al. 2003;
-// Hachisuka & Jensen 2009 §4.2): a query visits 2 × 2 × 2 cells, each bucket once.
+// Iteration s is sample index s. A submission runs `batch` iterations at once (gpu::photons):
+// the photon grid's counter and bucket heads are cleared, `photon_trace` traces the photon
+// paths of every iteration (one per invocation, the iteration in z) through specular vertices
+// only and stores each where it first reaches a Lambert surface after k ≥ 1 specular vertices
+// (the paths L S^k D, Jensen 1996's caustic photon map; twin of `sppm::photon::trace_photon`),
+// pushing it onto its bucket's linked list in its iteration's own grid (`atomicExchange` on the
+// head); then the camera walk (`render` or the wavefront) traces `batch` samples per pixel,
+// sample j gathering iteration j's photons (`SPPM_ITER`), and leaves out the paths they stand
+// for. Hash and 2r cells as `sppm::grid::HashGrid` (Teschner et al. 2003; Hachisuka & Jensen
+// 2009 §4.2): a query visits 2 × 2 × 2 cells, each bucket once.
 //
-// `photon_grid` words: [PHOTON_COUNT] photons stored this iteration, [PHOTON_OVERFLOW] photons
-// that found the store full (cumulative; never written out of bounds), then grid_mask + 1
-// bucket heads, then one `next` link per photon slot. Links and heads hold index + 1 (0 = end:
-// the buffer is cleared to zero).
+// `photon_grid` words: [PHOTON_COUNT] photons stored by the submission, [PHOTON_OVERFLOW]
+// photons that found the store full (cumulative; never written out of bounds), then one `next`
+// link per photon slot, then per iteration of the batch grid_mask + 1 bucket heads. Links and
+// heads hold index + 1 (0 = end: the buffer is cleared to zero).
 
 // Photon-mapped caustics in the camera walk (`sppm`; the estimator, not the scene).
 override HAS_SPPM: bool = false;
@@ -62,9 +64,20 @@ fn oct_decode(e: vec2<f32>) -> vec3<f32> {
     return normalize3(v);
 }
 
-// The grid cell of `p`: ⌊p / 2r⌋ (`grid::floor_i`; the conversion saturates like the Rust casts).
-fn photon_cell(p: vec3<f32>) -> vec3<i32> {
-    return vec3<i32>(floor(p * (0.5 / params.photon_radius)));
+// The iteration of the batch the running photon path or camera sample belongs to (0 ≤ j <
+// batch: sample index sample_offset + j).
+var<private> SPPM_ITER: u32;
+
+// The radius of the running iteration: r₁ (s + 1)^((α − 1)/2) (`render::photon_radius`;
+// Knaus & Zwicker 2011, eq. 15 in closed form).
+fn photon_radius() -> f32 {
+    return params.photon_radius0 * pow(f32(params.sample_offset + SPPM_ITER) + 1.0, params.photon_radius_exp);
+}
+
+// The grid cell of `p` for radius r: ⌊p / 2r⌋ (`grid::floor_i`; the conversion saturates like
+// the Rust casts).
+fn photon_cell(p: vec3<f32>, r: f32) -> vec3<i32> {
+    return vec3<i32>(floor(p * (0.5 / r)));
 }
 
 // Teschner et al. 2003, the spatial hash (twin of `grid::hash`).
@@ -73,8 +86,14 @@ fn photon_hash(c: vec3<i32>) -> u32 {
     return h & params.grid_mask;
 }
 
+// The links follow the counters; one link per photon slot.
 fn photon_next_base() -> u32 {
-    return PHOTON_HEADS + params.grid_mask + 1u;
+    return PHOTON_HEADS;
+}
+
+// The running iteration's bucket heads, after the links.
+fn photon_heads_base() -> u32 {
+    return PHOTON_HEADS + arrayLength(&photons) + SPPM_ITER * (params.grid_mask + 1u);
 }
 
 // Append a photon and push it onto its bucket's list; a full store counts the overflow.
@@ -86,7 +105,7 @@ fn photon_store(p: vec3<f32>, wi: vec3<f32>, ng: vec3<f32>, beta: vec4<f32>, k: 
     }
     let kflags = k | select(0u, COLLAPSED_BIT, collapsed);
     photons[idx] = Photon(p.x, p.y, p.z, kflags, beta, wi.x, wi.y, wi.z, pack2x16snorm(oct_encode(ng)));
-    let prev = atomicExchange(&photon_grid[PHOTON_HEADS + photon_hash(photon_cell(p))], idx + 1u);
+    let prev = atomicExchange(&photon_grid[photon_heads_base() + photon_hash(photon_cell(p, photon_radius()))], idx + 1u);
     atomicStore(&photon_grid[photon_next_base() + idx], prev);
 }
 
@@ -242,14 +261,14 @@ fn photon_aimed(light: Light, le_in: LightLeSample, u_pick: f32, u: vec2<f32>) -
     return le;
 }
 
-// The iteration's hero wavelengths, shared by its photons and camera paths (`sppm`:
-// `Sampler::new(u32::MAX, s, seed)`; sample_offset = s, one iteration per dispatch).
+// The running iteration's hero wavelengths, shared by its photons and camera paths (`sppm`:
+// `Sampler::new(u32::MAX, s, seed)`, s = sample_offset + SPPM_ITER).
 fn photon_spectral() -> Spectral {
-    var s = sampler_new(0xffffffffu, params.sample_offset, params.seed);
+    var s = sampler_new(0xffffffffu, params.sample_offset + SPPM_ITER, params.seed);
     return spectral_new(&s);
 }
 
-// One photon path per invocation (width · height per iteration, `PHOTONS_PER_PIXEL` = 1).
+// One photon path per invocation: path gid.y · width + gid.x < photon_paths of iteration gid.z.
 @compute @workgroup_size(8, 8, 1)
 fn photon_trace(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -261,10 +280,11 @@ fn photon_trace(
     }
     OFFSET_SCALE = params.offset_scale;
     segments = 0u;
+    SPPM_ITER = gid.z;
     // Invocations past the image edge or the iteration's photon paths trace nothing but still
     // take part in the reduction.
     if gid.x < params.width && gid.y < params.height && gid.y * params.width + gid.x < params.photon_paths {
-        var sampler = sampler_new(gid.y * params.width + gid.x, params.sample_offset, params.seed);
+        var sampler = sampler_new(gid.y * params.width + gid.x, params.sample_offset + gid.z, params.seed);
         sampler.dim = PHOTON_DIMS;
         photon_path(&sampler, photon_spectral());
     }
@@ -314,6 +334,8 @@ struct GatherPoint {
     depth: u32,
     q: u32,
     collapsed: bool,
+    // The running iteration's radius (`photon_radius`).
+    radius: f32,
 }
 
 // One photon's contribution at `g` (0 if it is too far, filtered, too deep or on another surface).
@@ -321,7 +343,7 @@ fn photon_contribution(ph: Photon, g: GatherPoint, bsdf: Bsdf, chains: u32) -> v
     let zero = vec4<f32>(0.0);
     let d = vec3<f32>(ph.px, ph.py, ph.pz) - g.p;
     let k = ph.kflags & ~COLLAPSED_BIT;
-    let r = params.photon_radius;
+    let r = g.radius;
     if dot3(d, d) > r * r || !photon_chain_accepted(chains, g.q, k) || g.depth + k + 2u > params.max_depth {
         return zero;
     }
@@ -350,8 +372,9 @@ fn photon_contribution(ph: Photon, g: GatherPoint, bsdf: Bsdf, chains: u32) -> v
 // al. 2008, eq. 5). Twin of `PhotonLookup::gather`, for a Lambert vertex with depth + 3 ≤ max_depth.
 fn photon_gather(g: GatherPoint, bsdf: Bsdf) -> vec4<f32> {
     let chains = photon_accepted_chains(g.q);
-    let lo = vec3<i32>(floor(g.p * (0.5 / params.photon_radius) - vec3<f32>(0.5)));
+    let lo = vec3<i32>(floor(g.p * (0.5 / g.radius) - vec3<f32>(0.5)));
     let next = photon_next_base();
+    let heads = photon_heads_base();
     let cap = arrayLength(&photons);
     var sum = vec4<f32>(0.0);
     for (var c = 0u; c < 8u; c++) {
@@ -364,13 +387,14 @@ fn photon_gather(g: GatherPoint, bsdf: Bsdf) -> vec4<f32> {
         if seen {
             continue;
         }
-        var i = atomicLoad(&photon_grid[PHOTON_HEADS + b]);
+        var i = atomicLoad(&photon_grid[heads + b]);
         while i != 0u && i <= cap {
             sum += photon_contribution(photons[i - 1u], g, bsdf, chains);
             i = atomicLoad(&photon_grid[next + i - 1u]);
         }
     }
-    return sum * params.photon_norm;
+    // 1 / (N π r²) (Jensen 1996, eq. 8).
+    return sum * (params.photon_norm0 / (g.radius * g.radius));
 }
 
 // Is this camera-path vertex a gather vertex (a Lambert surface with room for D S+ L)?

@@ -236,6 +236,14 @@ fn wf_debug(i: u32) {
     debug_on = wf_pixel(i) == params.debug_pixel && (wf_chunk.first + i) % params.batch == 0u;
 }
 
+// sppm: path i is sample (first + i) mod batch of its pixel, so it belongs to that iteration
+// of the submission and gathers its photons (photon.wgsl `SPPM_ITER`).
+fn wf_sppm_iteration(i: u32) {
+    if HAS_SPPM {
+        SPPM_ITER = (wf_chunk.first + i) % params.batch;
+    }
+}
+
 // Path i leaves the camera (`render_pixel`'s start of a sample) and joins the first queue.
 @compute @workgroup_size(64, 1, 1)
 fn wf_start(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
@@ -253,6 +261,7 @@ fn wf_begin(i: u32) {
     let x = pixel % params.width;
     let y = pixel / params.width;
     wf_debug(i);
+    wf_sppm_iteration(i);
     var sampler = sampler_new(pixel, params.sample_offset + (wf_chunk.first + i) % params.batch, params.seed);
     let j = sampler_next_2d(&sampler);
     let sx = (f32(x) + j.x) / f32(params.width);
@@ -307,6 +316,7 @@ fn wf_shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     OFFSET_SCALE = params.offset_scale;
     wf_debug(i);
+    wf_sppm_iteration(i);
     var ps = wf_load(i);
     var sampler = wf_sampler(i);
     let v = integrator_vertex(&ps, &sampler, wf_hit(i), WALK_SHADE);

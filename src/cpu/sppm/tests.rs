@@ -45,6 +45,27 @@ fn flux(
     })
 }
 
+/// `caustic` with its glass block rough (α = 0.09, its own IOR, so no interface of it can be
+/// index-matched): a caster that stores no photon, beside the smooth ball that does.
+fn rough_block() -> Scene {
+    let mut s = Scene::load("builtin:caustic").expect("builtin");
+    let mut rough = crate::scene::Material::glass("rough block", 1.6);
+    rough.roughness = 0.3;
+    s.materials.push(rough);
+    let id = s.materials.len() as u32 - 1;
+    let ball = Vec3::new(0.0, 0.3, 0.0);
+    let mut moved = 0;
+    for t in 0..s.mesh.triangle_count() {
+        let [a, b, c] = s.mesh.tri(t);
+        if s.mesh.tri_material[t] == 1 && ((a + b + c) / 3.0).distance(ball) > 0.4 {
+            s.mesh.tri_material[t] = id;
+            moved += 1;
+        }
+    }
+    assert_eq!(moved, 12, "the block's 12 triangles");
+    s
+}
+
 fn scenes() -> Vec<(&'static str, Scene)> {
     let load = |n: &str| Scene::load(&format!("builtin:{n}")).expect("builtin");
     let mut punctual = load("caustic");
@@ -73,6 +94,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
     }
     vec![
         ("caustic", load("caustic")),
+        ("caustic, rough block", rough_block()),
         ("caustic, two-sided light", two_sided),
         ("caustic, point and spot", punctual),
         ("cornell-glass", load("cornell-glass")),
@@ -109,5 +131,53 @@ fn aimed_photons_carry_the_lights_flux() {
             let (a, p) = (per_path(aimed[0], 1024.0), per_path(plain[0], 4096.0));
             assert!(2.0 * a < p, "{name}: variance × paths {a} aimed, {p} plain");
         }
+    }
+}
+
+/// The share of `paths` aimed photon paths that store a photon, over `iterations` passes.
+fn stored_share(r: &Renderer, targets: &PhotonTargets, paths: u32, iterations: u32) -> f64 {
+    let opts = RenderOptions::from_scene(&r.scene);
+    let pt = r.integrator(&opts);
+    let params = SppmParams {
+        radius0: 0.01,
+        photons_per_iteration: paths,
+    };
+    let stored: usize = (0..iterations)
+        .map(|s| {
+            let sp = pt.lanes(|| Sampler::new(u32::MAX, s, 9).next_1d());
+            photon_pass(&pt, &params, s, 9, &sp, Some(targets))
+                .photons
+                .len()
+        })
+        .sum();
+    stored as f64 / f64::from(paths * iterations)
+}
+
+/// Photon work per iteration is spent on photons: rough glass, which stores none, is no
+/// target, so most aimed paths reach a diffuse surface through the smooth casters. With the
+/// rough block aimed at as well (the targets of the same geometry all smooth), the share
+/// stored falls with the block's share of the solid angle — the waste this rule removes.
+#[test]
+fn aimed_paths_store_photons() {
+    let rough = Renderer::new(rough_block()).expect("valid");
+    let (targets, _) = rough.photon_aim();
+    assert_eq!(targets.spheres.len(), 1, "the ball only: {targets:?}");
+    let share = stored_share(&rough, targets, 2048, 8);
+    let mut smooth_scene = rough_block();
+    if let Some(m) = smooth_scene.materials.last_mut() {
+        m.roughness = 0.0;
+    }
+    let all = PhotonTargets::new(&smooth_scene);
+    assert_eq!(all.spheres.len(), 7, "the ball and the block's six faces");
+    let wasteful = stored_share(&rough, &all, 2048, 8);
+    eprintln!("caustic, rough block: {share:.3} of the paths stored, {wasteful:.3} aimed at all");
+    assert!(share > 0.5, "{share}");
+    assert!(share > 1.5 * wasteful, "{share} vs {wasteful}");
+    for name in ["caustic", "cornell-glass", "caustic-mirror", "glass-slab"] {
+        let r = Renderer::new(Scene::load(&format!("builtin:{name}")).expect("builtin"))
+            .expect("valid");
+        let share = stored_share(&r, &r.photon_aim().0, 2048, 8);
+        eprintln!("{name}: {share:.3} of the aimed paths stored");
+        assert!(share > 0.2, "{name}: {share}");
     }
 }

@@ -34,10 +34,16 @@ impl GpuRenderer {
         })
     }
 
-    /// `sppm`: (photons the last iteration stored, photons refused by a full store since the
-    /// last reset; 0 unless the store is undersized).
+    /// `sppm`: (photons the last submission's iterations stored, photons refused by a full
+    /// store since the last reset; 0 unless the store is undersized).
     pub fn photon_counts(&self) -> Result<(u32, u32)> {
         self.buffers.photon_store.counts(&self.ctx)
+    }
+
+    /// `sppm`: the most iterations (samples per pixel) one submission runs, each with its own
+    /// photons (`gpu::photons::PhotonStore::iterations`); 1 for the other estimators.
+    pub fn photon_iterations(&self) -> u32 {
+        self.buffers.photon_store.iterations
     }
 
     /// Counters since the last reset.

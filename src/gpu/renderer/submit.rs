@@ -123,7 +123,7 @@ impl GpuRenderer {
         let n = first as f64;
         let k = batch as f64;
         let rot = cam.rotation;
-        // sppm: one iteration per dispatch, iteration s = sample index s.
+        // sppm: iteration s = sample index s, `batch` iterations per submission.
         let mut targets = [[0.0; 4]; photon_aim::MAX_TARGETS];
         let (mut aimed, mut target_count) = (1, 0);
         if self.spec.sppm {
@@ -135,7 +135,6 @@ impl GpuRenderer {
             }
         }
         let paths = f64::from(aimed);
-        let r = photons::radius(self.photon_r0, first as u32);
         Params {
             cam_pos: cam.position.extend((0.5 * cam.yfov).tan()).to_array(),
             cam_right: rot.x_axis.extend(w as f32 / h as f32).to_array(),
@@ -156,13 +155,12 @@ impl GpuRenderer {
             offset_scale: self.bvh.offset_scale,
             tile_y0: 0,
             film_y0: self.film_y0,
-            photon_radius: r,
-            photon_norm: (1.0 / (paths * std::f64::consts::PI * f64::from(r) * f64::from(r)))
-                as f32,
+            photon_radius0: self.photon_r0,
+            photon_norm0: (1.0 / (paths * std::f64::consts::PI)) as f32,
             grid_mask: self.buffers.photon_store.buckets - 1,
             photon_paths: aimed,
             target_count,
-            _pad2: 0,
+            photon_radius_exp: photons::RADIUS_EXPONENT,
             targets,
         }
     }
@@ -180,6 +178,11 @@ impl GpuRenderer {
         self.submissions
             .last_k
             .unwrap_or_else(|| self.opts.pass_spp())
+    }
+
+    /// Submissions queued since the renderer was made (every estimator, every band).
+    pub fn submissions_made(&self) -> u64 {
+        self.submissions.submitted
     }
 
     /// Bound the wall time of one submission of [`GpuRenderer::render_with`] (default
@@ -227,10 +230,14 @@ impl GpuRenderer {
     /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
     fn submit(&mut self, k: u32, y0: u32, rows: u32) -> Option<wgpu::SubmissionIndex> {
         if self.spec.sppm {
-            // Iteration s = sample index s: its own photons, then its camera paths.
-            let mut last = None;
-            for i in 0..u64::from(k) {
-                last = self.submit_pass(self.spp + i, 1, 0, self.opts.height);
+            // Iteration s = sample index s: as many iterations per submission as the photon
+            // store holds, their photons first, then their camera paths (one sample each).
+            let per = self.buffers.photon_store.iterations.max(1);
+            let (mut last, mut done) = (None, 0);
+            while done < k {
+                let kk = per.min(k - done);
+                last = self.submit_pass(self.spp + u64::from(done), kk, 0, self.opts.height);
+                done += kk;
             }
             last
         } else if self.spec.wavefront {
@@ -312,24 +319,31 @@ impl GpuRenderer {
         // Light subpaths first: `render` folds their splats into the film; photons first:
         // `render` gathers them (wgpu orders the passes' storage accesses).
         if self.spec.light_tracing && !self.spec.wavefront {
-            self.encode_kernel(&mut enc, Kernel::LightTrace, groups);
+            self.encode_kernel(&mut enc, Kernel::LightTrace, (groups.0, groups.1, 1));
         }
         if self.spec.sppm {
-            self.buffers.photon_store.encode_clear(&mut enc);
-            self.encode_kernel(&mut enc, Kernel::PhotonTrace, groups);
+            // The photons of the submission's k iterations (z: the iteration).
+            self.buffers.photon_store.encode_clear(&mut enc, k);
+            self.encode_kernel(&mut enc, Kernel::PhotonTrace, (groups.0, groups.1, k));
         }
         if self.spec.wavefront {
             self.encode_wavefront(&mut enc, self.opts.width * rows, k);
         } else {
-            self.encode_kernel(&mut enc, Kernel::Render, groups);
+            self.encode_kernel(&mut enc, Kernel::Render, (groups.0, groups.1, 1));
         }
+        self.submissions.submitted += 1;
         Some(self.ctx.queue.submit([enc.finish()]))
     }
 
     /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is
     /// compiled: [`GpuRenderer::ensure_pipelines`]; the wavefront's kernels are recorded by
     /// `encode_wavefront`).
-    fn encode_kernel(&self, enc: &mut wgpu::CommandEncoder, kernel: Kernel, groups: (u32, u32)) {
+    fn encode_kernel(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        kernel: Kernel,
+        groups: (u32, u32, u32),
+    ) {
         let Some(spec) = self.kernel_spec() else {
             return;
         };
@@ -343,7 +357,7 @@ impl GpuRenderer {
         pass.set_pipeline(pipeline);
         // The chunk table's dynamic offset: only the wavefront's kernels read it.
         pass.set_bind_group(0, &self.bind_group, &[0]);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
+        pass.dispatch_workgroups(groups.0, groups.1, groups.2);
     }
 
     /// Add `spp` samples per pixel (in batches) and return the accumulated image.

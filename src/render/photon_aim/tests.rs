@@ -157,9 +157,9 @@ fn pieces_of_the_built_ins() {
         t.spheres
     );
     let mesh = &scene.mesh;
+    let specular = specular_materials(&scene);
     for tri in 0..mesh.triangle_count() {
-        let m = &scene.materials[mesh.tri_material[tri] as usize];
-        if can_be_specular(m.kind) {
+        if specular[mesh.tri_material[tri] as usize] {
             for p in mesh.tri(tri) {
                 assert!(
                     t.spheres
