@@ -42,6 +42,20 @@ fn presets() -> Vec<(&'static str, BvhBuildParams)> {
                 ..BvhBuildParams::slow_build()
             },
         ),
+        (
+            "medium, 1 per leaf",
+            BvhBuildParams {
+                max_prims_per_leaf: 1,
+                ..BvhBuildParams::medium_build()
+            },
+        ),
+        (
+            "medium, 2 per leaf",
+            BvhBuildParams {
+                max_prims_per_leaf: 2,
+                ..BvhBuildParams::medium_build()
+            },
+        ),
     ]
 }
 
@@ -58,6 +72,8 @@ fn main() -> Result<()> {
         names
     };
     let ctx = GpuContext::new()?;
+    // Per tree label: the sum of ln(nodes + triangles per ray) and the scene count.
+    let mut logs: Vec<(String, f64, u32)> = Vec::new();
     println!("adapter: {}", ctx.describe());
     println!(
         "scene | tris | tree | nodes | depth | build ms | per ray: camera n+t | bounce n+t | shadow n+t | all: nodes | boxes | tris | nodes+tris"
@@ -69,7 +85,7 @@ fn main() -> Result<()> {
         let cw: Vec<_> = if all_presets {
             presets()
         } else {
-            vec![("medium", upload::cwbvh_params())]
+            vec![("medium, 2 per leaf", upload::cwbvh_params())]
         };
         for (p, params) in cw {
             trees.push((
@@ -91,6 +107,10 @@ fn main() -> Result<()> {
             };
             let all = [weighted(0), weighted(1), weighted(2)];
             let nt = all[0] + all[2];
+            match logs.iter_mut().find(|l| &l.0 == label) {
+                Some(l) => (l.1, l.2) = (l.1 + nt.ln(), l.2 + 1),
+                None => logs.push((label.clone(), nt.ln(), 1)),
+            }
             let ratio = match base {
                 None => {
                     base = Some(nt);
@@ -113,6 +133,12 @@ fn main() -> Result<()> {
                 nt,
             );
         }
+    }
+    for (label, sum, n) in &logs {
+        println!(
+            "geometric mean over {n} scenes, {label}: {:.2} nodes + triangles per ray",
+            (sum / f64::from(*n)).exp()
+        );
     }
     Ok(())
 }

@@ -29,9 +29,15 @@ impl BvhLayout {
     }
 }
 
-/// obvhs' build preset of the GPU CWBVH (chosen by traversal cost: docs/gpu.md).
+/// obvhs' build preset of the GPU CWBVH, chosen by traversal cost (docs/gpu.md "The wide
+/// BVH": of very_fast, fast, medium and slow without splits, each with up to 3 triangles a
+/// leaf, and medium with 1 and 2, medium with 2 tests the fewest nodes + triangles per ray,
+/// geometric mean over the built-ins, `examples/bvh_cost.rs --presets`).
 pub fn cwbvh_params() -> BvhBuildParams {
-    BvhBuildParams::medium_build()
+    BvhBuildParams {
+        max_prims_per_leaf: 2,
+        ..BvhBuildParams::medium_build()
+    }
 }
 
 /// Deepest BVH2 the WGSL traversal stack handles (`BVH_STACK_SIZE` in scene.wgsl).
