@@ -23,6 +23,8 @@ pub(crate) struct Job {
     pub(crate) estimator: Estimator,
     /// `--estimator` as given (the GPU resolves `auto` by its own rule).
     pub(crate) choice: Estimator,
+    /// `auto` with `--measure-auto`: the CPU chooses by measurement (`cli_race`).
+    pub(crate) measure_auto: bool,
     /// `--max-film-gib` in bytes.
     pub(crate) max_film_bytes: u64,
 }
@@ -66,6 +68,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         .or(sidecar.as_ref().map(|s| s.render.estimator))
         .unwrap_or(Estimator::Auto);
     let (estimator, _) = choice.resolve_why(&scene);
+    let measure_auto = choice == Estimator::Auto && args.measure_auto;
     let job = Job {
         spp,
         tone,
@@ -74,6 +77,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         filter,
         estimator,
         choice,
+        measure_auto,
         max_film_bytes: film_budget(args),
     };
     Ok((scene, job))

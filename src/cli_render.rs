@@ -55,7 +55,11 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
         .flatten();
     if let Some((report, size)) = &raced {
         opts.estimator = report.winner;
-        eprintln!("{}", report.line(*size));
+        eprintln!(
+            "{} — trials took {:.2} s",
+            report.line(*size),
+            started.elapsed().as_secs_f64()
+        );
     } else if job.choice == Estimator::Auto {
         let (_, why) = job.choice.resolve_why(&renderer.scene);
         eprintln!("estimator auto: {} ({why})", job.estimator);

@@ -261,6 +261,11 @@ struct RenderArgs {
     /// viewer's rule; the default, unless a --settings sidecar names one).
     #[arg(long, value_parser = Estimator::parser())]
     estimator: Option<Estimator>,
+    /// With auto on the CPU: choose by short trials of path, sppm and bdpt (least measured
+    /// relMSE × time) instead of the rule; experimental, it loses to the rule on several
+    /// built-ins (docs/estimators.md, "Choosing by measurement").
+    #[arg(long)]
+    measure_auto: bool,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,

@@ -1,6 +1,6 @@
-//! `auto` by measured efficiency (issue 35): each candidate estimator renders two independent
-//! short trials of the scene (other seeds than the render's), and the one whose error per
-//! unit of time is least renders the image. Without a reference, a trial's error is the
+//! `auto` by measured efficiency (issue 35; opt-in, `render --measure-auto`): each candidate
+//! estimator renders two independent short trials of the scene (other seeds than the
+//! render's), and the one whose error per unit of time is least renders the image. Without a reference, a trial's error is the
 //! larger of two estimates:
 //!
 //! - the difference of its two halves: for independent unbiased estimates a and b of one
