@@ -19,7 +19,7 @@ fn cost(ctx: &GpuContext, scene: &Scene, bvh: &GpuBvh, rays: &[BvhProbeRay]) -> 
     if rays.is_empty() {
         return Ok([0.0; 3]);
     }
-    let out = run_bvh_probe(ctx, scene, bvh, rays)?;
+    let out = run_bvh_probe(ctx, scene, bvh, rays, ctx.is_software())?;
     let sum = out.iter().fold([0u64; 3], |a, o| {
         [
             a[0] + u64::from(o.nodes),

@@ -5,7 +5,8 @@
 //! t, the same triangle or another at bit-identically the same t) and the same occlusion
 //! answers for segments ending before, at and after it, on random rays, rays starting on
 //! surfaces, grazing rays and rays lying in box faces, on several built-ins and on scenes
-//! scaled by 1e-5 and 1e5. Also: the CWBVH's traversal stack holds every pending group.
+//! scaled by 1e-5 and 1e5; the CWBVH with its children tested one at a time (GPUs) and four at
+//! once (`BVH_CHILDREN_X4`, CPU-emulated adapters). Also: the CWBVH's traversal stack holds every pending group.
 
 mod common_scenes;
 use common_scenes::gpu_context;
@@ -110,8 +111,14 @@ fn probe_ray(o: Vec3, d: Vec3, tmax: f32, any_hit: bool) -> BvhProbeRay {
 }
 
 /// Trace `rays` through `bvh`; a device error fails the test.
-fn probe(ctx: &GpuContext, s: &Scene, bvh: &GpuBvh, rays: &[BvhProbeRay]) -> Vec<BvhProbeOut> {
-    run_bvh_probe(ctx, s, bvh, rays).expect("bvh probe")
+fn probe(
+    ctx: &GpuContext,
+    s: &Scene,
+    bvh: &GpuBvh,
+    rays: &[BvhProbeRay],
+    x4: bool,
+) -> Vec<BvhProbeOut> {
+    run_bvh_probe(ctx, s, bvh, rays, x4).expect("bvh probe")
 }
 
 /// A BVH2 of one leaf holding every slot of `bvh` in order, its box the scene's: `traverse`
@@ -135,12 +142,13 @@ fn one_leaf(bvh: &GpuBvh, scene: &Scene) -> GpuBvh {
     }
 }
 
-/// The traversal of `bvh` against brute force on `rays`: (hits, exact ties).
+/// The traversal of `bvh` (a CWBVH's children four at once with `x4`) against brute force on
+/// `rays`: (hits, exact ties).
 fn check(
     ctx: &GpuContext,
-    name: &str,
-    scene: &Scene,
+    (name, scene): (&str, &Scene),
     bvh: &GpuBvh,
+    x4: bool,
     rays: &[(Vec3, Vec3)],
 ) -> (usize, usize) {
     let closest: Vec<_> = rays
@@ -148,8 +156,8 @@ fn check(
         .map(|&(o, d)| probe_ray(o, d, f32::MAX, false))
         .collect();
     let brute = one_leaf(bvh, scene);
-    let want = probe(ctx, scene, &brute, &closest);
-    let got = probe(ctx, scene, bvh, &closest);
+    let want = probe(ctx, scene, &brute, &closest, false);
+    let got = probe(ctx, scene, bvh, &closest, x4);
     let tri = |o: &BvhProbeOut| bvh.primitive_indices[o.slot as usize];
     let (mut hits, mut ties, mut wrong) = (0, 0, Vec::new());
     for ((r, w), g) in rays.iter().zip(&want).zip(&got) {
@@ -177,8 +185,8 @@ fn check(
             shadow.push(probe_ray(o, d, tmax, true));
         }
     }
-    let want_s = probe(ctx, scene, &brute, &shadow);
-    let got_s = probe(ctx, scene, bvh, &shadow);
+    let want_s = probe(ctx, scene, &brute, &shadow, false);
+    let got_s = probe(ctx, scene, bvh, &shadow, x4);
     for ((r, w), g) in shadow.iter().zip(&want_s).zip(&got_s) {
         if w.found != g.found {
             wrong.push(format!(
@@ -189,7 +197,7 @@ fn check(
     }
     assert!(
         wrong.is_empty(),
-        "{name} ({:?}): {} of {} queries wrong:\n{}",
+        "{name} ({:?}, x4 {x4}): {} of {} queries wrong:\n{}",
         bvh.layout,
         wrong.len(),
         closest.len() + shadow.len(),
@@ -224,11 +232,16 @@ fn gpu_traversal_matches_brute_force() {
     ];
     for (s, (name, scene)) in scenes.into_iter().enumerate() {
         let rays = rays(&scene.mesh, 2400, 1 + s as u64);
-        for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
+        let forms = [
+            (BvhLayout::Bvh2, false),
+            (BvhLayout::Cwbvh, false),
+            (BvhLayout::Cwbvh, true),
+        ];
+        for (layout, x4) in forms {
             let bvh = upload::build_gpu_bvh(&scene, layout).expect("BVH");
-            let (hits, ties) = check(&ctx, name, &scene, &bvh, &rays);
+            let (hits, ties) = check(&ctx, (name, &scene), &bvh, x4, &rays);
             eprintln!(
-                "{name} ({} tris), {layout:?} ({} nodes, depth {}): {} rays, {hits} hits, {ties} ties",
+                "{name} ({} tris), {layout:?} x4 {x4} ({} nodes, depth {}): {} rays, {hits} hits, {ties} ties",
                 scene.mesh.triangle_count(),
                 bvh.node_count(),
                 bvh.depth,

@@ -14,11 +14,14 @@ use anyhow::{Result, ensure};
 
 /// Trace `rays` through `bvh` over `scene`'s triangles packed in its leaf order (slots map
 /// to scene triangles by `bvh.primitive_indices`): each ray's hit and the work it took.
+/// `x4`: a CWBVH's children tested four at once (`BVH_CHILDREN_X4`; the renderer's choice is
+/// `ctx.is_software()`).
 pub fn run_bvh_probe(
     ctx: &GpuContext,
     scene: &Scene,
     bvh: &GpuBvh,
     rays: &[BvhProbeRay],
+    x4: bool,
 ) -> Result<Vec<BvhProbeOut>> {
     ensure!(!rays.is_empty(), "no probe rays");
     let tris = upload::pack_triangles(scene, bvh, &LightSet::build(scene));
@@ -35,6 +38,7 @@ pub fn run_bvh_probe(
             f64::from(u8::from(bvh.layout == BvhLayout::Cwbvh)),
         ),
         ("BVH_COUNT", 1.0),
+        ("BVH_CHILDREN_X4", f64::from(u8::from(x4))),
     ];
     ctx.scoped("bvh probe", || {
         let pipeline = ctx

@@ -51,6 +51,10 @@ pub struct Specialization {
     pub bvh_stack: u32,
     /// The tree is the compressed 8-wide BVH (`upload::BvhLayout::Cwbvh`), not the BVH2.
     pub bvh_wide: bool,
+    /// The CWBVH's children are tested four at once in vec4s (`BVH_CHILDREN_X4`): on
+    /// CPU-emulated adapters (`GpuContext::is_software`), where it is the faster form; a GPU
+    /// tests them one at a time, in fewer registers (docs/gpu.md "The wide BVH").
+    pub bvh_x4: bool,
 }
 
 impl Default for Specialization {
@@ -88,6 +92,7 @@ impl Specialization {
             wavefront: false,
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
             bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
+            bvh_x4: false,
         }
     }
 
@@ -172,6 +177,7 @@ impl Specialization {
             wavefront: true,
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
             bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
+            bvh_x4: false,
         }
     }
 
@@ -236,6 +242,7 @@ impl Specialization {
             ("HAS_NESTED", b(self.nested)),
             ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
             ("BVH_WIDE", b(self.bvh_wide)),
+            ("BVH_CHILDREN_X4", b(self.bvh_x4)),
         ]
     }
 }

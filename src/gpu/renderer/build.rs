@@ -31,7 +31,9 @@ impl GpuRenderer {
         // The tree first: its depth sizes the kernels' traversal stack.
         let bvh = upload::build_gpu_bvh(&scene, upload::BvhLayout::from_env())?;
         let wavefront_override = wavefront_override_from_env();
-        let spec = Self::specialization_for(features, &opts, &scene, &bvh, wavefront_override);
+        let software = ctx.is_software();
+        let spec =
+            Self::specialization_for(features, &opts, &scene, &bvh, wavefront_override, software);
         let pipelines = Self::compiled_pipelines(&ctx, spec, background_compile)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =

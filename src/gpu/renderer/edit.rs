@@ -105,8 +105,10 @@ impl GpuRenderer {
         scene: &Scene,
         bvh: &GpuBvh,
         wavefront: Option<bool>,
+        software: bool,
     ) -> Specialization {
         let mut spec = Specialization::from_features(features).with_bvh(bvh);
+        spec.bvh_x4 = spec.bvh_wide && software;
         spec.filter = opts.filter.is_some();
         spec.light_tracing = light_tracing_for(opts, scene);
         spec.sppm = sppm_for(opts, scene);
@@ -166,6 +168,7 @@ impl GpuRenderer {
             &self.scene,
             &self.bvh,
             self.wavefront_override,
+            self.ctx.is_software(),
         );
         self.fit_wavefront();
         self.request_pipelines();
