@@ -1,6 +1,6 @@
 //! The `auto` estimator's measure for each scene given (default: every built-in): the solid
 //! angle of the light seen from the caustic casters (`scene::caustic_casters`) and what
-//! `auto` picks from it (README, "Choosing the estimator"); and where `sppm` aims its photons
+//! `auto` picks from it (docs/estimators.md, "Choosing the estimator"); and where `sppm` aims its photons
 //! (`render::photon_aim`: target spheres, the share of the lights' power they take, photon
 //! paths per pixel).
 //!

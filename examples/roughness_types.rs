@@ -1,4 +1,4 @@
-//! Renders the README's roughness-type comparison: the `rough-glass` scene with GGX and
+//! Renders the roughness-type comparison of docs/user-guide.md: the `rough-glass` scene with GGX and
 //! Beckmann at two roughnesses (and the smooth sphere), into `screenshots/`.
 //! Usage: cargo run --release --example roughness_types -- [spp]
 

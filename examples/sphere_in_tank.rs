@@ -1,6 +1,6 @@
 //! Development tool: write the sphere-in-tank scene (nested dielectrics: a glass sphere,
 //! n = 1.5, inside a water tank, n = 1.33, on a floor under an area light) as a .glb, for the
-//! Mitsuba cross-check in README ("Nested dielectrics").
+//! Mitsuba cross-check in docs/user-guide.md ("Nested dielectrics").
 //! Usage: cargo run --release --example sphere_in_tank -- /tmp/tank.glb
 use glam::Vec3;
 use refract::scene::builtin::{cuboid, rect, sphere};

@@ -14,7 +14,7 @@ fn load(name: &str) -> Scene {
     Scene::load(&format!("builtin:{name}")).expect("built-in scene")
 }
 
-/// What `auto` picks for each built-in (the README states the same list): sppm for specular
+/// What `auto` picks for each built-in (docs/estimators.md states the same list): sppm for specular
 /// surfaces lit by a punctual light or by emitters that look small from them (< 0.3 sr; on
 /// the GPU too), lt+pt for dispersive or only rough glass lit so, path tracing otherwise.
 #[test]

@@ -168,7 +168,7 @@ fn a_scene_whose_triangles_are_all_dropped_is_an_error() {
 }
 
 /// `KHR_materials_ior` that is not a positive finite number is an error naming its JSON
-/// pointer (README: invalid IOR is an error; before: a warning and 1.5).
+/// pointer (docs/scene-contract.md: invalid IOR is an error; before: a warning and 1.5).
 #[test]
 fn a_non_positive_ior_is_an_error_naming_its_json_pointer() {
     let d = folder("ior");

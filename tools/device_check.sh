@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The hardware-GPU measurements of issue 15 item 9, as one script for a lent device machine
-# (README "On a hardware GPU"): run where the release binary was copied to `.dev/refract`
+# (docs/gpu.md "On a hardware GPU"): run where the release binary was copied to `.dev/refract`
 # (built on an x86-64 machine: `cargo build --release && mkdir -p .dev && cp
 # target/release/refract .dev/ && strip .dev/refract`) and, where the machine lacks the
 # Vulkan/EGL loaders, their packages in `.gl/` (see the device notes). Writes everything to

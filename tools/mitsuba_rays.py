@@ -3,7 +3,7 @@
 `refract bench --quick` (10^6 rays from uniform points in the middle 80 % of the bounds, uniform
 directions) through `ray_intersect_preliminary` (traversal only), `ray_intersect` (with the
 surface interaction) and `ray_test` (shadow rays); the median of 7 runs each. Development
-only (README, "Against Mitsuba"); use `MI_VARIANT=llvm_ad_rgb` for the vectorised backend.
+only (docs/accuracy.md, "Against Mitsuba"); use `MI_VARIANT=llvm_ad_rgb` for the vectorised backend.
 
 usage: python3 tools/mitsuba_rays.py DUMP_DIR
 """

@@ -68,7 +68,7 @@ impl ViewMode {
     }
 }
 
-/// The classes of the "path classes" view, in priority order (the README's example).
+/// The classes of the "path classes" view, in priority order (docs/viewer.md's example).
 pub const VIEW_CLASSES: &str = "LE,LDE,LS+DE,LDS+E";
 
 /// The view's decomposition, parsed once.

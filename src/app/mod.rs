@@ -56,7 +56,7 @@ pub struct Messages {
     pub info: Option<String>,
 }
 
-/// Frame timing of the UI (what the README reports).
+/// Frame timing of the UI (what docs/viewer.md reports).
 #[derive(Clone, Copy, Debug)]
 struct FrameStats {
     started: Instant,

@@ -114,7 +114,7 @@ impl Query {
 
 /// Closest hit in (0, tmax) (`ANY` = false) or any hit (`ANY` = true, returns the first found).
 /// The tree has at least one triangle. One function on purpose: written as a step-at-a-time
-/// state object the same traversal lost 25 % of its rays/s (README, "Session 9").
+/// state object the same traversal lost 25 % of its rays/s (docs/performance.md, "Session 9").
 #[inline(always)]
 pub fn traverse<K: BoxTest, const ANY: bool>(tree: Tree, ray: &QueryRay) -> Option<SlotHit> {
     let q = &Query::new(ray);

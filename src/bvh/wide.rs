@@ -6,7 +6,7 @@
 use obvhs::bvh2::Bvh2;
 
 /// Children per node: 8 (one AVX2 register, two SSE/NEON registers). Measured against 4 in
-/// the README ("Accuracy and speed").
+/// docs/performance.md.
 pub const W: usize = 8;
 
 /// Most triangles in one leaf (obvhs' collapse respects it; the child encoding holds ≤ 7).

@@ -82,7 +82,7 @@ pub struct GpuContext {
 /// indirect dispatch; refract's only indirect dispatches are the wavefront's bounce kernels,
 /// whose size `wf_advance` computes as ⌈queued paths / 64⌉ ≤ 2¹⁹ / 64 = 8192 workgroups, within
 /// every adapter's limit by construction. (On lavapipe the check cost the wavefront a third of
-/// its time: README "Live-path queues".)
+/// its time: docs/gpu.md "Live-path queues".)
 pub fn instance_flags(defaults: wgpu::InstanceFlags) -> wgpu::InstanceFlags {
     let mut flags = defaults;
     if std::env::var_os("WGPU_VALIDATION_INDIRECT_CALL").is_none() {

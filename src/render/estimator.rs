@@ -117,7 +117,7 @@ impl Estimator {
 }
 
 /// Emitters that subtend less than this solid angle (sr), averaged over the surfaces that
-/// cast caustics, count as small. Set from measurements (README, "Choosing the estimator":
+/// cast caustics, count as small. Set from measurements (docs/estimators.md, "Choosing the estimator":
 /// relMSE at equal time, path against the photon and bidirectional estimators):
 /// cornell-glass (0.093 sr; its light grown 1.5×: 0.21 sr), rough-glass (0.103 sr) and
 /// env-spheres (0.003 sr) converge 1.9–6× sooner with them; glass-of-water (0.35 sr),

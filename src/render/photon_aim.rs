@@ -31,7 +31,7 @@ pub const MAX_TARGETS: usize = 32;
 
 /// Aimed photon paths per iteration, as a multiple of the caster-bound ones an unaimed pass
 /// of one path per pixel would trace: 4 × as many caustic photons per iteration, since the
-/// caustic's noise is what photon mapping is for (README, "Photons aimed at the casters",
+/// caustic's noise is what photon mapping is for (docs/estimators.md, "Photons aimed at the casters",
 /// measured at equal time on `caustic`, a variant with its light 8 m away, `cornell-glass`).
 pub const AIM_BOOST: f32 = 4.0;
 

@@ -7,7 +7,7 @@
 //! small from the glass or the mirror are what photon mapping renders better (Jensen 2001,
 //! *Realistic Image Synthesis Using Photon Mapping*, §9; Hachisuka & Jensen 2009). The light's
 //! size next to the scene's does not decide it: a Cornell box and a glass slab under a light
-//! of the same 1 % of the bounding box differ fivefold in which estimator wins (README,
+//! of the same 1 % of the bounding box differ fivefold in which estimator wins (docs/estimators.md,
 //! "Choosing the estimator").
 
 use super::Scene;

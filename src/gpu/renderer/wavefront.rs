@@ -30,7 +30,7 @@ pub const MAX_CHUNKS: usize = 1024;
 /// Bytes of `WfQueue`'s header (two counts, the running parity, padding).
 pub const QUEUE_HEADER: u64 = 16;
 /// Paths in flight at most (120 MiB of state; fewer, larger chunks cost the host less per
-/// submission: `examples/wavefront_encode`, README "Live-path queues").
+/// submission: `examples/wavefront_encode`, docs/gpu.md "Live-path queues").
 const MAX_PATHS: u64 = 1 << 19;
 // The bounce kernels' indirect sizes are at most MAX_PATHS / 64 workgroups, which must stay
 // within WebGPU's least `max_compute_workgroups_per_dimension` (65535): wgpu does not check

@@ -46,7 +46,7 @@ impl Loader<'_> {
     }
 
     /// `KHR_materials_ior` (1.5 when absent). Not a positive finite number: an error naming the
-    /// JSON pointer (README: invalid IOR is an error); between 0 and 1 (no real dielectric
+    /// JSON pointer (docs/scene-contract.md: invalid IOR is an error); between 0 and 1 (no real dielectric
     /// against air): a warning, and 1.5.
     pub(super) fn ior(
         &mut self,
