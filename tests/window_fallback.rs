@@ -4,6 +4,7 @@
 //! the viewer opens with whatever still presents (wgpu's GL backend, or glow), and where
 //! nothing does, exits with one `error:` message and code 1: never a panic, never a signal.
 
+mod common_scenes;
 mod xvfb;
 
 const NO_FILE: &str = "/nonexistent/refract-none.json";
@@ -67,12 +68,7 @@ fn without_vulkan_and_egl_glow_presents_and_the_cpu_renders() {
 #[test]
 fn glow_with_the_gpu_rendering_headless_shows_its_image() {
     let test = "glow_with_the_gpu_rendering_headless";
-    if let Err(e) = refract::gpu::GpuContext::new() {
-        assert!(
-            std::env::var_os("REFRACT_REQUIRE_GPU").is_none(),
-            "{test}: no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})"
-        );
-        eprintln!("SKIP {test}: no GPU adapter ({e:#})");
+    if common_scenes::gpu_context(test).is_none() {
         return;
     }
     let args = [

@@ -95,20 +95,10 @@ impl GpuContext {
     /// Open the best adapter (a hardware GPU if there is one, else a software one such as
     /// lavapipe). A clear error if there is none.
     pub fn new() -> Result<GpuContext> {
-        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        descriptor.flags = instance_flags(descriptor.flags);
-        let instance = wgpu::Instance::new(descriptor);
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            apply_limit_buckets: false,
-        }))
-        .context(
+        Self::on_backends(None).context(
             "no GPU adapter found (install a Vulkan driver, e.g. mesa-vulkan-drivers for lavapipe, \
              or use --device cpu)",
-        )?;
-        Self::from_adapter(adapter)
+        )
     }
 
     /// [`GpuContext::new`] for a process that also draws a window: the primary backends (or
@@ -121,13 +111,13 @@ impl GpuContext {
         let primary = allowed - gl;
         let mut last = anyhow::anyhow!("WGPU_BACKEND names no backend");
         if !primary.is_empty() {
-            match Self::on_backends(primary) {
+            match Self::on_backends(Some(primary)) {
                 Ok(ctx) => return Ok(ctx),
                 Err(e) => last = e,
             }
         }
         if allowed.contains(gl) {
-            let probe = std::panic::catch_unwind(|| Self::on_backends(gl));
+            let probe = std::panic::catch_unwind(|| Self::on_backends(Some(gl)));
             return probe.unwrap_or_else(|_| {
                 Err(anyhow::anyhow!("wgpu's GL backend panicked while probing"))
             });
@@ -135,10 +125,12 @@ impl GpuContext {
         Err(last)
     }
 
-    /// The best adapter among `backends`.
-    fn on_backends(backends: wgpu::Backends) -> Result<GpuContext> {
+    /// The best adapter among `backends` (None: `WGPU_BACKEND`'s, else wgpu's default set).
+    fn on_backends(backends: Option<wgpu::Backends>) -> Result<GpuContext> {
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        descriptor.backends = backends;
+        if let Some(b) = backends {
+            descriptor.backends = b;
+        }
         descriptor.flags = instance_flags(descriptor.flags);
         let instance = wgpu::Instance::new(descriptor);
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
