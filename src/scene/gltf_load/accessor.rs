@@ -257,8 +257,25 @@ impl Loader<'_> {
         })
     }
 
+    /// The bytes of buffer view `vi`: decoded when it is meshopt-compressed, else its range of
+    /// its buffer, checked.
     pub(super) fn view_bytes(&self, vi: usize, view: &json::buffer::View) -> Result<&[u8], String> {
+        if let Some(Some(decoded)) = self.decoded.get(vi) {
+            return Ok(decoded);
+        }
         let bi = view.buffer.value();
+        if self.buffers.get(bi).is_some_and(|b| b.is_empty())
+            && self
+                .root
+                .buffers
+                .get(bi)
+                .is_some_and(super::meshopt::is_fallback)
+        {
+            return Err(format!(
+                "buffer view {vi} is not compressed but reads meshopt fallback buffer {bi}, \
+                 which holds no data"
+            ));
+        }
         let buf = self.buffers.get(bi).ok_or_else(|| {
             format!("buffer view {vi}: buffer {bi} does not exist (missing buffer)")
         })?;

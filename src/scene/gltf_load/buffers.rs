@@ -1,7 +1,8 @@
 //! The buffers of a glTF, read by us rather than by the `gltf` importer: the GLB binary
 //! chunk, a base64 `data:` URI or a file inside the scene's folder, each exactly `byteLength`
 //! bytes long (shorter is an error, longer is cut), so a file can neither claim data it does
-//! not have nor make us read more than it declares.
+//! not have nor make us read more than it declares. A meshopt fallback buffer without a URI
+//! is empty: only views decoded from compressed data may use it (`meshopt`).
 
 use super::files::{read_regular_file, resolve_uri};
 use super::limits::LoadLimits;
@@ -26,6 +27,12 @@ pub(super) fn load_buffers(
             ));
         }
         let mut data = match b.uri.as_deref() {
+            // EXT_meshopt_compression: a fallback buffer may hold no data (only compressed views,
+            // decoded from another buffer, point into it); it never takes the GLB chunk.
+            None if super::meshopt::is_fallback(b) => {
+                out.push(Vec::new());
+                continue;
+            }
             None => blob.take().ok_or_else(|| {
                 format!("buffer {i} has no URI and the file has no GLB binary chunk")
             })?,

@@ -34,6 +34,7 @@ mod lights;
 pub mod limits;
 mod materials;
 mod mesh;
+mod meshopt;
 mod nodes;
 mod textures;
 mod uri;
@@ -60,6 +61,8 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_lights_punctual",
     "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    meshopt::EXT,
 ];
 
 /// Transmission factors at or above this make a material a dielectric.
@@ -108,13 +111,18 @@ pub fn load_slice_with(
     })?;
     let root = gltf.document.as_json();
     check_version(&root.asset)?;
+    // Required extensions first: an unsupported one is the reason, whatever it does to buffers.
+    check_required_extensions(root)?;
     uri::check_uris(root)?;
     let buffers = buffers::load_buffers(root, gltf.blob.clone(), base, limits)
         .map_err(|e| anyhow!("cannot load the buffers of '{name}': {e}"))?;
+    let decoded = meshopt::decode_views(root, &buffers)
+        .map_err(|e| anyhow!("cannot decode the buffers of '{name}': {e}"))?;
     let buffers: Vec<&[u8]> = buffers.iter().map(|b| b.as_slice()).collect();
     let mut loader = Loader {
         root,
         buffers,
+        decoded,
         base,
         limits: *limits,
         camera_aspect: None,
@@ -183,6 +191,8 @@ impl Warnings {
 struct Loader<'a> {
     root: &'a json::Root,
     buffers: Vec<&'a [u8]>,
+    /// Decoded bytes of each `EXT_meshopt_compression` buffer view (None: not compressed).
+    decoded: Vec<Option<Vec<u8>>>,
     base: Option<&'a Path>,
     limits: LoadLimits,
     /// The chosen camera's `aspectRatio`, if it has a valid one.
@@ -220,7 +230,7 @@ impl Loader<'_> {
     /// Load the whole file: extensions, extras, materials, the node tree, then the scene.
     fn run(&mut self, name: &str) -> anyhow::Result<Scene> {
         let root = self.root;
-        self.check_extensions()?;
+        self.check_extensions();
         if !root.skins.is_empty() || !root.animations.is_empty() {
             self.warnings.push(
                 "skins and animations are ignored (the scene is loaded in its rest pose)".into(),
@@ -338,21 +348,10 @@ impl Loader<'_> {
         Ok(scene)
     }
 
-    /// Unsupported extensions: refused when the file lists them in `extensionsRequired` (the
-    /// glTF 2.0 spec, §3.12: a loader must not load an asset whose required extensions it
-    /// does not support), else one warning each and ignored.
-    fn check_extensions(&mut self) -> anyhow::Result<()> {
+    /// Extensions used but not supported: one warning each, and ignored (the required ones
+    /// were refused before the buffers were read: `check_required_extensions`).
+    fn check_extensions(&mut self) {
         let root = self.root;
-        for (i, n) in root.extensions_required.iter().enumerate() {
-            if !SUPPORTED_EXTENSIONS.contains(&n.as_str()) {
-                bail!(
-                    "/extensionsRequired/{i}: the file requires the extension '{}', which \
-                     refract does not support (supported: {})",
-                    buffers::abbreviate(n),
-                    SUPPORTED_EXTENSIONS.join(", ")
-                );
-            }
-        }
         let mut names: Vec<&str> = root.extensions_used.iter().map(|s| s.as_str()).collect();
         for m in &root.materials {
             if let Some(e) = &m.extensions {
@@ -366,6 +365,37 @@ impl Loader<'_> {
                 });
             }
         }
-        Ok(())
+    }
+}
+
+/// Unsupported extensions in `extensionsRequired` are refused (glTF 2.0 §3.12: a loader must
+/// not load an asset whose required extensions it does not support). Checked before any
+/// buffer is read, so the message names the extension rather than a symptom of it (a meshopt
+/// fallback buffer without data, a Draco primitive without accessors' buffer views).
+fn check_required_extensions(root: &json::Root) -> anyhow::Result<()> {
+    for (i, n) in root.extensions_required.iter().enumerate() {
+        if !SUPPORTED_EXTENSIONS.contains(&n.as_str()) {
+            bail!(
+                "/extensionsRequired/{i}: the file requires the extension '{}', which \
+                 refract does not support (supported: {}){}",
+                buffers::abbreviate(n),
+                SUPPORTED_EXTENSIONS.join(", "),
+                workaround(n)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// What to do about an unsupported required extension, where there is a standard tool for it.
+/// Draco: no maintained Rust decoder fit for untrusted input exists (docs/scene-contract.md,
+/// "Compressed meshes"); gltf-transform re-encodes the file with meshopt, which refract reads.
+fn workaround(ext: &str) -> &'static str {
+    match ext {
+        "KHR_draco_mesh_compression" => {
+            "; re-encode it with meshopt, which refract reads: \
+             `npx @gltf-transform/cli meshopt IN.glb OUT.glb`"
+        }
+        _ => "",
     }
 }
