@@ -82,7 +82,11 @@ fn one_bright_texel_lights_from_the_threejs_direction() {
         (col as f32 + 0.5) / w as f32,
         1.0 - (row as f32 + 0.5) / h as f32,
     );
-    let half_texel = (PI / h as f32).max(2.0 * PI / w as f32 * 0.5);
+    // The image is interpolated bilinearly, so the bright texel's radiance reaches into its
+    // 3 × 3 neighbourhood and so may the samples: at most 1.5 texels from its centre along
+    // each axis (both axes' texels span π/h = 2π/w here).
+    let texel = (PI / h as f32).max(2.0 * PI / w as f32);
+    let reach = 1.5 * std::f32::consts::SQRT_2 * texel;
     for (rotation, expect) in [
         (0.0f32, threejs_dir(u, v)),
         // +90° about +Y: x' = z, z' = −x (right-handed).
@@ -101,10 +105,25 @@ fn one_bright_texel_lights_from_the_threejs_direction() {
                 .expect("sample");
             let angle = ls.wi.dot(expect).clamp(-1.0, 1.0).acos();
             assert!(
-                angle <= 1.5 * half_texel,
+                angle <= reach,
                 "rotation {rotation}: sampled {} is {angle} rad from {expect}",
                 ls.wi
             );
+        }
+        // Wherever the interpolated image is bright the density is positive (else NEE with
+        // MIS would miss that light): directions jittered around the texel.
+        for i in 0..4096 {
+            let (du, dv) = rng.next_2d().into();
+            let d = threejs_dir(
+                u + (du - 0.5) * 3.0 / w as f32,
+                v + (dv - 0.5) * 3.0 / h as f32 + 1e-3 * (i % 3) as f32,
+            );
+            if env.le(Vec3::ZERO, Vec3::ZERO, -d).x > 0.0 {
+                assert!(
+                    env.pdf_li(1.0, d, f32::INFINITY, 1.0) > 0.0,
+                    "rotation {rotation}: radiance but no density towards {d}"
+                );
+            }
         }
         // `le` takes the direction light travels: from the texel towards the scene.
         assert!(
@@ -127,16 +146,151 @@ fn one_texel_irradiance_on_a_floor_is_analytic() {
         let r = Renderer::new(floor_with(EnvImage::new(Arc::new(map), 2.0, 33.0))).expect("ok");
         let o = RenderOptions::from_scene(&r.scene);
         let img = r.render(&o, 256, None, |_| {}).0.image();
-        // E = 2L ∫ cosθ dω over the texel = 2L (2π/W) [sin²θ / 2] from θ0 to θ1 (θ from +Y).
-        let (t0, t1) = (PI * row as f32 / h as f32, PI * (row + 1) as f32 / h as f32);
-        let e = 2.0 * l * (2.0 * PI / w as f32) * 0.5 * (t1.sin().powi(2) - t0.sin().powi(2));
-        let expect = if lit { 0.5 / PI as f64 * e as f64 } else { 0.0 };
+        // The interpolated image is L × tent(u) × tent(θ), each tent one texel wide either
+        // side of the texel's centre; ∫ tent(u) du = 1/W, so
+        // E = 2L (2π/W) ∫ tent(θ) cosθ sinθ dθ (θ from +Y; midpoint rule, 20,000 steps).
+        let (c, dt) = (
+            PI as f64 * (row as f64 + 0.5) / h as f64,
+            PI as f64 / h as f64,
+        );
+        let n = 20_000;
+        let step = 2.0 * dt / n as f64;
+        let band: f64 = (0..n)
+            .map(|i| {
+                let th = c - dt + (i as f64 + 0.5) * step;
+                (1.0 - (th - c).abs() / dt) * th.cos() * th.sin() * step
+            })
+            .sum();
+        let e = 2.0 * l as f64 * (2.0 * PI as f64 / w as f64) * band;
+        let expect = if lit { 0.5 / PI as f64 * e } else { 0.0 };
+        // The sampling density is piecewise constant while the image is now a tent, so the
+        // estimate has variance: the pixels are independent estimates of the same radiance
+        // (a flat floor under light at infinity); 4 standard errors.
         let m = mean(&img);
+        let n = img.len() as f64;
+        let sd = (img.iter().map(|p| (p.y as f64 - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
         assert!(
-            (m - expect).abs() <= 2e-3 * expect.max(1e-3),
-            "row {row}: floor radiance {m:.6}, expected {expect:.6}"
+            (m - expect).abs() <= 4.0 * sd / n.sqrt() + 1e-4 * expect.max(1e-3),
+            "row {row}: floor radiance {m:.6} ± {:.6}, expected {expect:.6}",
+            sd / n.sqrt()
         );
     }
+}
+
+/// The image's radiance in direction `d` by the definition (three.js's mapping, bilinear
+/// between texel centres at ((i + ½)/W, (j + ½)/H), periodic in u, clamped rows).
+fn bilinear_by_definition(t: &[Vec3], w: u32, h: u32, d: Vec3) -> Vec3 {
+    let u = d.z.atan2(d.x) / (2.0 * PI) + 0.5;
+    let v = d.y.clamp(-1.0, 1.0).acos() / PI;
+    let (x, y) = (u * w as f32 - 0.5, v * h as f32 - 0.5);
+    let (i, j) = (x.floor() as i32, y.floor() as i32);
+    let (fx, fy) = (x - i as f32, y - j as f32);
+    let at = |i: i32, j: i32| {
+        let i = i.rem_euclid(w as i32) as u32;
+        let j = j.clamp(0, h as i32 - 1) as u32;
+        t[(j * w + i) as usize]
+    };
+    let top = at(i, j) * (1.0 - fx) + at(i + 1, j) * fx;
+    let bottom = at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
+/// The directly seen background is the bilinear interpolation of the image at each pixel's
+/// direction: a 30° view across the image's seam (−X) and the horizon of a seeded 32 × 16 map
+/// (texels 11.25° wide, so the view spans several texel boundaries, where a nearest-texel
+/// lookup would be off by the texels' difference). Each pixel's mean is compared with the
+/// definition averaged over the pixel's area, within 5 standard errors of its 64 samples.
+#[test]
+fn the_background_is_the_bilinear_interpolation_of_the_image() {
+    let (w, h) = (32u32, 16u32);
+    let texels: Vec<Vec3> = (0..w * h)
+        .map(|i| {
+            let f = i as f32;
+            Vec3::new(
+                (f * 0.37).fract(),
+                (f * 0.61 + 0.2).fract(),
+                (f * 0.13 + 0.5).fract(),
+            )
+        })
+        .collect();
+    let (map, _) = EnvMap::from_texels(w, h, texels.clone(), "seeded");
+    let mut m = Mesh::default();
+    quad(
+        &mut m,
+        Vec3::new(10.0, -1.0, -1.0),
+        Vec3::Z * 2.0,
+        Vec3::Y * 2.0,
+        0,
+    );
+    let cam = Camera::look_at(
+        Vec3::ZERO,
+        Vec3::new(-1.0, 0.1, 0.0),
+        Vec3::Y,
+        30f32.to_radians(),
+    );
+    let mut s = scene(
+        "sky",
+        m,
+        vec![Material::diffuse("d", Vec3::splat(0.5))],
+        cam,
+        0.0,
+    );
+    s.env_map = Some(EnvImage::new(Arc::new(map), 1.0, 0.0));
+    let (pw, ph) = (32u32, 32u32);
+    s.settings.width = pw;
+    s.settings.height = ph;
+    let r = Renderer::new(s.clone()).expect("valid");
+    let spp = 64;
+    let img = r
+        .render(&RenderOptions::from_scene(&r.scene), spp, None, |_| {})
+        .0
+        .image();
+    let (mut worst, mut nearest_worst) = (0.0f32, 0.0f32);
+    for y in 0..ph {
+        for x in 0..pw {
+            // The pixel's expected value and spread: the definition averaged over a 16 × 16
+            // grid of the pixel's area (the box filter of the renderer's jittered samples).
+            let (mut sum, mut sum_sq) = (Vec3::ZERO, Vec3::ZERO);
+            for k in 0..256 {
+                let (sx, sy) = ((k % 16) as f32 + 0.5, (k / 16) as f32 + 0.5);
+                let d = s.camera.ray_dir(
+                    (x as f32 + sx / 16.0) / pw as f32,
+                    (y as f32 + sy / 16.0) / ph as f32,
+                    1.0,
+                );
+                let l = bilinear_by_definition(&texels, w, h, d);
+                sum += l;
+                sum_sq += l * l;
+            }
+            let expect = sum / 256.0;
+            let sigma = ((sum_sq / 256.0 - expect * expect).max(Vec3::ZERO) / spp as f32)
+                .powf(0.5)
+                .max_element();
+            let got = img[(y * pw + x) as usize];
+            worst = worst.max((got - expect).abs().max_element() / (5.0 * sigma + 2e-4));
+            let d = s.camera.ray_dir(
+                (x as f32 + 0.5) / pw as f32,
+                (y as f32 + 0.5) / ph as f32,
+                1.0,
+            );
+            let (u, v) = (d.z.atan2(d.x) / (2.0 * PI) + 0.5, d.y.acos() / PI);
+            let (i, j) = (
+                ((u * w as f32) as u32).min(w - 1),
+                ((v * h as f32) as u32).min(h - 1),
+            );
+            nearest_worst =
+                nearest_worst.max((texels[(j * w + i) as usize] - expect).abs().max_element());
+        }
+    }
+    assert!(
+        worst <= 1.0,
+        "background off the bilinear image by {worst} × (5σ + 2e-4)"
+    );
+    // The view does cross texel boundaries: nearest lookup would be far off.
+    assert!(
+        nearest_worst > 0.1,
+        "nearest lookup would differ by only {nearest_worst}"
+    );
 }
 
 /// White furnace: a closed Lambert sphere of albedo 1 under a constant image of radiance 1

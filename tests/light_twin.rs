@@ -50,6 +50,36 @@ const SPOT_REL: f32 = 1e-4;
 /// "Precision and Operation of SPIR-V Instructions"); lavapipe's differ from Rust's by ≤ 7e-5.
 const IMAGE_REL: f32 = 1e-3;
 
+/// Absolute error of the image coordinates (u, t) the GPU may make through atan2 and acos
+/// (lavapipe's differ from Rust's by ≤ 7e-5; see [`IMAGE_REL`]).
+const IMAGE_UV_ABS: f32 = 1e-4;
+
+/// Relative tolerance of the environment image's radiance towards `wi` (unit, towards the
+/// environment): the image is interpolated bilinearly, so an error δ in (u, t) moves the
+/// radiance by up to δ·(W + H) × the spread of the four texels read (a bright texel next to
+/// a dark one is the steepest); [`REL`] for every other light.
+fn radiance_tol(light: &Light, wi: Vec3, l: Vec3) -> f32 {
+    use refract::scene::env_map::{bilinear, dir_to_uv, rotate_y};
+    let Light::Image(e) = light else {
+        return if matches!(light, Light::Spot(_)) {
+            SPOT_REL
+        } else {
+            REL
+        };
+    };
+    let m = &e.image.map;
+    let uv = dir_to_uv(rotate_y(wi, e.cos_rot, -e.sin_rot));
+    let ((x0, x1, _), (y0, y1, _)) = bilinear(uv, m.width, m.height);
+    let w = m.width as usize;
+    let four = [y0 * w + x0, y0 * w + x1, y1 * w + x0, y1 * w + x1].map(|i| m.texels[i]);
+    let hi = four.iter().fold(Vec3::ZERO, |a, t| a.max(*t));
+    let lo = four
+        .iter()
+        .fold(Vec3::splat(f32::INFINITY), |a, t| a.min(*t));
+    let spread = e.image.strength * (hi - lo).length();
+    REL + spread * (m.width + m.height) as f32 * IMAGE_UV_ABS / l.length().max(1e-6)
+}
+
 const SPOT_INNER_DEG: f32 = 20.0;
 const SPOT_OUTER_DEG: f32 = 30.0;
 
@@ -284,11 +314,7 @@ fn compare_li(t: &mut Track, light: &Light, c: &LightProbeCase, o: &LightProbeOu
     let Some(s) = cpu.filter(|_| valid) else {
         return;
     };
-    let l_tol = if matches!(light, Light::Spot(_)) {
-        SPOT_REL
-    } else {
-        REL
-    };
+    let l_tol = radiance_tol(light, s.wi, s.l);
     let tol = if matches!(light, Light::Image(_)) {
         IMAGE_REL
     } else {
@@ -342,11 +368,7 @@ fn compare_sample_le(
         Light::Triangle(tl) if tl.two_sided && o.u_side < 0.5 => -s.n,
         _ => s.n,
     };
-    let l_tol = if matches!(light, Light::Spot(_)) {
-        SPOT_REL
-    } else {
-        REL
-    };
+    let l_tol = radiance_tol(light, -s.dir, s.l);
     // The image's direction (and the disk point in its frame) go through atan2, acos, sin.
     let tol = if matches!(light, Light::Image(_)) {
         IMAGE_REL
@@ -379,18 +401,9 @@ fn compare_sample_le(
 fn compare_le(t: &mut Track, light: &Light, c: &LightProbeCase, o: &LightProbeOut, i: usize) {
     let n = Vec3::from_array(c.n);
     let w = Vec3::from_array(c.w);
-    let l_tol = if matches!(light, Light::Spot(_)) {
-        SPOT_REL
-    } else {
-        REL
-    };
-    t.vec(
-        o.emitted,
-        light.le(Vec3::from_array(c.p), n, w),
-        "le",
-        l_tol,
-        i,
-    );
+    let l = light.le(Vec3::from_array(c.p), n, w);
+    let l_tol = radiance_tol(light, -w, l);
+    t.vec(o.emitted, l, "le", l_tol, i);
     let (pdf_pos, pdf_dir) = light.pdf_le(c.pick, n, w);
     let tol = if matches!(light, Light::Image(_)) {
         IMAGE_REL

@@ -31,14 +31,31 @@ scene = {
 if s.get("env_map"):
     # refract (three.js): u = atan2(z, x)/2π + 1/2; Mitsuba's envmap: u = atan2(x', -z')/2π in
     # its local frame, so local = R_y(-90°) world; refract's rotation turns the map about +Y.
-    # Mitsuba filters the map bilinearly, refract reads the nearest texel: repeat every texel
-    # 8 × 8 so the bilinear blur shrinks to an eighth of a texel.
+    # Both filter the map bilinearly with texel i's centre at u = (i + 1/2)/W, but Mitsuba puts
+    # its rows at t = j/(H - 1) (the first and last on the poles) where refract puts them at
+    # (j + 1/2)/H, clamped. Resample refract's bilinear function on a grid Mitsuba reads
+    # exactly: 7W columns (odd, so refract's texel centres fall on columns) and 8H + 1 rows
+    # (refract's centres (j + 1/2)/H = (8j + 4)/8H fall on rows); between grid points both are
+    # linear, so Mitsuba reproduces refract's function.
     import numpy as np
     e = s["env_map"]
     px = np.array(mi.Bitmap(os.path.join(d, e["file"])))[..., :3].astype(np.float32)
-    px = np.repeat(np.repeat(px, 8, axis=0), 8, axis=1)
-    mi.Bitmap(px).write(os.path.join(d, "env_x8.exr"))
-    scene["env"] = {"type": "envmap", "filename": os.path.join(d, "env_x8.exr"),
+    H, W = px.shape[:2]
+    u = (np.arange(7 * W) + 0.5) / (7 * W)
+    t = np.arange(8 * H + 1) / (8 * H)
+    x = u * W - 0.5
+    i0 = np.floor(x).astype(int)
+    fx = (x - i0)[None, :, None]
+    y = t * H - 0.5
+    j0 = np.floor(y).astype(int)
+    fy = (y - j0)[:, None, None]
+    c0, c1 = i0 % W, (i0 + 1) % W
+    r0, r1 = np.clip(j0, 0, H - 1), np.clip(j0 + 1, 0, H - 1)
+    top = px[r0][:, c0] * (1 - fx) + px[r0][:, c1] * fx
+    bottom = px[r1][:, c0] * (1 - fx) + px[r1][:, c1] * fx
+    mi.Bitmap((top * (1 - fy) + bottom * fy).astype(np.float32)).write(
+        os.path.join(d, "env_bilinear.exr"))
+    scene["env"] = {"type": "envmap", "filename": os.path.join(d, "env_bilinear.exr"),
                     "scale": e["strength"],
                     "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], e["rotation"] + 90.0)}
 elif max(s["environment"]) > 0:

@@ -27,9 +27,10 @@ pub struct EnvMap {
     pub height: u32,
     /// Linear RGB radiance, row-major, row 0 at the top (the zenith).
     pub texels: Vec<Vec3>,
-    /// ∝ luminance × sinθ per texel (PBR 4th ed. §12.5.2 `ImageInfiniteLight`).
+    /// ∝ mean luminance over the texel × sinθ (PBR 4th ed. §12.5.2 `ImageInfiniteLight`;
+    /// the mean of the interpolated image: `texel_means`).
     pub dist: Distribution2D,
-    /// ∫ luminance dω over the sphere (exact for the piecewise-constant image).
+    /// ∫ luminance dω over the sphere (of the interpolated image, from the texel means).
     pub lum_integral: f32,
     /// ∫ luminance² dω over the sphere: with `lum_integral`, how concentrated the light is
     /// (`scene::caustic_casters`).
@@ -107,17 +108,18 @@ impl EnvMap {
                 *t = Vec3::select(t.cmpge(Vec3::ZERO) & t.is_finite_mask(), *t, Vec3::ZERO);
             }
         }
-        let func: Vec<f32> = texels
+        let lum: Vec<f32> = texels.iter().map(|t| luminance(*t).max(0.0)).collect();
+        let filtered = texel_means(&lum, width as usize, height as usize);
+        let func: Vec<f32> = filtered
             .iter()
             .enumerate()
-            .map(|(i, t)| {
+            .map(|(i, l)| {
                 let row = i / width as usize;
-                let sin = (PI * (row as f32 + 0.5) / height as f32).sin();
-                luminance(*t).max(0.0) * sin
+                l * (PI * (row as f32 + 0.5) / height as f32).sin()
             })
             .collect();
         let dist = Distribution2D::new(&func, width as usize, height as usize);
-        let (lum_integral, lum_sq_integral) = lum_integrals(&texels, width, height);
+        let (lum_integral, lum_sq_integral) = lum_integrals(&filtered, width, height);
         let map = EnvMap {
             width,
             height,
@@ -130,13 +132,15 @@ impl EnvMap {
         (map, bad)
     }
 
-    /// Radiance of the texel containing (u, t) (nearest, matching the piecewise-constant
-    /// sampling density exactly).
+    /// Radiance at (u, t), interpolated bilinearly between texel centres at
+    /// ((i + ½)/W, (j + ½)/H) as Mitsuba 3's `envmap` and three.js filter: periodic in u,
+    /// clamped to the edge rows in t. See [`bilinear`].
     #[inline]
     pub fn lookup_uv(&self, uv: Vec2) -> Vec3 {
-        let x = ((uv.x * self.width as f32) as usize).min(self.width as usize - 1);
-        let y = ((uv.y * self.height as f32) as usize).min(self.height as usize - 1);
-        self.texels[y * self.width as usize + x]
+        let ((x0, x1, fx), (y0, y1, fy)) = bilinear(uv, self.width, self.height);
+        let w = self.width as usize;
+        let row = |y: usize| self.texels[y * w + x0] * (1.0 - fx) + self.texels[y * w + x1] * fx;
+        row(y0) * (1.0 - fy) + row(y1) * fy
     }
 
     /// ∫ luminance dω over the sphere.
@@ -208,17 +212,68 @@ impl EnvMap {
     }
 }
 
-/// Σ luminance × texel solid angle, a row's texels spanning (2π/W)(cos θ₀ − cos θ₁).
-/// ∫ luminance dω and ∫ luminance² dω over the sphere (exact for the piecewise-constant
-/// image).
-fn lum_integrals(texels: &[Vec3], width: u32, height: u32) -> (f32, f32) {
+/// The two texels and the weight of the second along each axis for a bilinear lookup at
+/// (u, t): ((x₀, x₁, fx), (y₀, y₁, fy)), texel i's centre at (i + ½)/W, x wrapping around
+/// (the image is periodic in longitude), y clamped to the first and last rows (the poles).
+/// A coordinate outside [−2, 2] (or NaN) reads as 0, as in the GPU twin.
+#[inline]
+pub fn bilinear(uv: Vec2, width: u32, height: u32) -> ((usize, usize, f32), (usize, usize, f32)) {
+    let axis = |c: f32, n: u32, wrap: bool| {
+        let x = if c.abs() <= 2.0 {
+            c.clamp(-1.0, 2.0)
+        } else {
+            0.0
+        } * n as f32
+            - 0.5;
+        let f = x.floor();
+        let i = f as i64;
+        let (i0, i1) = if wrap {
+            (i.rem_euclid(n as i64), (i + 1).rem_euclid(n as i64))
+        } else {
+            (i.clamp(0, n as i64 - 1), (i + 1).clamp(0, n as i64 - 1))
+        };
+        (i0 as usize, i1 as usize, x - f)
+    };
+    (axis(uv.x, width, true), axis(uv.y, height, false))
+}
+
+/// The mean of the bilinearly interpolated image over each texel's footprint: the texel
+/// filtered with the separable kernel [1, 6, 1]/8 (∫ of the tent over the box), wrapping in
+/// x and clamping in y like [`bilinear`]. The sampling distribution is built from these
+/// means, so its density is positive wherever the interpolated radiance is (a texel whose
+/// footprint the tent of a bright neighbour reaches gets that neighbour's weight), which
+/// keeps importance sampling and MIS unbiased (PBR 3rd ed. §14.2.4 builds
+/// `InfiniteAreaLight`'s distribution from filtered lookups of the map for the same reason).
+fn texel_means(lum: &[f32], w: usize, h: usize) -> Vec<f32> {
+    let at = |x: usize, y: usize| lum[y * w + x];
+    let mut rows = vec![0.0f32; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let (l, r) = ((x + w - 1) % w, (x + 1) % w);
+            rows[y * w + x] = (at(l, y) + 6.0 * at(x, y) + at(r, y)) / 8.0;
+        }
+    }
+    let mut out = vec![0.0f32; w * h];
+    for y in 0..h {
+        let (u, d) = (y.saturating_sub(1), (y + 1).min(h - 1));
+        for x in 0..w {
+            out[y * w + x] = (rows[u * w + x] + 6.0 * rows[y * w + x] + rows[d * w + x]) / 8.0;
+        }
+    }
+    out
+}
+
+/// Σ luminance × texel solid angle, a row's texels spanning (2π/W)(cos θ₀ − cos θ₁), from
+/// the texels' mean luminances ([`texel_means`]): ∫ luminance dω and (approximately, the
+/// mean's square standing for the mean square) ∫ luminance² dω over the sphere.
+fn lum_integrals(lum: &[f32], width: u32, height: u32) -> (f32, f32) {
     let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
-    for (row, texels) in texels.chunks(width as usize).enumerate() {
+    for (row, texels) in lum.chunks(width as usize).enumerate() {
         let t0 = row as f64 / height as f64 * std::f64::consts::PI;
         let t1 = (row + 1) as f64 / height as f64 * std::f64::consts::PI;
         let omega = 2.0 * std::f64::consts::PI / width as f64 * (t0.cos() - t1.cos());
-        for t in texels {
-            let lum = luminance(*t).max(0.0) as f64;
+        for &l in texels {
+            let lum = l as f64;
             sum += lum * omega;
             sum_sq += lum * lum * omega;
         }

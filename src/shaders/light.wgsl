@@ -136,7 +136,8 @@ fn env_uv_to_dir(uv: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(s * cos(phi), cos(theta), s * sin(phi));
 }
 
-// The texel (r, g, b, p(u,t)) containing image coordinates uv (nearest; `EnvMap::lookup_uv`).
+// The texel (r, g, b, p(u,t)) containing image coordinates uv (nearest: the cell of the
+// piecewise-constant density `Distribution2D::pdf`; radiance is `light_image_radiance`).
 fn light_image_texel(h: vec4<u32>, uv: vec2<f32>) -> vec4<f32> {
     let x = min(u32(uv.x * f32(h.x)), h.x - 1u);
     let y = min(u32(uv.y * f32(h.y)), h.y - 1u);
@@ -148,10 +149,41 @@ fn light_image_uv(light: Light, wi: vec3<f32>) -> vec2<f32> {
     return env_dir_to_uv(env_rotate_y(wi, light.direction[0], -light.direction[1]));
 }
 
-// Radiance arriving from direction wi (`ImageEnvironment::radiance`).
+// One axis of a bilinear lookup: (first texel, second texel, weight of the second), texel
+// i's centre at (i + ½)/n; wrapping (longitude) or clamped to the edge (rows). Twin of
+// `env_map::bilinear`'s `axis`.
+fn env_bilinear_axis(c: f32, n: u32, wrap: bool) -> vec3<f32> {
+    var cc = 0.0;
+    if abs(c) <= 2.0 {
+        cc = clamp(c, -1.0, 2.0);
+    }
+    let x = cc * f32(n) - 0.5;
+    let f = floor(x);
+    let i = i32(f);
+    let ni = i32(n);
+    var i0 = clamp(i, 0, ni - 1);
+    var i1 = clamp(i + 1, 0, ni - 1);
+    if wrap {
+        i0 = ((i % ni) + ni) % ni;
+        i1 = (((i + 1) % ni) + ni) % ni;
+    }
+    return vec3<f32>(f32(i0), f32(i1), x - f);
+}
+
+// Radiance arriving from direction wi, bilinear between texel centres
+// (`ImageEnvironment::radiance`, `EnvMap::lookup_uv`).
 fn light_image_radiance(light: Light, wi: vec3<f32>) -> vec3<f32> {
-    let t = light_image_texel(light_image_header(light), light_image_uv(light, wi));
-    return light.intensity[0] * t.xyz;
+    let h = light_image_header(light);
+    let uv = light_image_uv(light, wi);
+    let ax = env_bilinear_axis(uv.x, h.x, true);
+    let ay = env_bilinear_axis(uv.y, h.y, false);
+    let x0 = u32(ax.x);
+    let x1 = u32(ax.y);
+    let r0 = h.z + u32(ay.x) * h.x;
+    let r1 = h.z + u32(ay.y) * h.x;
+    let top = mix(texels[r0 + x0].xyz, texels[r0 + x1].xyz, ax.z);
+    let bottom = mix(texels[r1 + x0].xyz, texels[r1 + x1].xyz, ax.z);
+    return light.intensity[0] * mix(top, bottom, ay.z);
 }
 
 // Solid-angle density of the sampled direction wi, p(u,t) / (2π² sinθ) (PBR 3rd ed.
