@@ -10,9 +10,11 @@ pub mod photon_aim;
 pub mod photon_radius;
 pub mod race;
 pub mod settings;
+pub mod shard;
 pub mod stats;
 
 pub use device::Device;
 pub use estimator::Estimator;
 pub use options::RenderOptions;
+pub use shard::Shard;
 pub use stats::RenderStats;
