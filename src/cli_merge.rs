@@ -1,9 +1,10 @@
 //! `refract merge a.exr b.exr … --out full.exr`: the shards of `render --shard I/N` into one
-//! image (`film::merge`), written atomically with the union's record ("merged k/N"); an
+//! image (`render::shard_merge`), written atomically with the union's record ("merged k/N"); an
 //! incomplete set still merges, with a warning naming the missing shards.
 
 use anyhow::{Context, Result};
-use refract::film::{self, exr_record, merge};
+use refract::film;
+use refract::render::{shard_exr, shard_merge};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Clone)]
@@ -18,9 +19,9 @@ pub(crate) struct MergeArgs {
 
 /// Check the output, merge the files, warn about missing shards, write the image.
 pub(crate) fn run(args: &MergeArgs) -> Result<()> {
-    exr_record::require_exr(&args.out, "--out", "(the merge is linear float RGB)")?;
+    shard_exr::require_exr(&args.out, "--out", "(the merge is linear float RGB)")?;
     film::probe_writable(&args.out).context("--out")?;
-    let m = merge::merge(&args.files)?;
+    let m = shard_merge::merge(&args.files)?;
     let r = &m.record;
     if !m.missing.is_empty() {
         let list: Vec<String> = m
@@ -40,13 +41,13 @@ pub(crate) fn run(args: &MergeArgs) -> Result<()> {
             r.spp_total
         );
     }
-    exr_record::write_exr(&args.out, (m.width, m.height), &m.pixels, r)?;
+    shard_exr::write_exr(&args.out, (m.width, m.height), &m.pixels, r)?;
     eprintln!(
         "wrote {} — {} from {} files, samples {} ({} spp), seed {}, estimator {}",
         args.out.display(),
         r.shard,
         args.files.len(),
-        exr_record::ranges_text(&r.samples),
+        shard_exr::ranges_text(&r.samples),
         r.spp,
         r.seed,
         r.estimator

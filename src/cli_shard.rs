@@ -1,14 +1,14 @@
 //! `render --shard I/N` (issue 37): one of N disjoint slices of the render's samples
 //! (`render::shard`), written as an EXR whose header records which samples of which render it
-//! holds (`film::exr_record`), for `refract merge` (`cli_merge`).
+//! holds (`render::shard_exr`), for `refract merge` (`cli_merge`).
 
 use super::RenderArgs;
 use super::cli_job::Job;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
-use refract::film::exr_record::{self, RenderRecord, ShardOf};
 use refract::math::fnv::Fnv1a64;
-use refract::render::{Estimator, Shard};
+use refract::render::shard_exr::{self, RenderRecord, ShardOf};
+use refract::render::{Device, Estimator, Shard};
 use refract::scene::Scene;
 use std::ops::Range;
 
@@ -43,7 +43,7 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<Option<ShardPlan>> {
             shard.count
         );
     }
-    exr_record::require_exr(
+    shard_exr::require_exr(
         &args.out,
         "--out",
         "with --shard (the header records the samples)",
@@ -53,6 +53,12 @@ pub(crate) fn plan(args: &RenderArgs) -> Result<Option<ShardPlan>> {
     }
     if args.decompose.is_some() || args.aov.is_some() {
         bail!("--shard does not split --decompose or --aov renders");
+    }
+    if args.device == Device::Auto {
+        eprintln!(
+            "note: --shard with --device auto: the CPU and the GPU draw different samples, so \
+             give every shard the same --device cpu or gpu (merge refuses a mix)"
+        );
     }
     Ok(Some(ShardPlan {
         shard,
@@ -86,7 +92,7 @@ pub(crate) fn save(
         estimator: estimator.to_string(),
         settings,
     };
-    exr_record::write_exr(&args.out, (w, h), img, &record)?;
+    shard_exr::write_exr(&args.out, (w, h), img, &record)?;
     eprintln!(
         "shard {}: samples {}..{} of {} spp (merge the shards with `refract merge`)",
         plan.shard, plan.samples.start, plan.samples.end, plan.spp_total

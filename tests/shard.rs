@@ -5,7 +5,7 @@
 
 mod common_scenes;
 use glam::Vec3;
-use refract::film::exr_record::read_exr;
+use refract::render::shard_exr::read_exr;
 use refract::render::{Estimator, RenderOptions, Shard};
 use refract::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -136,7 +136,8 @@ fn four_shards_equal_one_machine(estimator: &str) {
     assert!(!err.contains("warning"), "a complete set: {err}");
     let merged = read_exr(&full).expect("merged EXR");
     let r = merged.record.expect("the merge's record");
-    assert_eq!((r.spp, r.samples), (u64::from(SPP), vec![0..SPP]));
+    let all = 0..SPP;
+    assert_eq!((r.spp, r.samples), (u64::from(SPP), vec![all]));
     assert_eq!(r.shard.to_string(), "merged 4/4");
     let single = read_exr(&one).expect("one-machine EXR");
     let worst = assert_close(&merged.pixels, &single.pixels, estimator);

@@ -3,9 +3,7 @@
 //! [`crate::math::color`].
 
 pub mod atomic;
-pub mod exr_record;
 pub mod image_io;
-pub mod merge;
 pub mod tonemap;
 
 pub use atomic::write_atomically;

@@ -2,7 +2,7 @@
 //! takes the contiguous sample indices `spp·(I−1)/N .. spp·I/N` of the one-machine render's
 //! `0 .. spp`. The renderers draw every sample from a counter-based RNG keyed by (pixel,
 //! sample index, seed), so the N shards together draw exactly the one-machine render's
-//! samples, and their spp-weighted mean is its image (`film::merge`).
+//! samples, and their spp-weighted mean is its image (`render::shard_merge`).
 
 use std::ops::Range;
 

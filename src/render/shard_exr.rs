@@ -2,7 +2,7 @@
 //! machines): linear float RGB, plus text attributes `refract.*` in the header — this file's
 //! spp, the whole render's spp, the seed, the shard "I/N" (or "merged k/N"), the sample index
 //! ranges, a hash of the scene, the estimator and the render settings as JSON. `refract merge`
-//! reads them back to refuse files that do not belong together (`film::merge`).
+//! reads them back to refuse files that do not belong together (`render::shard_merge`).
 //!
 //! Values are UTF-8 text (OpenEXR's text attributes are byte strings).
 
@@ -191,8 +191,10 @@ pub fn write_exr(
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create folder '{}'", dir.display()))?;
     }
-    let mut attrs = LayerAttributes::default();
-    attrs.software_name = Some(Text::from("refract"));
+    let mut attrs = LayerAttributes {
+        software_name: Some(Text::from("refract")),
+        ..Default::default()
+    };
     for (k, v) in record.fields() {
         let name = Text::from_slice_unchecked(format!("{PREFIX}{k}").as_bytes());
         let value = Text::from_slice_unchecked(v.as_bytes());
@@ -203,7 +205,7 @@ pub fn write_exr(
         (v.x, v.y, v.z)
     });
     let image = Image::from_layer(Layer::new((w, h), attrs, Encoding::FAST_LOSSLESS, pixels));
-    super::write_atomically(path, |tmp| {
+    crate::film::write_atomically(path, |tmp| {
         image
             .write()
             .to_file(tmp)
@@ -282,7 +284,7 @@ mod tests {
             spp_total: 16,
             seed: 3,
             shard: ShardOf::One(Shard::parse("2/3").expect("shard")),
-            samples: vec![5..10],
+            samples: [5, 7, 10].windows(2).map(|w| w[0]..w[1]).collect(),
             scene_hash: 0x0123_4567_89ab_cdef,
             scene: "builtin:cornell-glass — ü".into(),
             estimator: "bdpt".into(),
