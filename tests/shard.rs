@@ -84,10 +84,25 @@ fn render_args(scene: &str, estimator: &str, seed: u32, out: &Path) -> Vec<Strin
 }
 
 /// Render shard `i`/`n` into `dir`; its path.
-fn shard(dir: &Path, (scene, estimator, seed): (&str, &str, u32), i: u32, n: u32) -> PathBuf {
-    let out = dir.join(format!("{estimator}-{seed}-{i}of{n}.exr"));
+fn shard(dir: &Path, job: (&str, &str, u32), i: u32, n: u32) -> PathBuf {
+    shard_with(dir, job, (i, n), &[])
+}
+
+/// [`shard`] with `extra` flags (named in the file name).
+fn shard_with(
+    dir: &Path,
+    (scene, estimator, seed): (&str, &str, u32),
+    (i, n): (u32, u32),
+    extra: &[&str],
+) -> PathBuf {
+    let tag: String = format!("{scene}{}", extra.concat())
+        .chars()
+        .filter(char::is_ascii_alphanumeric)
+        .collect();
+    let out = dir.join(format!("{tag}-{estimator}-{seed}-{i}of{n}.exr"));
     let mut a = render_args(scene, estimator, seed, &out);
     a.extend(["--shard".to_owned(), format!("{i}/{n}")]);
+    a.extend(extra.iter().map(|x| x.to_string()));
     ok(&a.iter().map(String::as_str).collect::<Vec<_>>());
     out
 }
@@ -208,6 +223,23 @@ fn merge_refuses_files_that_do_not_belong_together() {
     assert_ne!(code, 0);
     assert!(
         err.contains("estimator") && err.contains(&s(&bdpt)),
+        "{err}"
+    );
+    let deeper = shard_with(&dir, job, (2, 4), &["--max-depth", "3"]);
+    let (code, err) = merge(&[s1.clone(), deeper.clone()], &out);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("settings.max_depth 3") && err.contains(&s(&deeper)),
+        "{err}"
+    );
+    // Another scene with the same settings.
+    let depth = ["--max-depth", "6", "--rr-depth", "4"];
+    let here = shard_with(&dir, job, (1, 4), &depth);
+    let there = shard_with(&dir, ("builtin:caustic", "path", 1), (2, 4), &depth);
+    let (code, err) = merge(&[here, there.clone()], &out);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("scene hash") && err.contains(&s(&there)),
         "{err}"
     );
     // The same shard twice (a copy), and a merge together with a shard it holds.

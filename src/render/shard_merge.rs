@@ -99,7 +99,8 @@ fn read_input(path: &Path) -> Result<Input> {
     })
 }
 
-/// `b` is of the same render as `a`: size, scene, seed, estimator, settings and split.
+/// `b` is of the same render as `a`: size, seed, estimator, split, settings, then the scene
+/// (its hash covers the settings too, so a settings difference is named as such first).
 fn check_same(a: &Input, b: &Input) -> Result<()> {
     let differs = |what: &str, va: String, vb: String| -> Result<()> {
         if va != vb {
@@ -114,11 +115,6 @@ fn check_same(a: &Input, b: &Input) -> Result<()> {
     let size = |i: &Input| format!("{}x{}", i.exr.width, i.exr.height);
     let (ra, rb) = (&a.record, &b.record);
     differs("image size", size(a), size(b))?;
-    differs(
-        "scene hash",
-        format!("{:016x}", ra.scene_hash),
-        format!("{:016x}", rb.scene_hash),
-    )?;
     differs("seed", ra.seed.to_string(), rb.seed.to_string())?;
     differs("estimator", ra.estimator.clone(), rb.estimator.clone())?;
     differs(
@@ -131,16 +127,33 @@ fn check_same(a: &Input, b: &Input) -> Result<()> {
         ra.shard.count().to_string(),
         rb.shard.count().to_string(),
     )?;
-    if a.settings != b.settings {
-        bail!(
-            "'{}' does not belong with '{}': settings {} ≠ {}",
-            b.path.display(),
-            a.path.display(),
-            rb.settings,
-            ra.settings
-        );
+    if let Some((key, va, vb)) = first_difference(&a.settings, &b.settings) {
+        differs(&format!("settings.{key}"), va, vb)?;
     }
-    Ok(())
+    differs(
+        "scene hash",
+        format!("{:016x}", ra.scene_hash),
+        format!("{:016x}", rb.scene_hash),
+    )
+}
+
+/// The first key (in sorted order) whose value differs between two settings objects, and
+/// the two values as JSON (`null` where one lacks it); a non-object compares whole.
+fn first_difference(
+    a: &serde_json::Value,
+    b: &serde_json::Value,
+) -> Option<(String, String, String)> {
+    let (Some(oa), Some(ob)) = (a.as_object(), b.as_object()) else {
+        return (a != b).then(|| (String::new(), a.to_string(), b.to_string()));
+    };
+    let mut keys: Vec<&String> = oa.keys().chain(ob.keys()).collect();
+    keys.sort();
+    keys.dedup();
+    let null = serde_json::Value::Null;
+    keys.into_iter().find_map(|k| {
+        let (va, vb) = (oa.get(k).unwrap_or(&null), ob.get(k).unwrap_or(&null));
+        (va != vb).then(|| (k.clone(), va.to_string(), vb.to_string()))
+    })
 }
 
 /// No sample index in two files (a shard given twice, or shards of two splits); returns the
