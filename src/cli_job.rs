@@ -3,6 +3,7 @@
 //! sidecar key or scene field it came from.
 
 use super::RenderArgs;
+use super::cli_shard::ShardPlan;
 use anyhow::{Context, Result, bail};
 use refract::film::ToneMap;
 use refract::math::spectrum;
@@ -27,10 +28,22 @@ pub(crate) struct Job {
     pub(crate) measure_auto: bool,
     /// `--max-film-gib` in bytes.
     pub(crate) max_film_bytes: u64,
+    /// The scene as given (flag, sidecar or the default).
+    pub(crate) spec: String,
+    /// `--shard I/N`: the slice of the samples to render (`spp` is its size then).
+    pub(crate) shard: Option<ShardPlan>,
+}
+
+impl Job {
+    /// Index of the first sample to render (a shard's slice; 0 otherwise).
+    pub(crate) fn first_sample(&self) -> u32 {
+        self.shard.as_ref().map_or(0, |p| p.samples.start)
+    }
 }
 
 /// The scene to render (sidecar edits and flags applied) and the job's other values.
 pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
+    let shard = super::cli_shard::plan(args)?;
     let sidecar = args
         .settings
         .as_deref()
@@ -54,7 +67,10 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
     apply_flags(args, &mut scene.settings)?;
     let s = scene.settings;
     check_size(args, sidecar.as_ref(), &spec, &s)?;
-    let spp = resolve_spp(args, sidecar_spp, &spec, s.spp)?;
+    let spp = match &shard {
+        Some(p) => Some(p.samples.end - p.samples.start),
+        None => resolve_spp(args, sidecar_spp, &spec, s.spp)?,
+    };
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
@@ -79,6 +95,8 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         choice,
         measure_auto,
         max_film_bytes: film_budget(args),
+        spec,
+        shard,
     };
     Ok((scene, job))
 }

@@ -84,7 +84,8 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     });
     bar.finish_and_clear();
     let (w, h) = (opts.width, opts.height);
-    film::save_image(&args.out, w, h, &film.image(), job.exposure, job.tone)?;
+    let what = (opts.estimator, "cpu");
+    super::cli_shard::save(args, &renderer.scene, job, (w, h), &film.image(), what)?;
     eprintln!(
         "wrote {} — {} spp in {:.2} s, {:.3} M samples/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),
@@ -105,6 +106,7 @@ fn cpu_options(renderer: &Renderer, job: &Job) -> RenderOptions {
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
+    opts.first_sample = job.first_sample();
     opts.set_filter(Some(&job.filter));
     opts.estimator = job.estimator;
     if job.estimator == Estimator::LtPt {

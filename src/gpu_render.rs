@@ -5,7 +5,6 @@ use super::RenderArgs;
 use super::cli_job::Job;
 use super::cli_render::{budget_report, spp_progress_bar, spp_text};
 use anyhow::Result;
-use refract::film;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
 use refract::render::{Device, Estimator, RenderOptions};
 use refract::scene::Scene;
@@ -33,6 +32,7 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     let mut opts = RenderOptions::from_scene(scene);
     opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
+    opts.first_sample = job.first_sample();
     opts.set_filter(Some(&job.filter));
     opts.estimator = estimator;
     let name = ctx.describe();
@@ -51,7 +51,8 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     };
     let stats = r.stats()?;
     let (w, h) = (img.width, img.height);
-    film::save_image(&args.out, w, h, &img.mean, job.exposure, job.tone)?;
+    let what = (r.effective_estimator(), "gpu");
+    super::cli_shard::save(args, scene, job, (w, h), &img.mean, what)?;
     eprintln!(
         "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),

@@ -1,11 +1,11 @@
-//! `refract` command line: view | render | trace | bench. No subcommand opens the viewer.
+//! `refract` command line: view | render | trace | bench | merge. No subcommand opens the viewer.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use refract::film;
 use refract::math::spectrum;
 use refract::render::settings::abbreviate;
-use refract::render::{Device, Estimator};
+use refract::render::{Device, Estimator, Shard};
 use refract::scene::{MAX_IMAGE_SIDE, Scene};
 use std::path::PathBuf;
 use std::time::Duration;
@@ -14,8 +14,10 @@ mod cli_duration;
 mod cli_job;
 mod cli_layers;
 mod cli_load;
+mod cli_merge;
 mod cli_race;
 mod cli_render;
+mod cli_shard;
 mod cli_trace;
 mod gpu_render;
 
@@ -43,6 +45,9 @@ enum Command {
     Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
+    /// Merge the EXRs of `render --shard I/N` into one image (the mean weighted by spp); files
+    /// of another render or overlapping shards are refused.
+    Merge(cli_merge::MergeArgs),
     /// Print a shell completion script: `refract completions bash > /etc/bash_completion.d/refract`
     /// (bash, zsh, fish, elvish, powershell).
     Completions { shell: clap_complete::Shell },
@@ -266,6 +271,11 @@ struct RenderArgs {
     /// built-ins (docs/estimators.md, "Choosing by measurement").
     #[arg(long)]
     measure_auto: bool,
+    /// Render shard I of N (1 ≤ I ≤ N): samples spp·(I−1)/N .. spp·I/N of the --spp asked
+    /// for, into an .exr whose header records them; `refract merge` joins the N shards into
+    /// the image one machine renders with the same seed. Needs --spp.
+    #[arg(long, value_name = "I/N", value_parser = Shard::parse, allow_hyphen_values = true)]
+    shard: Option<Shard>,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
@@ -492,6 +502,7 @@ fn main() {
         Some(Command::Render(args)) => cli_render::render(&args),
         Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
+        Some(Command::Merge(args)) => cli_merge::run(&args),
         Some(Command::View(args)) => view(args),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();

@@ -29,7 +29,7 @@ fn completions_and_the_manual_cover_every_subcommand() {
     let bash = stdout(&["completions", "bash"]);
     let man = stdout(&["man"]);
     assert!(man.contains(".TH refract 1"), "a roff manual page");
-    for sub in ["view", "render", "trace", "bench"] {
+    for sub in ["view", "render", "trace", "bench", "merge"] {
         assert!(bash.contains(sub), "bash completion lacks '{sub}'");
         assert!(man.contains(sub), "the manual lacks '{sub}'");
     }

@@ -300,7 +300,8 @@ impl Renderer {
     }
 
     /// Render `spp` samples per pixel (or until `budget` runs out, whichever first; at least
-    /// one pass). `progress` is called after each pass with the samples done so far.
+    /// one pass), sample indices `opts.first_sample ..`. `progress` is called after each pass
+    /// with the samples done so far.
     pub fn render(
         &self,
         opts: &RenderOptions,
@@ -336,7 +337,7 @@ impl Renderer {
     }
 
     /// Run `pass(first_spp, count)` in passes of `opts.pass_spp()` until `spp` samples or
-    /// the time budget (at least one pass).
+    /// the time budget (at least one pass), from sample index `opts.first_sample` on.
     fn render_passes(
         &self,
         opts: &RenderOptions,
@@ -352,7 +353,7 @@ impl Renderer {
             let n = pass_spp
                 .min(spp - done)
                 .min(budget.map_or(u32::MAX, |b| spp_that_fit(b, start.elapsed(), done)));
-            pass(done, n);
+            pass(opts.first_sample.saturating_add(done), n);
             done += n;
             progress(done as u64);
             if let Some(b) = budget

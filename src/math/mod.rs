@@ -3,6 +3,7 @@
 
 pub mod color;
 pub mod distribution;
+pub mod fnv;
 pub mod frame;
 pub mod prism;
 pub mod rng;

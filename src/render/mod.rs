@@ -1,6 +1,8 @@
 //! The render vocabulary shared by the CPU and GPU renderers and their callers (CLI, bench,
 //! viewer): one options type, one estimator enum (with `auto`), one stats type, one device
-//! choice, and the settings sidecar that turns a loaded scene into the job that is rendered.
+//! choice, the settings sidecar that turns a loaded scene into the job that is rendered, and
+//! the shards of a render split across machines (`shard`: which samples, `shard_exr`: the
+//! file that records them, `shard_merge`: joining them).
 //! Nothing here renders; `cpu` and `gpu` sit above it and never import each other.
 
 pub mod device;
@@ -10,9 +12,13 @@ pub mod photon_aim;
 pub mod photon_radius;
 pub mod race;
 pub mod settings;
+pub mod shard;
+pub mod shard_exr;
+pub mod shard_merge;
 pub mod stats;
 
 pub use device::Device;
 pub use estimator::Estimator;
 pub use options::RenderOptions;
+pub use shard::Shard;
 pub use stats::RenderStats;

@@ -12,6 +12,10 @@ pub struct RenderOptions {
     pub max_depth: u32,
     pub rr_depth: u32,
     pub seed: u32,
+    /// Index of the first sample `render` draws (0; shard I of N of a split render starts at
+    /// its slice, `render::shard`): samples `first_sample ..` are those a one-machine render
+    /// draws at these indices.
+    pub first_sample: u32,
     /// Heckbert path filter (eye→light table); None = all paths.
     pub filter: Option<DfaTable>,
     /// The same filter in light→eye order (bidirectional estimators).
@@ -35,6 +39,7 @@ impl RenderOptions {
             max_depth: s.max_depth,
             rr_depth: s.rr_depth,
             seed: 0,
+            first_sample: 0,
             filter: None,
             filter_forward: None,
             estimator: Estimator::Path,

@@ -146,7 +146,9 @@ impl GpuRenderer {
             seed: self.opts.seed,
             max_depth: self.opts.max_depth.max(1),
             rr_depth: self.opts.rr_depth,
-            sample_offset: first as u32,
+            // A shard of a split render draws from its first sample index on (`first` counts
+            // the samples accumulated, which weigh the running mean).
+            sample_offset: u64::from(self.opts.first_sample).saturating_add(first) as u32,
             batch,
             light_count: self.light_count,
             w_old: (n / (n + k)) as f32,
@@ -360,7 +362,8 @@ impl GpuRenderer {
         pass.dispatch_workgroups(groups.0, groups.1, groups.2);
     }
 
-    /// Add `spp` samples per pixel (in batches) and return the accumulated image.
+    /// Add `spp` samples per pixel (in batches) and return the accumulated image. The first
+    /// sample index is `opts.first_sample` plus the samples already accumulated.
     pub fn render(&mut self, spp: u32) -> Result<GpuImage> {
         self.render_with(spp, None, |_| {})
     }
