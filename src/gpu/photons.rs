@@ -48,6 +48,32 @@ pub fn iterations_for(paths: u32, cap: u64) -> u32 {
         .unwrap_or(1)
 }
 
+/// The most photon paths per iteration whose store (one iteration) fits `cap` bytes per
+/// binding: an image's one slot per pixel is capped to it on devices with small bindings
+/// (lavapipe and many laptop GPUs bind 128 MiB: 4K with sppm wanted 379 MiB). Fewer photons
+/// per iteration keep sppm consistent (each iteration's estimate is normalised by its own
+/// photon count); they only make each iteration noisier.
+pub fn max_paths(cap: u64) -> u32 {
+    let fits = |p: u32| {
+        let (ph, g) = store_bytes(p, 1);
+        ph.max(g) <= cap
+    };
+    let (mut lo, mut hi) = (1u32, u32::MAX / 2);
+    if fits(hi) {
+        return hi;
+    }
+    // Invariant: fits(lo) (or lo = 1), !fits(hi).
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// The photon store: `photons` holds one slot per photon path of each of `iterations`
 /// iterations (each path stores at most one photon), `grid` the counters, one link per slot and
 /// `buckets` heads per iteration.
@@ -55,20 +81,24 @@ pub struct PhotonStore {
     pub photons: wgpu::Buffer,
     pub grid: wgpu::Buffer,
     pub buckets: u32,
-    /// Photon slots per iteration (photon paths per iteration).
+    /// Photon slots per iteration (photon paths per iteration): `requested`, at most
+    /// [`max_paths`] of the device's binding.
     pub paths: u32,
+    /// The slots asked for (one per pixel with sppm).
+    pub requested: u32,
     /// Iterations one submission may run.
     pub iterations: u32,
 }
 
 impl PhotonStore {
     /// A store for `paths` photon paths per iteration (1 for a placeholder: kernels without
-    /// photons still bind the buffers). Errors if one iteration exceeds the device's binding
-    /// size.
+    /// photons still bind the buffers), capped to what one binding of the device holds
+    /// ([`max_paths`]).
     pub fn new(ctx: &GpuContext, paths: u32) -> Result<PhotonStore> {
-        let paths = paths.max(1);
-        let buckets = buckets(paths);
+        let requested = paths.max(1);
         let cap = ctx.max_binding_bytes();
+        let paths = requested.min(max_paths(cap));
+        let buckets = buckets(paths);
         let iterations = if paths > 1 {
             iterations_for(paths, cap)
         } else {
@@ -97,6 +127,7 @@ impl PhotonStore {
             grid: buffer("photon grid", grid_bytes),
             buckets,
             paths,
+            requested,
             iterations,
         })
     }
@@ -136,6 +167,13 @@ mod tests {
         assert_eq!(iterations_for(512 * 512, cap), 10);
         assert_eq!(iterations_for(1920 * 1080, cap), 1);
         assert_eq!(iterations_for(3840 * 2160, cap), 1);
+        // 4K wants 8.3 M slots: capped to what 128 MiB binds, which then fits.
+        let most = max_paths(cap);
+        assert!((2_000_000..3_000_000).contains(&most), "{most}");
+        let (p, g) = store_bytes(most, 1);
+        assert!(p.max(g) <= cap);
+        let (p, g) = store_bytes(most + 1, 1);
+        assert!(p.max(g) > cap);
         for paths in [1, 1000, 512 * 512, 1920 * 1080] {
             let k = iterations_for(paths, cap);
             let (p, g) = store_bytes(paths, k);

@@ -149,7 +149,7 @@ impl GpuRenderer {
     /// with sppm, a placeholder otherwise) and rebind when it changes.
     fn fit_photon_store(&mut self) -> Result<()> {
         let paths = photon_paths(self.spec.sppm, &self.opts).max(1);
-        if paths == self.buffers.photon_store.paths {
+        if paths == self.buffers.photon_store.requested {
             return Ok(());
         }
         self.buffers.photon_store = self.ctx.scoped("cannot create the photon store", || {

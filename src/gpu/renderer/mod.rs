@@ -211,9 +211,9 @@ type BuiltBuffers = (Buffers, u32, Vec<upload::TexSlots>);
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
 
 /// The accumulation film's and the splat film's sizes in bytes for `opts`, or an error when
-/// either is larger than one binding. Path tracing renders an image larger than one binding
-/// in tiles of rows (`tiles`); light tracing and photons need the whole image in every
-/// submission.
+/// either is larger than one binding. Path tracing and sppm render an image larger than one
+/// binding in tiles of rows (`tiles`; sppm traces every iteration's photons again for each
+/// tile); light tracing splats anywhere and needs the whole image in every submission.
 fn film_bytes(
     ctx: &GpuContext,
     scene: &Scene,
@@ -223,7 +223,7 @@ fn film_bytes(
     let light_tracing = light_tracing_for(opts, scene);
     let splat_bytes = splat_film_bytes(light_tracing, opts);
     let cap = ctx.max_binding_bytes();
-    let whole = !tiles || light_tracing || sppm_for(opts, scene);
+    let whole = !tiles || light_tracing;
     let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
     ensure!(
         accum_bytes.max(splat_bytes) <= cap,

@@ -128,7 +128,9 @@ impl GpuRenderer {
         let (mut aimed, mut target_count) = (1, 0);
         if self.spec.sppm {
             let (aim, fraction) = self.photon_aim();
-            aimed = photon_aim::photon_paths(photon_paths(true, &self.opts), *fraction);
+            // At most the store's slots (capped to the device's binding: `photons::max_paths`).
+            aimed = photon_aim::photon_paths(photon_paths(true, &self.opts), *fraction)
+                .min(self.buffers.photon_store.paths);
             target_count = aim.spheres.len() as u32;
             for (t, s) in targets.iter_mut().zip(&aim.spheres) {
                 *t = s.center.extend(s.radius).to_array();
@@ -325,8 +327,15 @@ impl GpuRenderer {
         }
         if self.spec.sppm {
             // The photons of the submission's k iterations (z: the iteration).
+            // Every photon path of the iteration, whatever rows the camera pass covers (a
+            // tile of a tiled image gathers from all of them).
+            let photon_rows = params.photon_paths.div_ceil(self.opts.width.max(1));
             self.buffers.photon_store.encode_clear(&mut enc, k);
-            self.encode_kernel(&mut enc, Kernel::PhotonTrace, (groups.0, groups.1, k));
+            self.encode_kernel(
+                &mut enc,
+                Kernel::PhotonTrace,
+                (groups.0, photon_rows.div_ceil(8), k),
+            );
         }
         if self.spec.wavefront {
             self.encode_wavefront(&mut enc, self.opts.width * rows, k);

@@ -3,9 +3,11 @@
 //! each tile's running mean uploaded from the CPU copy, the same counter-based samples added
 //! (bands of rows bounded in time as usual), and read back. Every pixel gets exactly the
 //! samples, in the same order, that a whole-image film would give it, so the image equals the
-//! untiled one to float rounding of nothing at all: the fold is per pixel. Path tracing only:
-//! light-tracing splats and photons land anywhere in the image (their estimators refuse the
-//! size instead).
+//! untiled one to float rounding of nothing at all: the fold is per pixel. Path tracing and
+//! sppm (issue 37): sppm's photons live in world space, so each tile traces every iteration's
+//! photons again (the same counter-based photon paths: the tile gathers exactly the photons
+//! the whole image would) and gathers them for its rows only — the photon pass costs once
+//! per tile. Light tracing's splats land anywhere in the image, so lt+pt refuses the size.
 
 use super::{GpuImage, GpuRenderer};
 use anyhow::{Result, ensure};
@@ -59,8 +61,11 @@ impl GpuRenderer {
         mut progress: impl FnMut(u64),
     ) -> Result<GpuImage> {
         ensure!(
-            !self.needs_whole_image(),
-            "a tiled image renders with path tracing only"
+            !self.spec.light_tracing,
+            "image {}x{} is larger than one GPU binding: it renders in tiles, with path tracing \
+             or sppm; lt+pt's light-tracing splats need the whole image (use --device cpu)",
+            self.opts.width,
+            self.opts.height
         );
         self.pipelines.compile(self.spec)?;
         let start = Instant::now();
@@ -96,7 +101,12 @@ impl GpuRenderer {
         let w = self.opts.width;
         let mut done = 0u32;
         while done < spp && !budget.is_some_and(|b| done > 0 && start.elapsed() >= b) {
-            let (k, band) = self.submissions.plan(w, rows, spp - done, false);
+            // sppm: one band (its photons are traced once per submission), at most the
+            // iterations its store holds.
+            let (mut k, band) = self.submissions.plan(w, rows, spp - done, self.spec.sppm);
+            if self.spec.sppm {
+                k = k.min(self.buffers.photon_store.iterations.max(1));
+            }
             for by in (y0..y0 + rows).step_by(band as usize) {
                 let n = band.min(y0 + rows - by);
                 let submitted = Instant::now();
