@@ -55,9 +55,10 @@ const IMAGE_REL: f32 = 1e-3;
 const IMAGE_UV_ABS: f32 = 1e-4;
 
 /// Relative tolerance of the environment image's radiance towards `wi` (unit, towards the
-/// environment): the image is interpolated bilinearly, so an error δ in (u, t) moves the
-/// radiance by up to δ·(W + H) × the spread of the four texels read (a bright texel next to
-/// a dark one is the steepest); [`REL`] for every other light.
+/// environment): the image is interpolated bilinearly, so an error δ ≤ [`IMAGE_UV_ABS`] in
+/// (u, t) moves the radiance by up to δ·(W + H) × the spread of the four texels read (a bright
+/// texel next to a dark one is the steepest); [`REL`] for every other light. Sampled
+/// directions read the radiance where they were sampled, on both sides.
 fn radiance_tol(light: &Light, wi: Vec3, l: Vec3) -> f32 {
     use refract::scene::env_map::{bilinear, dir_to_uv, rotate_y};
     let Light::Image(e) = light else {

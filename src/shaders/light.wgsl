@@ -164,8 +164,10 @@ fn env_bilinear_axis(c: f32, n: u32, wrap: bool) -> vec3<f32> {
     var i0 = clamp(i, 0, ni - 1);
     var i1 = clamp(i + 1, 0, ni - 1);
     if wrap {
-        i0 = ((i % ni) + ni) % ni;
-        i1 = (((i + 1) % ni) + ni) % ni;
+        // i ≥ −n − 1 (c ≥ −1): shifted by 2n it is positive, so the remainder is unsigned
+        // (a signed % of a negative number differs between backends: llvmpipe's GL).
+        i0 = i32(u32(i + 2 * ni) % n);
+        i1 = i32(u32(i + 1 + 2 * ni) % n);
     }
     return vec3<f32>(f32(i0), f32(i1), x - f);
 }
@@ -174,7 +176,11 @@ fn env_bilinear_axis(c: f32, n: u32, wrap: bool) -> vec3<f32> {
 // (`ImageEnvironment::radiance`, `EnvMap::lookup_uv`).
 fn light_image_radiance(light: Light, wi: vec3<f32>) -> vec3<f32> {
     let h = light_image_header(light);
-    let uv = light_image_uv(light, wi);
+    return light.intensity[0] * light_image_bilinear(h, light_image_uv(light, wi));
+}
+
+// The image at (u, t), bilinear between texel centres (`EnvMap::lookup_uv`).
+fn light_image_bilinear(h: vec4<u32>, uv: vec2<f32>) -> vec3<f32> {
     let ax = env_bilinear_axis(uv.x, h.x, true);
     let ay = env_bilinear_axis(uv.y, h.y, false);
     let x0 = u32(ax.x);
@@ -183,7 +189,7 @@ fn light_image_radiance(light: Light, wi: vec3<f32>) -> vec3<f32> {
     let r1 = h.z + u32(ay.y) * h.x;
     let top = mix(texels[r0 + x0].xyz, texels[r0 + x1].xyz, ax.z);
     let bottom = mix(texels[r1 + x0].xyz, texels[r1 + x1].xyz, ax.z);
-    return light.intensity[0] * mix(top, bottom, ay.z);
+    return mix(top, bottom, ay.z);
 }
 
 // Solid-angle density of the sampled direction wi, p(u,t) / (2π² sinθ) (PBR 3rd ed.
@@ -225,11 +231,22 @@ fn light_image_sample_1d(h: vec4<u32>, base: u32, n: u32, u: f32) -> vec2<f32> {
     return vec2<f32>(x, f32(i));
 }
 
-// A direction towards the environment and its solid-angle density (0: none). Twin of
-// `ImageEnvironment::sample_dir` (PBR 4th ed. §12.5.2 `ImageInfiniteLight::SampleLi`).
-fn light_image_sample_dir(light: Light, u: vec2<f32>) -> vec4<f32> {
+// A sampled direction towards the environment: (wi, solid-angle density; 0: none) and the
+// radiance from it.
+struct ImageDirSample {
+    d: vec4<f32>,
+    l: vec3<f32>,
+}
+
+// A direction towards the environment, its density and radiance. Twin of
+// `ImageEnvironment::sample_dir` (PBR 4th ed. §12.5.2 `ImageInfiniteLight::SampleLi`). The
+// radiance is read at the sampled (u, t) itself rather than at the direction's round trip
+// through acos and atan2, whose error on some drivers (llvmpipe's GL) moved the bilinear
+// lookup by up to 1e-3 of the image.
+fn light_image_sample_dir(light: Light, u: vec2<f32>) -> ImageDirSample {
     if light.direction[2] == 0.0 {
-        return vec4<f32>(uniform_sphere(u), UNIFORM_SPHERE_PDF);
+        let wi = uniform_sphere(u);
+        return ImageDirSample(vec4<f32>(wi, UNIFORM_SPHERE_PDF), light_image_radiance(light, wi));
     }
     let h = light_image_header(light);
     let row = light_image_sample_1d(h, h.y * (h.x + 1u), h.y, u.y);
@@ -238,10 +255,11 @@ fn light_image_sample_dir(light: Light, u: vec2<f32>) -> vec4<f32> {
     let p = texels[h.z + u32(row.y) * h.x + u32(col.y)].w;
     let sin_t = sin(uv.y * PI);
     if p <= 0.0 || sin_t <= 0.0 {
-        return vec4<f32>(0.0);
+        return ImageDirSample(vec4<f32>(0.0), vec3<f32>(0.0));
     }
     let wi = env_rotate_y(env_uv_to_dir(uv), light.direction[0], light.direction[1]);
-    return vec4<f32>(wi, p / (2.0 * PI * PI * sin_t));
+    let l = light.intensity[0] * light_image_bilinear(h, uv);
+    return ImageDirSample(vec4<f32>(wi, p / (2.0 * PI * PI * sin_t)), l);
 }
 
 // glTF spot-light angular falloff (KHR_lights_punctual spec, "Spot"): smooth, squared
@@ -367,9 +385,10 @@ fn light_sample_li(light: Light, p_ref: vec3<f32>, u: vec2<f32>, pick: f32) -> L
         }
         case LIGHT_IMAGE: {
             if HAS_ENV_IMAGE {
-                let d = light_image_sample_dir(light, u);
+                let ds = light_image_sample_dir(light, u);
+                let d = ds.d;
                 if d.w > 0.0 {
-                    s = LightLiSample(true, light_image_radiance(light, d.xyz), d.xyz, pick * d.w, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
+                    s = LightLiSample(true, ds.l, d.xyz, pick * d.w, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
                 }
             }
         }
@@ -641,13 +660,14 @@ fn light_environment_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>,
 // §12.5.2 `ImageInfiniteLight::SampleLe`).
 fn light_image_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, pick: f32) -> LightLeSample {
     var s: LightLeSample;
-    let d = light_image_sample_dir(light, u_dir);
+    let ds = light_image_sample_dir(light, u_dir);
+    let d = ds.d;
     if !(d.w > 0.0) {
         return s;
     }
     let dir = -d.xyz;
     let p = light_infinite_disk_point(light, dir, u_pos);
-    return LightLeSample(true, p, dir, dir, light_image_radiance(light, d.xyz), light_infinite_pdf_pos(light, pick), d.w, 1.0, false);
+    return LightLeSample(true, p, dir, dir, ds.l, light_infinite_pdf_pos(light, pick), d.w, 1.0, false);
 }
 
 // Origin of the first ray of a light subpath: pushed off an area light's emitting side

@@ -63,8 +63,17 @@ impl ImageEnvironment {
     /// sampling is off.
     #[inline]
     pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
+        self.sample_dir_radiance(u).map(|(wi, pdf, _)| (wi, pdf))
+    }
+
+    /// [`ImageEnvironment::sample_dir`] and the radiance from the sampled direction, read at
+    /// the sampled image coordinates themselves (no round trip through atan2 and acos; the
+    /// GPU twin does the same, whose round trip was imprecise on some drivers).
+    #[inline]
+    fn sample_dir_radiance(&self, u: Vec2) -> Option<(Vec3, f32, Vec3)> {
         if !self.image.importance {
-            return Some((sampling::uniform_sphere(u), sampling::UNIFORM_SPHERE_PDF));
+            let wi = sampling::uniform_sphere(u);
+            return Some((wi, sampling::UNIFORM_SPHERE_PDF, self.radiance(wi)));
         }
         let (uv, pdf_uv) = self.image.map.dist.sample(u);
         let sin_t = (uv.y * PI).sin();
@@ -72,14 +81,15 @@ impl ImageEnvironment {
             return None;
         }
         let wi = rotate_y(uv_to_dir(uv), self.cos_rot, self.sin_rot);
-        Some((wi, pdf_uv / (2.0 * PI * PI * sin_t)))
+        let l = self.image.strength * self.image.map.lookup_uv(uv);
+        Some((wi, pdf_uv / (2.0 * PI * PI * sin_t), l))
     }
 
     #[inline]
     pub fn sample_li(&self, u: Vec2, pick: f32) -> Option<LiSample> {
-        let (wi, pdf) = self.sample_dir(u)?;
+        let (wi, pdf, l) = self.sample_dir_radiance(u)?;
         Some(LiSample {
-            l: self.radiance(wi),
+            l,
             wi,
             pdf: pick * pdf,
             p_light: Vec3::ZERO,
@@ -98,7 +108,7 @@ impl ImageEnvironment {
     /// bounding sphere, behind the scene (PBR 4th ed. §12.5.2 `ImageInfiniteLight::SampleLe`).
     #[inline]
     pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, pick: f32) -> Option<LeSample> {
-        let (wi, pdf_dir) = self.sample_dir(u_dir)?;
+        let (wi, pdf_dir, l) = self.sample_dir_radiance(u_dir)?;
         let dir = -wi;
         let frame = Frame::from_normal(dir);
         let d = sampling::concentric_disk(u_pos) * self.radius;
@@ -107,7 +117,7 @@ impl ImageEnvironment {
             p,
             n: dir,
             dir,
-            l: self.radiance(wi),
+            l,
             pdf_pos: pick / (PI * self.radius * self.radius),
             pdf_dir,
             delta_pos: false,
