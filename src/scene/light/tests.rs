@@ -127,8 +127,17 @@ fn pdf_li_matches_sample_li() {
             let dist = (s.p_light - p).length();
             let cos = s.n_light.dot(s.wi).abs();
             let q = l.pdf_li(pick, s.wi, dist, cos);
+            // An image's density has a 1/sinθ factor: pdf_li recomputes θ from the sampled
+            // direction through acos, whose f32 error (≈ 6e-8/sinθ) grows near the poles, and
+            // moves 1/sinθ by ≈ 6e-8/sin²θ relative (×4 margin).
+            let sin2 = (1.0 - s.wi.y * s.wi.y).max(1e-12);
+            let tol = if matches!(l, Light::Image(_)) {
+                1e-4 + 2.4e-7 / sin2
+            } else {
+                1e-4
+            };
             assert!(
-                (q - s.pdf).abs() <= 1e-4 * s.pdf,
+                (q - s.pdf).abs() <= tol * s.pdf,
                 "{l:?}: pdf_li {q} vs sample_li {}",
                 s.pdf
             );
@@ -243,17 +252,27 @@ fn infinite_lights_emit_through_the_bounding_sphere() {
         let expect = match &l {
             Light::Directional(d) => PI * r * r * luminance(d.irradiance),
             Light::Environment(e) => 4.0 * PI * PI * r * r * luminance(e.radiance),
-            // πr² ∫L dω with ∫ by the midpoint rule over the texels' solid angles.
+            // πr² ∫L dω with ∫ over the texels' solid angles of their mean radiance.
             Light::Image(e) => {
                 let m = &e.image.map;
                 let (w, h) = (m.width as usize, m.height as usize);
                 let mut sum = 0.0f64;
-                for (i, t) in m.texels.iter().enumerate() {
-                    let row = i / w;
+                // The image is interpolated bilinearly: each texel's mean over its footprint
+                // is [1, 6, 1]/8 of its row and column neighbours (periodic in u, clamped rows).
+                let lum = |x: usize, y: usize| luminance(m.texels[y * w + x]) as f64;
+                let row_mean = |x: usize, y: usize| {
+                    (lum((x + w - 1) % w, y) + 6.0 * lum(x, y) + lum((x + 1) % w, y)) / 8.0
+                };
+                for i in 0..w * h {
+                    let (x, row) = (i % w, i / w);
+                    let mean = (row_mean(x, row.saturating_sub(1))
+                        + 6.0 * row_mean(x, row)
+                        + row_mean(x, (row + 1).min(h - 1)))
+                        / 8.0;
                     let (t0, t1) = (row as f64 / h as f64, (row + 1) as f64 / h as f64);
                     let omega = 2.0 * std::f64::consts::PI / w as f64
                         * ((t0 * std::f64::consts::PI).cos() - (t1 * std::f64::consts::PI).cos());
-                    sum += luminance(*t) as f64 * omega;
+                    sum += mean * omega;
                 }
                 (PI * r * r) as f64 as f32 * e.image.strength * sum as f32
             }
@@ -316,7 +335,12 @@ fn image_environment_samples_follow_pdf_li() {
         chi2 < limit,
         "χ² = {chi2:.1} over {dof} dof (limit {limit:.1})"
     );
-    assert_eq!(counts[5], 0, "the black texel is never sampled");
+    // The black texel's footprint holds its bright neighbours' interpolation: it has density
+    // (so NEE reaches the light there) and was sampled, in proportion (the χ² above).
+    assert!(
+        counts[5] > 0,
+        "the black texel between bright ones is sampled too"
+    );
 }
 
 /// An emissive texture is read at the point: `sample_li`, `sample_le` and `le` agree on the
