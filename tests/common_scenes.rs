@@ -322,3 +322,17 @@ pub fn grey_png(w: u32, h: u32, px: &[u8]) -> Vec<u8> {
         .expect("PNG encodes");
     out.into_inner()
 }
+
+/// `n` seeded, smoothly scrambled RGB texels in [0, 1)³ (environment-image tests).
+pub fn seeded_texels(n: u32) -> Vec<Vec3> {
+    (0..n)
+        .map(|i| {
+            let f = i as f32;
+            Vec3::new(
+                (f * 0.37).fract(),
+                (f * 0.61 + 0.2).fract(),
+                (f * 0.13 + 0.5).fract(),
+            )
+        })
+        .collect()
+}

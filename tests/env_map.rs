@@ -203,16 +203,7 @@ fn bilinear_by_definition(t: &[Vec3], w: u32, h: u32, d: Vec3) -> Vec3 {
 #[test]
 fn the_background_is_the_bilinear_interpolation_of_the_image() {
     let (w, h) = (32u32, 16u32);
-    let texels: Vec<Vec3> = (0..w * h)
-        .map(|i| {
-            let f = i as f32;
-            Vec3::new(
-                (f * 0.37).fract(),
-                (f * 0.61 + 0.2).fract(),
-                (f * 0.13 + 0.5).fract(),
-            )
-        })
-        .collect();
+    let texels = seeded_texels(w * h);
     let (map, _) = EnvMap::from_texels(w, h, texels.clone(), "seeded");
     let mut m = Mesh::default();
     quad(

@@ -1292,10 +1292,7 @@ fn gpu_errors_are_err_not_panic() {
     // A renderer on a device whose buffers are capped at 1 MiB: its 512x512 light-tracing
     // splat film (6 MiB) is over the limit, and light tracing cannot render in tiles (path
     // tracing does: `gpu_tiles_give_the_whole_image`).
-    let mut small_limits = ctx.adapter.limits();
-    small_limits.max_buffer_size = 1 << 20;
-    small_limits.max_storage_buffer_binding_size = 1 << 20;
-    let small_ctx = GpuContext::with_limits(ctx.adapter.clone(), small_limits).unwrap();
+    let small_ctx = capped_context(&ctx, 1 << 20);
     let mut scene = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut scene, 512, 512);
     let mut opts = RenderOptions::from_scene(&scene);
@@ -1304,6 +1301,14 @@ fn gpu_errors_are_err_not_panic() {
         .err()
         .expect("an Err for buffers over the device's limits");
     eprintln!("renderer over the limits: {err:#}");
+}
+
+/// A second device on `ctx`'s adapter whose buffers and bindings are capped at `bytes`.
+fn capped_context(ctx: &GpuContext, bytes: u64) -> GpuContext {
+    let mut limits = ctx.adapter.limits();
+    limits.max_buffer_size = bytes;
+    limits.max_storage_buffer_binding_size = bytes;
+    GpuContext::with_limits(ctx.adapter.clone(), limits).unwrap()
 }
 
 /// Images larger than one binding render in tiles of rows (issue 15, part 4): on a device
@@ -1317,10 +1322,7 @@ fn gpu_tiles_give_the_whole_image() {
     let Some(ctx) = context("gpu_tiles_give_the_whole_image") else {
         return;
     };
-    let mut small_limits = ctx.adapter.limits();
-    small_limits.max_buffer_size = 1 << 20;
-    small_limits.max_storage_buffer_binding_size = 1 << 20;
-    let small_ctx = GpuContext::with_limits(ctx.adapter.clone(), small_limits).unwrap();
+    let small_ctx = capped_context(&ctx, 1 << 20);
     let mut scene = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut scene, 128, 1152);
     scene.settings.max_depth = 2;
@@ -1371,10 +1373,7 @@ fn gpu_sppm_tiles_agree_with_the_whole_image() {
     let Some(ctx) = context("gpu_sppm_tiles_agree_with_the_whole_image") else {
         return;
     };
-    let mut small_limits = ctx.adapter.limits();
-    small_limits.max_buffer_size = 1 << 20;
-    small_limits.max_storage_buffer_binding_size = 1 << 20;
-    let small_ctx = GpuContext::with_limits(ctx.adapter.clone(), small_limits).unwrap();
+    let small_ctx = capped_context(&ctx, 1 << 20);
     let mut scene = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut scene, 128, 1152);
     scene.settings.max_depth = 5;

@@ -577,16 +577,7 @@ fn image_scene(importance: bool) -> Scene {
     ];
     let mut s = scene("image", m, mats, cam, 0.0);
     let (w, h) = (24u32, 12u32);
-    let mut texels: Vec<Vec3> = (0..w * h)
-        .map(|i| {
-            let f = i as f32;
-            Vec3::new(
-                (f * 0.37).fract(),
-                (f * 0.61 + 0.2).fract(),
-                (f * 0.13 + 0.5).fract(),
-            ) * 2.0
-        })
-        .collect();
+    let mut texels: Vec<Vec3> = seeded_texels(w * h).into_iter().map(|t| t * 2.0).collect();
     texels[(3 * w + 7) as usize] = Vec3::new(300.0, 280.0, 250.0);
     texels[5] = Vec3::ZERO;
     let (map, _) = EnvMap::from_texels(w, h, texels, "twin");
