@@ -1289,15 +1289,15 @@ fn gpu_errors_are_err_not_panic() {
     more.max_storage_buffers_per_shader_stage += 1;
     assert!(GpuContext::with_limits(ctx.adapter.clone(), more).is_err());
 
-    // A renderer on a device whose buffers are capped at 1 MiB: its 512x512 light-tracing
-    // splat film (6 MiB) is over the limit, and light tracing cannot render in tiles (path
-    // tracing does: `gpu_tiles_give_the_whole_image`).
+    // The viewer's renderer on a device whose buffers are capped at 1 MiB: its 512x512
+    // light-tracing splat film (6 MiB) is over the limit, and the viewer's progressive
+    // renderer does not tile (headless renders do: `gpu_lt_tiles_give_the_whole_image`).
     let small_ctx = capped_context(&ctx, 1 << 20);
     let mut scene = Scene::load("builtin:cornell-glass").unwrap();
     small(&mut scene, 512, 512);
     let mut opts = RenderOptions::from_scene(&scene);
     opts.estimator = Estimator::LtPt;
-    let err = GpuRenderer::with_context(small_ctx, scene, opts)
+    let err = GpuRenderer::with_context_untiled(small_ctx, scene, opts)
         .err()
         .expect("an Err for buffers over the device's limits");
     eprintln!("renderer over the limits: {err:#}");
@@ -1315,8 +1315,7 @@ fn capped_context(ctx: &GpuContext, bytes: u64) -> GpuContext {
 /// whose buffers are capped at 1 MiB, a 128x1152 path-traced image (2.25 MiB of film) renders
 /// in tiles of 512, 512 and 128 rows and equals the same image rendered whole on the unrestricted device
 /// (the same counter-based samples; batch sizes may differ, so equal to float rounding);
-/// estimators that need the whole image refuse a tiled size with an `Err`, and the viewer's
-/// progressive dispatch records an error instead of rendering garbage.
+/// the viewer's progressive dispatch records an error instead of rendering garbage.
 #[test]
 fn gpu_tiles_give_the_whole_image() {
     let Some(ctx) = context("gpu_tiles_give_the_whole_image") else {
@@ -1351,15 +1350,60 @@ fn gpu_tiles_give_the_whole_image() {
         b.mean.iter().map(|p| p.x).sum::<f32>() > 0.0,
         "a black image proves nothing"
     );
-    assert!(
-        tiled.set_estimator(Estimator::LtPt).is_err(),
-        "lt+pt cannot tile"
-    );
     tiled.dispatch(1);
     assert!(
         tiled.context().check_errors().is_err(),
         "the viewer's dispatch refuses tiles"
     );
+}
+
+/// lt+pt renders an image larger than one binding in tiles (issue 37, item 3): on a device
+/// whose buffers are capped at 1 MiB, 128x1152 `cornell-glass` switched from path tracing
+/// (tiles of 512 rows) to lt+pt renders in tiles of 336 rows (the 24-byte splat film binds
+/// fewer), each tracing every light subpath of the image again and keeping the splats on its
+/// rows — the megakernel and the wavefront alike. The light subpaths and camera paths are the
+/// whole image's, the splats integer sums, so the image equals lt+pt on the unrestricted
+/// device to float rounding of the running mean.
+#[test]
+fn gpu_lt_tiles_give_the_whole_image() {
+    let Some(ctx) = context("gpu_lt_tiles_give_the_whole_image") else {
+        return;
+    };
+    let small_ctx = capped_context(&ctx, 1 << 20);
+    let mut scene = Scene::load("builtin:cornell-glass").unwrap();
+    small(&mut scene, 128, 1152);
+    scene.settings.max_depth = 4;
+    let mut opts = RenderOptions::from_scene(&scene);
+    opts.estimator = Estimator::Path;
+    let mut tiled = GpuRenderer::with_context(small_ctx, scene.clone(), opts).unwrap();
+    assert_eq!(tiled.film_rows(), 512);
+    tiled.set_estimator(Estimator::LtPt).expect("lt+pt tiles");
+    assert_eq!(tiled.film_rows(), 336, "1 MiB of splats holds 336 rows");
+    opts.estimator = Estimator::LtPt;
+    let mut whole = GpuRenderer::with_context(ctx, scene, opts).unwrap();
+    for wavefront in [false, true] {
+        for g in [&mut tiled, &mut whole] {
+            g.set_wavefront(Some(wavefront));
+        }
+        tiled.render(1).unwrap();
+        let a = tiled.render(2).unwrap();
+        let b = whole.render(3).unwrap();
+        assert_eq!((a.spp, b.spp), (3, 3));
+        let mut worst = 0.0f32;
+        for (p, q) in a.mean.iter().zip(&b.mean) {
+            let d = (*p - *q).abs().max_element() / q.abs().max_element().max(1e-3);
+            worst = worst.max(d);
+        }
+        eprintln!(
+            "lt+pt (wavefront {wavefront}) tiled vs whole: worst relative difference {worst:e}"
+        );
+        assert!(
+            worst < 1e-4,
+            "wavefront {wavefront}: tiled lt+pt differs from the whole image by {worst}"
+        );
+        let lit = b.mean.iter().filter(|p| p.x > 0.0).count();
+        assert!(lit > b.mean.len() / 2, "a black image proves nothing");
+    }
 }
 
 /// sppm renders an image larger than one binding in tiles (issue 37, item 3): on a device
@@ -1402,14 +1446,15 @@ fn gpu_sppm_tiles_agree_with_the_whole_image() {
     assert_blocks_agree("sppm tiled (1 MiB bindings) vs whole", &a, &b);
 }
 
-/// 4K with the default flags and with sppm on this device (issue 37, item 3): sppm's photon
-/// store (8.3 M slots, 379 MiB) and film no longer have to fit one binding — lavapipe binds
-/// 128 MiB, as do many laptop GPUs and WebGPU's defaults; the store is capped and the film
-/// tiles where needed. `auto` (whatever it resolves to on the default scene) and `sppm`, 1 spp
-/// at depth 3 each: every pixel finite, the image not black.
+/// 4K with the default flags, with sppm and with lt+pt on this device (issue 37, item 3):
+/// sppm's photon store (8.3 M slots, 379 MiB) and lt+pt's splat film (190 MiB) no longer have
+/// to fit one binding — lavapipe binds 128 MiB, as do many laptop GPUs and WebGPU's defaults;
+/// the store is capped and the films tile where needed. `auto` (whatever it resolves to on the
+/// default scene), `sppm` and `lt+pt`, 1 spp at depth 3 each: every pixel finite, the image
+/// not black.
 #[test]
-fn gpu_renders_4k_with_default_flags_and_sppm() {
-    let Some(ctx) = context("gpu_renders_4k_with_default_flags_and_sppm") else {
+fn gpu_renders_4k_with_default_flags_sppm_and_lt_pt() {
+    let Some(ctx) = context("gpu_renders_4k_with_default_flags_sppm_and_lt_pt") else {
         return;
     };
     eprintln!(
@@ -1421,7 +1466,7 @@ fn gpu_renders_4k_with_default_flags_and_sppm() {
     scene.settings.max_depth = 3;
     let opts = RenderOptions::from_scene(&scene);
     let mut g = GpuRenderer::with_context(ctx, scene.clone(), opts).expect("4K, default flags");
-    for est in [opts.estimator, Estimator::Sppm] {
+    for est in [opts.estimator, Estimator::Sppm, Estimator::LtPt] {
         g.set_estimator(est).expect("the estimator at 4K");
         let img = g.render(1).unwrap();
         assert_eq!(img.mean.len(), 3840 * 2160);
@@ -1431,7 +1476,7 @@ fn gpu_renders_4k_with_default_flags_and_sppm() {
         );
         let mean = img.mean.iter().map(|p| p.y as f64).sum::<f64>() / img.mean.len() as f64;
         eprintln!(
-            "{est} ({}) at 4K: mean luminance {mean:.4}",
+            "{est} ({}) at 4K: mean luminance {mean:.6}",
             refract::gpu::gpu_estimator(est, &scene).unwrap()
         );
         assert!(mean > 0.01, "{est}: mean luminance {mean}: black");

@@ -866,10 +866,7 @@ fn lights_extensions_images() -> Vec<Case> {
         ),
         case(
             C,
-            vec![Set(
-                "/extensionsRequired",
-                json!(["KHR_texture_basisu"]),
-            )],
+            vec![Set("/extensionsRequired", json!(["KHR_texture_basisu"]))],
             Fails(&["/extensionsRequired/0", "KHR_texture_basisu"]),
         ),
         // Declared required but used by no buffer view: supported, so it loads as is.

@@ -37,11 +37,23 @@ const U32_MAX_F: f32 = 4294967040.0;
 // Stream separation between camera and light subpaths of the same (pixel, sample).
 const LT_SEED_MIX: u32 = 0x9e3779b9u;
 
+// The splat film's slot of image pixel `pixel`: the film starts at image row film_y0 (0 unless
+// the image renders in tiles); pixels above it wrap to slots past the film's end.
+fn splat_slot(pixel: u32) -> u32 {
+    return pixel - params.film_y0 * params.width;
+}
+
 // Add v (|v| ≤ SPLAT_MAX per channel) to pixel `pixel` of the splat film. Each channel is a
 // signed 64-bit two's-complement sum (lo, hi): adding −x is adding 2⁶⁴ − x, i.e. lo' = −x_lo
 // with the carry out of lo into hi and hi' = ¬x_hi (+1 when x_lo = 0), all mod 2³². Spectral
 // (hero-wavelength) samples can be negative in RGB, hence the sign.
 fn splat_add(pixel: u32, v: vec3<f32>) {
+    // A tiled image's film holds rows film_y0 .. of the image only: a splat on a pixel outside
+    // them belongs to another tile's pass (which traces the same light subpaths) and is left.
+    let slot = splat_slot(pixel);
+    if slot >= arrayLength(&splats) / 6u {
+        return;
+    }
     for (var c = 0u; c < 3u; c++) {
         let x = abs(v[c]) * SPLAT_SCALE;
         if !(x > 0.0) {
@@ -58,7 +70,7 @@ fn splat_add(pixel: u32, v: vec3<f32>) {
                 hi += 1u;
             }
         }
-        let i = (pixel * 3u + c) * 2u;
+        let i = (slot * 3u + c) * 2u;
         let old = atomicAdd(&splats[i], lo);
         if old + lo < old {
             atomicAdd(&splats[i + 1u], 1u);
@@ -71,9 +83,10 @@ fn splat_add(pixel: u32, v: vec3<f32>) {
 
 // Take (read and clear) the splats of `pixel`: Σ of this batch's light-tracing contributions.
 fn splat_take(pixel: u32) -> vec3<f32> {
+    let slot = splat_slot(pixel);
     var out = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
-        let i = (pixel * 3u + c) * 2u;
+        let i = (slot * 3u + c) * 2u;
         let lo = atomicExchange(&splats[i], 0u);
         let hi = atomicExchange(&splats[i + 1u], 0u);
         out[c] = (f32(bitcast<i32>(hi)) * TWO_POW_32 + f32(lo)) / SPLAT_SCALE;

@@ -2,10 +2,9 @@
 //! path filter) and the respecialisation and buffer fitting they entail.
 
 use super::{
-    GpuRenderer, gpu_estimator, light_tracing_for, photon_paths, splat_film, splat_film_bytes,
-    sppm_for,
+    GpuRenderer, film_bytes, gpu_estimator, light_tracing_for, photon_paths, splat_film, sppm_for,
 };
-use crate::gpu::buffers::{checked_bytes, storage};
+use crate::gpu::buffers::{checked_bytes, storage, zeroed_storage};
 use crate::gpu::layout;
 use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::Specialization;
@@ -53,7 +52,7 @@ impl GpuRenderer {
         }
         self.features = self.scene.features();
         self.respecialize();
-        self.fit_splat_film()?;
+        self.fit_film()?;
         self.fit_photon_store()?;
         self.reset();
         Ok(())
@@ -121,26 +120,27 @@ impl GpuRenderer {
         }
     }
 
-    /// Give the splat film the size the current specialisation needs (a whole film with light
-    /// tracing, one pixel's worth otherwise) and rebind when it changes.
-    fn fit_splat_film(&mut self) -> Result<()> {
-        let want = splat_film_bytes(self.spec.light_tracing, &self.opts);
-        if want == self.buffers.splats.size() {
+    /// Give the accumulation and splat films the sizes the current specialisation needs (the
+    /// splat film: the film's rows with light tracing, one pixel's worth otherwise; a tiled
+    /// image's tile holds fewer rows with light tracing) and rebind when they change. A new
+    /// accumulation film starts the tiles' CPU copy afresh (the caller resets).
+    fn fit_film(&mut self) -> Result<()> {
+        let (accum, splats) = film_bytes(&self.ctx, &self.scene, &self.opts, self.tiles_allowed())?;
+        if accum == self.buffers.accum.size() && splats == self.buffers.splats.size() {
             return Ok(());
         }
-        let cap = self.ctx.max_binding_bytes();
-        ensure!(
-            want <= cap,
-            "image {}x{} too large for light tracing on this GPU: its splat film needs {} MiB, \
-             the device binds at most {} MiB per buffer",
-            self.opts.width,
-            self.opts.height,
-            want >> 20,
-            cap >> 20
-        );
-        self.buffers.splats = self.ctx.scoped("cannot create the splat film", || {
-            splat_film(&self.ctx, want)
-        })?;
+        if accum != self.buffers.accum.size() {
+            let copyable = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+            self.buffers.accum = self.ctx.scoped("cannot create the film", || {
+                zeroed_storage(&self.ctx, "accum", accum, copyable)
+            })?;
+            self.fit_tiles();
+        }
+        if splats != self.buffers.splats.size() {
+            self.buffers.splats = self.ctx.scoped("cannot create the splat film", || {
+                splat_film(&self.ctx, splats)
+            })?;
+        }
         self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         Ok(())
     }
@@ -194,29 +194,16 @@ impl GpuRenderer {
     /// compiles its pipelines on first use; accumulation restarts.
     pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
         gpu_estimator(estimator, &self.scene)?;
-        let whole = light_tracing_for(
-            &RenderOptions {
-                estimator,
-                ..self.opts
-            },
-            &self.scene,
-        ) || sppm_for(
-            &RenderOptions {
-                estimator,
-                ..self.opts
-            },
-            &self.scene,
-        );
-        ensure!(
-            !(whole && self.tiled.is_some()),
-            "image {}x{} is larger than one GPU binding and renders in tiles, which only path \
-             tracing does (light tracing and photons need the whole image at once)",
-            self.opts.width,
-            self.opts.height
-        );
+        // Refused before anything changes: the films the estimator needs must fit (in tiles
+        // where the renderer may tile).
+        let opts = RenderOptions {
+            estimator,
+            ..self.opts
+        };
+        film_bytes(&self.ctx, &self.scene, &opts, self.tiles_allowed())?;
         self.opts.estimator = estimator;
         self.respecialize();
-        self.fit_splat_film()?;
+        self.fit_film()?;
         self.fit_photon_store()?;
         self.reset();
         Ok(())

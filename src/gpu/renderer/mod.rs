@@ -147,11 +147,17 @@ pub struct GpuRenderer {
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
 /// the next is already submitted, so it never idles while the CPU plans and encodes.
 pub const BATCHES_IN_FLIGHT: usize = 2;
-/// Rows of the image the accumulation film holds: all of them when they fit one binding of
-/// `cap` bytes (or when `whole_image` submissions are needed: the caller then refuses the
-/// size), else the most whole workgroup rows (8) that fit — the image is rendered in tiles.
-fn film_rows(opts: &RenderOptions, cap: u64, whole_image: bool) -> u32 {
-    let row = u64::from(opts.width) * 16;
+/// Rows of the image the accumulation film (and, with light tracing, the splat film) holds:
+/// all of them when they fit one binding of `cap` bytes (or when `whole_image` submissions
+/// are needed: the caller then refuses the size), else the most whole workgroup rows (8)
+/// that fit — the image is rendered in tiles.
+fn film_rows(opts: &RenderOptions, cap: u64, whole_image: bool, light_tracing: bool) -> u32 {
+    let per_pixel = if light_tracing {
+        SPLAT_BYTES_PER_PIXEL
+    } else {
+        16
+    };
+    let row = u64::from(opts.width) * per_pixel;
     if whole_image || row * u64::from(opts.height) <= cap {
         return opts.height;
     }
@@ -184,11 +190,12 @@ fn photon_paths(sppm: bool, opts: &RenderOptions) -> u32 {
     }
 }
 
-/// The splat film's size: the whole image with light tracing; without it the binding still
-/// needs a buffer, so one pixel (path tracing at 4K no longer pays 24 B per pixel for it).
-fn splat_film_bytes(light_tracing: bool, opts: &RenderOptions) -> u64 {
+/// The splat film's size: `rows` whole image rows with light tracing (the film's rows);
+/// without it the binding still needs a buffer, so one pixel (path tracing at 4K no longer
+/// pays 24 B per pixel for it).
+fn splat_film_bytes(light_tracing: bool, opts: &RenderOptions, rows: u32) -> u64 {
     let pixels = if light_tracing {
-        opts.width as u64 * opts.height as u64
+        opts.width as u64 * rows as u64
     } else {
         1
     };
@@ -211,9 +218,9 @@ type BuiltBuffers = (Buffers, u32, Vec<upload::TexSlots>);
 const STATS_BYTES: u64 = (layout::DEBUG_RECORDS * 16 + 16) as u64;
 
 /// The accumulation film's and the splat film's sizes in bytes for `opts`, or an error when
-/// either is larger than one binding. Path tracing and sppm render an image larger than one
-/// binding in tiles of rows (`tiles`; sppm traces every iteration's photons again for each
-/// tile); light tracing splats anywhere and needs the whole image in every submission.
+/// either is larger than one binding. With `tiles`, an image larger than one binding renders
+/// in tiles of rows: sppm traces every iteration's photons again for each tile, lt+pt every
+/// light subpath (each tile keeps the splats on its rows).
 fn film_bytes(
     ctx: &GpuContext,
     scene: &Scene,
@@ -221,10 +228,10 @@ fn film_bytes(
     tiles: bool,
 ) -> Result<(u64, u64)> {
     let light_tracing = light_tracing_for(opts, scene);
-    let splat_bytes = splat_film_bytes(light_tracing, opts);
     let cap = ctx.max_binding_bytes();
-    let whole = !tiles || light_tracing;
-    let accum_bytes = u64::from(opts.width) * 16 * u64::from(film_rows(opts, cap, whole));
+    let rows = film_rows(opts, cap, !tiles, light_tracing);
+    let accum_bytes = u64::from(opts.width) * 16 * u64::from(rows);
+    let splat_bytes = splat_film_bytes(light_tracing, opts, rows);
     ensure!(
         accum_bytes.max(splat_bytes) <= cap,
         "image {}x{} too large for this GPU: its {} film needs {} MiB, the device binds at \

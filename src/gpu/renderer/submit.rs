@@ -307,6 +307,12 @@ impl GpuRenderer {
         if !self.ensure_pipelines() {
             return None;
         }
+        // A tile of a tiled image: the light subpaths of the whole image first, in their own
+        // submission (their rows are all the image's, the camera pass's only the tile's).
+        let light_apart = self.spec.light_tracing && self.tiled.is_some();
+        if light_apart {
+            self.submit_light_pass(first, k)?;
+        }
         let mut params = self.params(first, k);
         params.tile_y0 = y0;
         self.ctx
@@ -322,7 +328,7 @@ impl GpuRenderer {
         let groups = (self.opts.width.div_ceil(8), rows.div_ceil(8));
         // Light subpaths first: `render` folds their splats into the film; photons first:
         // `render` gathers them (wgpu orders the passes' storage accesses).
-        if self.spec.light_tracing && !self.spec.wavefront {
+        if self.spec.light_tracing && !self.spec.wavefront && !light_apart {
             self.encode_kernel(&mut enc, Kernel::LightTrace, (groups.0, groups.1, 1));
         }
         if self.spec.sppm {
@@ -338,12 +344,53 @@ impl GpuRenderer {
             );
         }
         if self.spec.wavefront {
-            self.encode_wavefront(&mut enc, self.opts.width * rows, k);
+            let light = self.spec.light_tracing && !light_apart;
+            self.encode_wavefront(&mut enc, self.opts.width * rows, k, light);
         } else {
             self.encode_kernel(&mut enc, Kernel::Render, (groups.0, groups.1, 1));
         }
         self.submissions.submitted += 1;
         Some(self.ctx.queue.submit([enc.finish()]))
+    }
+
+    /// The light subpaths of `k` samples per pixel from sample index `first` over the whole
+    /// image, in submissions of their own (as many as the wavefront's chunk table needs):
+    /// a tiled image's tile splats them on its rows before its camera pass takes them.
+    fn submit_light_pass(&mut self, first: u64, k: u32) -> Option<wgpu::SubmissionIndex> {
+        let (w, h) = (self.opts.width, self.opts.height);
+        let part = if self.spec.wavefront {
+            wavefront::samples_per_submission(w * h, k, self.buffers.wavefront.max_paths)
+        } else {
+            k
+        };
+        let (mut last, mut done) = (None, 0);
+        while done < k {
+            let kk = part.min(k - done);
+            let params = self.params(first + u64::from(done), kk);
+            self.ctx
+                .queue
+                .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+            if std::mem::take(&mut self.clear_pending) {
+                self.encode_clear(&mut enc);
+            }
+            if self.spec.wavefront {
+                self.encode_wavefront_light(&mut enc, w * h, kk);
+            } else {
+                self.encode_kernel(
+                    &mut enc,
+                    Kernel::LightTrace,
+                    (w.div_ceil(8), h.div_ceil(8), 1),
+                );
+            }
+            self.submissions.submitted += 1;
+            last = Some(self.ctx.queue.submit([enc.finish()]));
+            done += kk;
+        }
+        last
     }
 
     /// Record one compute pass of `kernel` over `groups` workgroups (its pipeline is

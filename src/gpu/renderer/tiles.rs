@@ -3,14 +3,17 @@
 //! each tile's running mean uploaded from the CPU copy, the same counter-based samples added
 //! (bands of rows bounded in time as usual), and read back. Every pixel gets exactly the
 //! samples, in the same order, that a whole-image film would give it, so the image equals the
-//! untiled one to float rounding of nothing at all: the fold is per pixel. Path tracing and
-//! sppm (issue 37): sppm's photons live in world space, so each tile traces every iteration's
-//! photons again (the same counter-based photon paths: the tile gathers exactly the photons
-//! the whole image would) and gathers them for its rows only — the photon pass costs once
-//! per tile. Light tracing's splats land anywhere in the image, so lt+pt refuses the size.
+//! untiled one to float rounding of nothing at all: the fold is per pixel. Path tracing,
+//! sppm and lt+pt (issue 37): sppm's photons live in world space, so each tile traces every
+//! iteration's photons again (the same counter-based photon paths: the tile gathers exactly
+//! the photons the whole image would) and gathers them for its rows only; lt+pt's light
+//! subpaths splat anywhere in the image, so each tile traces every light subpath again (a
+//! whole-image submission before the tile's camera pass) and its splat film, which holds the
+//! tile's rows only, keeps the splats that land on them. The photon pass or the light pass
+//! costs once per tile.
 
 use super::{GpuImage, GpuRenderer};
-use anyhow::{Result, ensure};
+use anyhow::Result;
 use std::time::{Duration, Instant};
 
 impl GpuRenderer {
@@ -60,13 +63,6 @@ impl GpuRenderer {
         budget: Option<Duration>,
         mut progress: impl FnMut(u64),
     ) -> Result<GpuImage> {
-        ensure!(
-            !self.spec.light_tracing,
-            "image {}x{} is larger than one GPU binding: it renders in tiles, with path tracing \
-             or sppm; lt+pt's light-tracing splats need the whole image (use --device cpu)",
-            self.opts.width,
-            self.opts.height
-        );
         self.pipelines.compile(self.spec)?;
         let start = Instant::now();
         let h = self.opts.height;
@@ -102,8 +98,10 @@ impl GpuRenderer {
         let mut done = 0u32;
         while done < spp && !budget.is_some_and(|b| done > 0 && start.elapsed() >= b) {
             // sppm: one band (its photons are traced once per submission), at most the
-            // iterations its store holds.
-            let (mut k, band) = self.submissions.plan(w, rows, spp - done, self.spec.sppm);
+            // iterations its store holds; lt+pt: one band (each submission's light pass
+            // splats on every row of the tile, and one camera pass must take them all).
+            let whole = self.spec.sppm || self.spec.light_tracing;
+            let (mut k, band) = self.submissions.plan(w, rows, spp - done, whole);
             if self.spec.sppm {
                 k = k.min(self.buffers.photon_store.iterations.max(1));
             }

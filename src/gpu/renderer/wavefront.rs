@@ -180,8 +180,51 @@ impl GpuRenderer {
     }
 
     /// Record the camera walk of `pixels` pixels (rows from the submission's `tile_y0`) at
-    /// `k` samples each: the chunk table written, then each chunk's dispatches.
-    pub(super) fn encode_wavefront(&self, enc: &mut wgpu::CommandEncoder, pixels: u32, k: u32) {
+    /// `k` samples each, after their light subpaths when `light`: the chunk table written,
+    /// then each chunk's dispatches.
+    pub(super) fn encode_wavefront(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        pixels: u32,
+        k: u32,
+        light: bool,
+    ) {
+        let table = self.write_chunk_table(pixels, k);
+        if light {
+            self.encode_light_chunks(enc, &table);
+        }
+        let bounce_kernels: &[Kernel] = &[
+            Kernel::WfExtend,
+            Kernel::WfNee,
+            Kernel::WfShade,
+            Kernel::WfConnect,
+        ];
+        for (c, &(_, count)) in table.iter().enumerate() {
+            let walk = ChunkWalk {
+                offset: (c as u64 * CHUNK_STRIDE) as u32,
+                groups: count.div_ceil(64),
+                start: Kernel::WfStart,
+                bounce: bounce_kernels,
+                finish: (Kernel::WfFinish, (count / k.max(1)).div_ceil(64)),
+            };
+            self.encode_chunk_walk(enc, &walk);
+        }
+    }
+
+    /// Record the light subpaths alone of `pixels` pixels at `k` samples each (a tile of a
+    /// tiled image: the whole image's, in a submission of their own).
+    pub(super) fn encode_wavefront_light(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        pixels: u32,
+        k: u32,
+    ) {
+        let table = self.write_chunk_table(pixels, k);
+        self.encode_light_chunks(enc, &table);
+    }
+
+    /// Write the chunk table of `pixels` pixels at `k` samples each and return it.
+    fn write_chunk_table(&self, pixels: u32, k: u32) -> Vec<(u32, u32)> {
         let wf = &self.buffers.wavefront;
         let table = chunks(pixels, k, wf.max_paths);
         let mut bytes = vec![0u8; table.len() * CHUNK_STRIDE as usize];
@@ -191,32 +234,19 @@ impl GpuRenderer {
             bytes[at + 4..at + 8].copy_from_slice(&count.to_le_bytes());
         }
         self.ctx.queue.write_buffer(&wf.chunks, 0, &bytes);
-        let bounce_kernels: &[Kernel] = &[
-            Kernel::WfExtend,
-            Kernel::WfNee,
-            Kernel::WfShade,
-            Kernel::WfConnect,
-        ];
-        if self.spec.light_tracing {
-            let light = [Kernel::LtWfExtend, Kernel::LtWfShade, Kernel::LtWfSplat];
-            for (c, &(_, count)) in table.iter().enumerate() {
-                let walk = ChunkWalk {
-                    offset: (c as u64 * CHUNK_STRIDE) as u32,
-                    groups: count.div_ceil(64),
-                    start: Kernel::LtWfStart,
-                    bounce: &light,
-                    finish: (Kernel::LtWfFinish, count.div_ceil(64)),
-                };
-                self.encode_chunk_walk(enc, &walk);
-            }
-        }
+        table
+    }
+
+    /// Each chunk's light subpaths (their splats land anywhere in the film).
+    fn encode_light_chunks(&self, enc: &mut wgpu::CommandEncoder, table: &[(u32, u32)]) {
+        let light = [Kernel::LtWfExtend, Kernel::LtWfShade, Kernel::LtWfSplat];
         for (c, &(_, count)) in table.iter().enumerate() {
             let walk = ChunkWalk {
                 offset: (c as u64 * CHUNK_STRIDE) as u32,
                 groups: count.div_ceil(64),
-                start: Kernel::WfStart,
-                bounce: bounce_kernels,
-                finish: (Kernel::WfFinish, (count / k.max(1)).div_ceil(64)),
+                start: Kernel::LtWfStart,
+                bounce: &light,
+                finish: (Kernel::LtWfFinish, count.div_ceil(64)),
             };
             self.encode_chunk_walk(enc, &walk);
         }
