@@ -210,7 +210,7 @@ fn the_viewer_takes_random_edits_demos_and_screenshots_without_poison_or_leak() 
         h.step();
         h.step();
     }
-    let mut rng = Rng(0x50a6_a99);
+    let mut rng = Rng(0x050a_6a99);
     let (mut rss, mut checked, mut screenshots) = (Vec::with_capacity(edits), 0, 0);
     for i in 0..warmup + edits {
         screenshots += usize::from(edit(&mut h, &mut rng, &shots));
