@@ -10,7 +10,7 @@
 //! `REFRACT_SOAK_EDITS` sets the number of edits (CI: 300; docs/testing.md has a longer run).
 
 mod common_scenes;
-use common_scenes::gpu_context;
+use common_scenes::{Rng, gpu_context, rss_bytes};
 
 use eframe::egui::mutex::RwLock;
 use eframe::{egui_wgpu, wgpu};
@@ -21,31 +21,6 @@ use refract::render::{Estimator, RenderOptions};
 use refract::scene::{Camera, Scene, builtin};
 use std::sync::Arc;
 use std::time::Duration;
-
-/// xorshift64*: the edits are reproducible from the seed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
-/// Resident set size of this process in bytes (Linux `/proc/self/statm`).
-fn rss_bytes() -> Option<u64> {
-    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
-    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
-    Some(pages * 4096)
-}
 
 const ESTIMATORS: [Estimator; 4] = [
     Estimator::Auto,

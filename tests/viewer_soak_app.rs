@@ -14,7 +14,7 @@
 //! run). Its own test binary: resident memory is the process's, so no other test may share it.
 
 mod common_scenes;
-use common_scenes::gpu_context;
+use common_scenes::{Rng, gpu_context, rss_bytes};
 
 use eframe::egui;
 use eframe::egui_wgpu;
@@ -28,31 +28,6 @@ use refract::scene::edits::Orbit;
 use refract::scene::{Scene, builtin};
 use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// xorshift64*: the edits are reproducible from the seed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn unit(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
-/// Resident set size of this process in bytes (Linux `/proc/self/statm`).
-fn rss_bytes() -> Option<u64> {
-    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
-    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
-    Some(pages * 4096)
-}
 
 const FILTERS: [&str; 6] = ["", "LS+DE", "LDE", "L(D|G|S)*(G|S)E", "L(D", "LX*E"];
 const ESTIMATORS: [Estimator; 4] = [
