@@ -325,6 +325,20 @@ const RUNS: u32 = 8;
 /// small area light (so the image shares the light distribution, and light tracing has a
 /// light to start from).
 fn sun_sky_scene() -> Scene {
+    sun_sky_with(refract::scene::builtin::glossy_metal(
+        "gold",
+        Vec3::new(0.95, 0.78, 0.42),
+        0.3,
+    ))
+}
+
+/// [`sun_sky_scene`] with a glass sphere (IOR 1.5) in place of the glossy one: the sky seen
+/// through it, refracted, samples the image between texels, and its sun caustic on the floor.
+fn sun_sky_glass_scene() -> Scene {
+    sun_sky_with(Material::glass("glass", 1.5))
+}
+
+fn sun_sky_with(right_sphere: Material) -> Scene {
     let mut m = Mesh::default();
     quad(
         &mut m,
@@ -352,7 +366,7 @@ fn sun_sky_scene() -> Scene {
     let materials = vec![
         Material::diffuse("floor", Vec3::splat(0.5)),
         Material::diffuse("white", Vec3::splat(0.8)),
-        refract::scene::builtin::glossy_metal("gold", Vec3::new(0.95, 0.78, 0.42), 0.3),
+        right_sphere,
         Material::emitter("lamp", Vec3::splat(20.0)),
     ];
     let mut s = scene("sun-sky", m, materials, cam, 0.0);
@@ -384,6 +398,37 @@ fn path_bdpt_and_light_tracing_agree_under_sun_and_sky() {
     let pt = cpu_runs(&r, Estimator::Path, 64, Some(f));
     let lt = cpu_runs(&r, Estimator::Lt, 64, Some(f));
     assert_agree("path vs lt on L(D|G|S)*DE", &pt, &lt);
+}
+
+/// The HDRI-lit glass scene: CPU path tracing against BDPT (which reaches the sun caustic
+/// through its light subpaths), and the GPU path tracer against the CPU one.
+#[test]
+fn glass_under_sun_and_sky_agrees_across_estimators_and_devices() {
+    let scene = sun_sky_glass_scene();
+    let r = Renderer::new(scene.clone()).expect("valid");
+    let pt = cpu_runs(&r, Estimator::Path, 128, None);
+    let bd = cpu_runs(&r, Estimator::Bdpt, 64, None);
+    assert_agree("glass: path vs bdpt", &pt, &bd);
+    let Some(ctx) = gpu_context("env image glass (GPU)") else {
+        return;
+    };
+    let mut g = refract::gpu::GpuRenderer::with_context(
+        ctx,
+        scene.clone(),
+        RenderOptions::from_scene(&scene),
+    )
+    .expect("GPU renderer");
+    let runs: Vec<Vec<f64>> = (0..RUNS)
+        .map(|i| {
+            let mut opts = RenderOptions::from_scene(&scene);
+            opts.seed = 2000 + i;
+            g.set_options(opts).expect("options");
+            let img = g.render(128).expect("render");
+            assert_eq!(img.dropped, 0, "GPU glass: the firewall dropped samples");
+            block_means(&img.mean, scene.settings.width, scene.settings.height)
+        })
+        .collect();
+    assert_agree("glass: GPU path vs CPU path", &runs, &pt);
 }
 
 /// GPU path tracing and lt+pt against the CPU path tracer on the sun-and-sky scene (the
