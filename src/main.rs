@@ -1,4 +1,4 @@
-//! `refract` command line: view | render | trace | bench | merge. No subcommand opens the viewer.
+//! `refract` command line: view | render | trace | bench | merge | lecture. No subcommand opens the viewer.
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -13,6 +13,7 @@ use std::time::Duration;
 mod cli_duration;
 mod cli_job;
 mod cli_layers;
+mod cli_lecture;
 mod cli_load;
 mod cli_merge;
 mod cli_race;
@@ -45,6 +46,10 @@ enum Command {
     Trace(cli_trace::TraceArgs),
     /// Run time against error: CSV, PNG plot and Markdown table per scene.
     Bench(BenchArgs),
+    /// The lecture's demos: `list` them (KEY, concept, caption) or `export DIR` a handout
+    /// (every demo rendered to DIR/KEY.png and DIR/index.html).
+    #[command(subcommand)]
+    Lecture(cli_lecture::LectureCommand),
     /// Merge the EXRs of `render --shard I/N` into one image (the mean weighted by spp); files
     /// of another render or overlapping shards are refused.
     Merge(cli_merge::MergeArgs),
@@ -503,6 +508,7 @@ fn main() {
         Some(Command::Trace(args)) => cli_trace::run(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Merge(args)) => cli_merge::run(&args),
+        Some(Command::Lecture(cmd)) => cli_lecture::run(&cmd),
         Some(Command::View(args)) => view(args),
         Some(Command::Completions { shell }) => {
             let mut cmd = <Cli as clap::CommandFactory>::command();

@@ -155,9 +155,7 @@ fn lambert_cases() -> Vec<Case> {
         .iter()
         .map(|&cos| Case {
             name: "lambert",
-            bsdf: Bsdf::Lambert(Lambert {
-                albedo: rgb(0.8, 0.8, 0.8),
-            }),
+            bsdf: Bsdf::Lambert(Lambert::new(rgb(0.8, 0.8, 0.8))),
             cos,
             inside: false,
             samples: 200_000,

@@ -228,9 +228,7 @@ fn snell_law_with_smooth_dielectric_sample() {
 
 #[test]
 fn lambert_is_reciprocal() {
-    let b = Lambert {
-        albedo: rgb(0.9, 0.5, 0.1),
-    };
+    let b = Lambert::new(rgb(0.9, 0.5, 0.1));
     let mut s = Sampler::new(1, 0, 11);
     for _ in 0..10_000 {
         let mut wo = uniform_sphere(s.next2());
@@ -321,9 +319,7 @@ fn lambert_albedo_monte_carlo() {
     // directions; |estimate − ρ| < 4σ each (σ from the sample variance, 20k samples), and the
     // sampler's weight is exactly ρ.
     for albedo in [1.0f32, 0.5] {
-        let b = Lambert {
-            albedo: Color::splat(albedo),
-        };
+        let b = Lambert::new(Color::splat(albedo));
         let mut s = Sampler::new(5, 0, 99);
         for k in 0..16 {
             let wo = dir(k as f32 / 16.0 * 1.5, 0.2 * k as f32);

@@ -278,7 +278,7 @@ fn probe_bsdf(c: &ProbeCase) -> Bsdf {
     let col = PROBE_COLOR.extend(0.0);
     let (eta, alpha, dist) = (c.eta, c.alpha, dist_of(c.dist));
     match c.kind {
-        BSDF_LAMBERT => Bsdf::Lambert(Lambert { albedo: col }),
+        BSDF_LAMBERT => Bsdf::Lambert(Lambert::new(col)),
         BSDF_MIRROR => Bsdf::Mirror(Mirror { reflectance: col }),
         BSDF_SMOOTH_DIELECTRIC => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
         BSDF_THIN_DIELECTRIC => Bsdf::ThinDielectric(ThinDielectric { eta }),

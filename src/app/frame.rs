@@ -85,8 +85,9 @@ impl ViewerApp {
 
     /// Draw the lecture caption and the inspected path over the image at `rect`.
     fn image_overlays(&self, ui: &egui::Ui, rect: egui::Rect) {
-        if let Some(caption) = self.lecture_caption() {
-            lecture::draw_caption(&ui.painter_at(rect), rect, caption);
+        if let (Some(caption), Some((k, n))) = (self.lecture_caption(), self.lecture_position()) {
+            let line = format!("{k} / {n}  ·  {caption}");
+            lecture::draw_caption(&ui.painter_at(rect), rect, &line);
         }
         if let Some(t) = &self.inspector.traced {
             let painter = ui.painter_at(rect);

@@ -92,6 +92,7 @@ impl ViewerApp {
         if f12 || ctrl_s {
             let _ = self.save_screenshot();
         }
+        self.handle_clicker(ctx);
         if !ctx.egui_wants_keyboard_input() {
             let (space, r, esc) = ctx.input_mut(|i| {
                 (

@@ -96,9 +96,7 @@ fn bsdf_report() -> String {
     let bsdfs = [
         (
             "lambert",
-            Bsdf::Lambert(Lambert {
-                albedo: Vec3::splat(0.8).extend(0.0),
-            }),
+            Bsdf::Lambert(Lambert::new(Vec3::splat(0.8).extend(0.0))),
         ),
         (
             "smooth dielectric",

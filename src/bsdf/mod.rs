@@ -211,6 +211,7 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(b) => Bsdf::Lambert(Lambert {
                 albedo: f(b.albedo),
+                ..b
             }),
             Bsdf::Mirror(b) => Bsdf::Mirror(Mirror {
                 reflectance: f(b.reflectance),

@@ -491,6 +491,8 @@ pub const MAT_SOLID: u32 = 8;
 /// Emitter that is black otherwise (the path ends there).
 pub const MAT_BLACK_EMITTER: u32 = 16;
 pub const MAT_ABSORBS: u32 = 32;
+/// Lambert sampled uniformly over the hemisphere (`scene::Material::uniform_sampling`).
+pub const MAT_UNIFORM_SAMPLING: u32 = 64;
 
 /// Light kinds (`Light.kind`, the variants of light.wgsl).
 pub const LIGHT_TRIANGLE: u32 = 0;

@@ -45,6 +45,18 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 /// pdf of `uniform_sphere`: 1/(4π).
 pub const UNIFORM_SPHERE_PDF: f32 = 0.25 * FRAC_1_PI;
 
+/// Uniform direction on the hemisphere around +z. PBR 4th ed. §A.5.2.
+#[inline]
+pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// pdf of `uniform_hemisphere`: 1/(2π).
+pub const UNIFORM_HEMISPHERE_PDF: f32 = 0.5 * FRAC_1_PI;
+
 /// Uniform direction in a cone around +z with cosθ ≥ cos_max. PBR 4th ed. §A.5.4.
 #[inline]
 pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {

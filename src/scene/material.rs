@@ -99,6 +99,11 @@ pub struct Material {
     /// term, tinted by the base colour (Mitsuba's `specular_reflectance`; white = the bare
     /// metal). `None`: the constant reflectance = base colour of the scene contract.
     pub conductor: Option<bsdf::Metal>,
+    /// Teaching switch of the importance-sampling lecture demo (diffuse materials only;
+    /// `material.extras.sampling = "uniform"`): directions are sampled uniformly over the
+    /// hemisphere instead of cosine-weighted. The same BRDF, so the same image in the mean,
+    /// with more noise (`bsdf::Lambert::uniform`).
+    pub uniform_sampling: bool,
 }
 
 impl Default for Material {
@@ -127,6 +132,7 @@ impl Default for Material {
             specular_color: Vec3::ONE,
             priority: 0,
             conductor: None,
+            uniform_sampling: false,
         }
     }
 }
@@ -292,7 +298,10 @@ impl Material {
                 }
             }
             MaterialKind::MetalRough => Bsdf::MetalRough(self.metal_rough_at(textures, uv, base)),
-            MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert { albedo: rgb3(base) }),
+            MaterialKind::Diffuse => Bsdf::Lambert(bsdf::Lambert {
+                albedo: rgb3(base),
+                uniform: self.uniform_sampling,
+            }),
         }
     }
 

@@ -208,7 +208,7 @@ fn bsdf_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     switch b.kind {
         case BSDF_LAMBERT: {
             if HAS_LAMBERT {
-                return lambert_pdf(wo, wi);
+                return lambert_pdf(wo, wi, b.metallic != 0.0);
             }
         }
         case BSDF_ROUGH_DIELECTRIC: {
@@ -252,7 +252,7 @@ fn bsdf_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> Bsd
     switch b.kind {
         case BSDF_LAMBERT: {
             if HAS_LAMBERT {
-                return lambert_sample(b.color, wo, u2);
+                return lambert_sample(b.color, wo, u2, b.metallic != 0.0);
             }
         }
         case BSDF_MIRROR: {

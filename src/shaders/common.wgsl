@@ -143,6 +143,17 @@ fn uniform_cone(u: vec2<f32>, cos_max: f32) -> vec3<f32> {
     return vec3<f32>(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
 }
 
+// Uniform direction on the hemisphere around +z. PBR 4th ed. §A.5.2.
+fn uniform_hemisphere(u: vec2<f32>) -> vec3<f32> {
+    let z = u.x;
+    let r = sqrt(max(1.0 - z * z, 0.0));
+    let phi = 2.0 * PI * u.y;
+    return vec3<f32>(r * cos(phi), r * sin(phi), z);
+}
+
+// pdf of `uniform_hemisphere`: 1/2π.
+const UNIFORM_HEMISPHERE_PDF: f32 = 0.5 * FRAC_1_PI;
+
 // pdf of `uniform_sphere` w.r.t. solid angle: 1/4π. PBR 4th ed. §A.5.2.
 const UNIFORM_SPHERE_PDF: f32 = 0.25 * FRAC_1_PI;
 

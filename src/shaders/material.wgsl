@@ -63,6 +63,10 @@ fn material_bsdf(m: Material, uv: vec2<f32>, eta: f32, sp: Spectral) -> Bsdf {
         b.specular_factor = m.specular_factor;
         b.specular_color = spectral_c(sp, v3(m.specular_color));
     }
+    if HAS_LAMBERT && m.bsdf == BSDF_LAMBERT && (m.flags & MAT_UNIFORM_SAMPLING) != 0u {
+        // Lambert does not read the metal-rough slots: `metallic` = 1 marks uniform sampling.
+        b.metallic = 1.0;
+    }
     if HAS_CONDUCTOR && m.metal != METAL_NONE {
         // RGB η, k (gpu::upload::check_supported keeps conductors out of spectral kernels).
         bsdf_set_conductor_ior(&b, v3(m.cond_eta), v3(m.cond_k));

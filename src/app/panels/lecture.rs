@@ -17,6 +17,17 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
         }
     });
+    if let Some((k, n)) = app.lecture_position() {
+        ui.label(format!(
+            "{k} / {n} — PageDown/PageUp or the arrow keys step (a clicker)"
+        ));
+    }
+    if let Some((toggle, on)) = app.lecture_toggle() {
+        let mut want = on;
+        if ui.checkbox(&mut want, toggle.label).changed() {
+            app.set_lecture_toggle(want);
+        }
+    }
     ui.checkbox(&mut app.lecture.large_type, "Large type")
         .on_hover_text("Zoom the whole interface for the back of the lecture hall.");
 }

@@ -55,6 +55,9 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: TexSlots) -
     if m.has_absorption() {
         flags |= layout::MAT_ABSORBS;
     }
+    if m.uniform_sampling && m.kind == MaterialKind::Diffuse {
+        flags |= layout::MAT_UNIFORM_SAMPLING;
+    }
     let absorbs = m.has_absorption();
     let cond = m.conductor.map_or((Vec3::ZERO, Vec3::ZERO), |c| c.rgb());
     Material {

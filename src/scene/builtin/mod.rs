@@ -7,7 +7,8 @@
 
 //!
 //! Files: `shapes` (mesh helpers), `presets` (material presets), one file per family of
-//! scenes (`cornell`, `prism`, `caustic`, `showcase`, `glass_of_water`, `khronos`).
+//! scenes (`cornell`, `prism`, `caustic`, `showcase`, `glass_of_water`, `khronos`, and the
+//! lecture's `lecture` and `optics`), `lathe` (surfaces of revolution).
 
 use super::{Camera, Material, Mesh, RenderSettings, Scene};
 use glam::Vec3;
@@ -16,6 +17,9 @@ mod caustic;
 mod cornell;
 pub mod glass_of_water;
 pub mod khronos;
+mod lathe;
+mod lecture;
+pub mod optics;
 mod presets;
 mod prism;
 pub(crate) mod shapes;
@@ -23,6 +27,9 @@ mod showcase;
 
 pub use caustic::{caustic, caustic_mirror};
 pub use cornell::{cornell_glass, furnace, glass_slab, rough_glass};
+pub use lathe::lathe;
+pub use lecture::{brdf_types, fresnel_three, importance, mirror_delta};
+pub use optics::{convex_lens, snell_window, wine_glass};
 pub use presets::{glossy_metal, plastic, rough_glass_material};
 pub use prism::{
     PRISM_APEX_DEG, PRISM_DESIGN_N_D, PRISM_WALL_DISTANCE, PrismLayout, prism, prism_layout,
@@ -48,6 +55,13 @@ pub const NAMES: &[&str] = &[
     "ior-grid",
     "transmission-roughness",
     "metals",
+    "brdf-types",
+    "importance",
+    "mirror-delta",
+    "fresnel-three",
+    "snell-window",
+    "convex-lens",
+    "wine-glass",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -66,6 +80,13 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "ior-grid" => Ok(khronos::ior_grid()),
         "transmission-roughness" => Ok(khronos::transmission_roughness()),
         "metals" => Ok(metals()),
+        "brdf-types" => Ok(brdf_types()),
+        "importance" => Ok(importance()),
+        "mirror-delta" => Ok(mirror_delta()),
+        "fresnel-three" => Ok(fresnel_three()),
+        "snell-window" => Ok(snell_window()),
+        "convex-lens" => Ok(convex_lens()),
+        "wine-glass" => Ok(wine_glass()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")

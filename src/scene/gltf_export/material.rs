@@ -90,7 +90,8 @@ fn specular_extension(m: &Material, ext: &mut Map<String, Value>, used: &mut Vec
 }
 
 /// The material's `extras` (the loader's contract): the microfacet distribution of glass and
-/// glossy metal, a tabulated `conductor`, and a non-zero `priority` (nested dielectrics).
+/// glossy metal, a tabulated `conductor`, a non-zero `priority` (nested dielectrics) and
+/// uniform `sampling` (the importance-sampling teaching switch).
 fn material_extras(m: &Material) -> Map<String, Value> {
     let mut extras = Map::new();
     if matches!(
@@ -108,6 +109,9 @@ fn material_extras(m: &Material) -> Map<String, Value> {
     }
     if m.priority != 0 {
         extras.insert("priority".into(), json!(m.priority));
+    }
+    if m.uniform_sampling {
+        extras.insert("sampling".into(), json!("uniform"));
     }
     extras
 }

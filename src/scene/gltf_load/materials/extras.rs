@@ -58,6 +58,22 @@ impl Loader<'_> {
     }
 }
 
+/// `extras.sampling`: "cosine" (default) or "uniform" (the importance-sampling teaching
+/// switch, `Material::uniform_sampling`); anything else is an error naming the material.
+pub(super) fn uniform_sampling(m: &json::Material, name: &str, i: usize) -> anyhow::Result<bool> {
+    let Some(x) = extras_value(&m.extras, &format!("/materials/{i}/extras"))? else {
+        return Ok(false);
+    };
+    match x.get("sampling") {
+        None | Some(Value::Null) => Ok(false),
+        Some(Value::String(s)) if s.eq_ignore_ascii_case("cosine") => Ok(false),
+        Some(Value::String(s)) if s.eq_ignore_ascii_case("uniform") => Ok(true),
+        Some(v) => anyhow::bail!(
+            "material '{name}': extras.sampling must be \"cosine\" or \"uniform\", got {v}"
+        ),
+    }
+}
+
 /// `extras.conductor`: "Au", "Ag", "Cu" or "Al" (a tabulated metal); anything else is an
 /// error naming the material and the value.
 pub(super) fn conductor(m: &json::Material, name: &str, i: usize) -> anyhow::Result<Option<Metal>> {

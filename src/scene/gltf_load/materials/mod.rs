@@ -32,6 +32,7 @@ struct Factors {
     distribution: MicrofacetDistribution,
     priority: i32,
     conductor: Option<Metal>,
+    uniform_sampling: bool,
 }
 
 /// The scene material named `name` of kind `kind` from its factors `f` and textures `tex`.
@@ -66,6 +67,7 @@ fn assemble(
         specular_color: f.specular_color,
         priority: f.priority,
         conductor: f.conductor,
+        uniform_sampling: f.uniform_sampling,
     }
 }
 
@@ -147,6 +149,7 @@ impl Loader<'_> {
             distribution: self.microfacet_distribution(m, name, i)?,
             priority: self.priority(m, name, i)?,
             conductor: conductor(m, name, i)?,
+            uniform_sampling: extras::uniform_sampling(m, name, i)?,
         })
     }
 

@@ -5,100 +5,13 @@
 //! A demo is data ([`Demo`]); [`ViewerApp::start_demo`] turns it into ordinary edits, so a
 //! demo is exactly what a user could set up by hand and every control keeps working in it.
 
-use super::layer_view::ViewMode;
+mod clicker;
+mod demos;
+mod toggle;
+
+pub use demos::{DEMOS, Demo, Toggle};
+
 use super::{Edit, ViewerApp};
-
-/// One demonstration.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Demo {
-    /// Name on the command line (`refract view --lecture KEY`).
-    pub key: &'static str,
-    /// Button label.
-    pub title: &'static str,
-    /// `builtin:NAME`.
-    pub scene: &'static str,
-    /// The one line drawn over the image.
-    pub caption: &'static str,
-    /// Heckbert filter to render with ("" = every path).
-    pub filter: &'static str,
-    /// Inspect the paths through the pixel that sees this scene point (m), at whatever size
-    /// the viewer renders.
-    pub inspect: Option<[f32; 3]>,
-    /// Select the material of this name (its Fresnel plot and dispersion panel show).
-    pub select: Option<&'static str>,
-    /// What the viewport shows (a heatmap needs the CPU backend; elsewhere: the image).
-    pub view: ViewMode,
-}
-
-/// The demonstrations, in lecture order.
-pub const DEMOS: [Demo; 6] = [
-    Demo {
-        key: "snell",
-        title: "Snell's law",
-        scene: "builtin:glass-slab",
-        caption: "Snell's law n₁ sin θ₁ = n₂ sin θ₂: entering the slab (n = 1.5) light bends \
-                  towards the normal, leaving it bends away. Click a pixel to see its paths.",
-        filter: "",
-        inspect: Some([-0.1688, 0.5048, 0.4028]), // refracts through the slab
-        select: Some("glass"),
-        view: ViewMode::Beauty,
-    },
-    Demo {
-        key: "fresnel",
-        title: "Fresnel reflection",
-        scene: "builtin:env-spheres",
-        caption: "Fresnel: glass reflects 4 % of the light head-on and nearly all of it at \
-                  grazing angles — the bright rim of the glass sphere.",
-        filter: "",
-        inspect: None,
-        select: Some("glass"),
-        view: ViewMode::Beauty,
-    },
-    Demo {
-        key: "tir",
-        title: "Total internal reflection",
-        scene: "builtin:glass-slab",
-        caption: "Total internal reflection: beyond the critical angle asin(1/1.5) = 41.8° no \
-                  light leaves the glass: the slab is a light pipe. White: every path was trapped at least once.",
-        filter: "",
-        inspect: Some([0.4803, 0.3112, 0.1748]), // four TIR bounces
-        select: Some("glass"),
-        view: ViewMode::Tir,
-    },
-    Demo {
-        key: "caustic",
-        title: "Ball-lens caustic",
-        scene: "builtin:caustic",
-        caption: "A glass ball is a lens: it focuses the light into a bright spot on the \
-                  floor — a caustic: light, two refractions, one diffuse bounce, the eye (LSSDE).",
-        filter: "",
-        inspect: None,
-        select: None,
-        view: ViewMode::Beauty,
-    },
-    Demo {
-        key: "prism",
-        title: "Prism dispersion",
-        scene: "builtin:prism",
-        caption: "Dispersion: the index of refraction falls with wavelength, so blue bends \
-                  more than red and white light fans out into a spectrum.",
-        filter: "",
-        inspect: None,
-        select: Some("dispersive-glass"),
-        view: ViewMode::Beauty,
-    },
-    Demo {
-        key: "classes",
-        title: "Path classes",
-        scene: "builtin:cornell-glass",
-        caption: "Only the paths LS+DE: light through one or more specular surfaces, then one \
-                  diffuse bounce, then the eye — the caustic under the sphere.",
-        filter: "LS+DE",
-        inspect: None,
-        select: None,
-        view: ViewMode::Beauty,
-    },
-];
 
 /// The demo called `key`, or an error listing the names.
 pub fn find(key: &str) -> anyhow::Result<&'static Demo> {
@@ -222,7 +135,7 @@ mod tests {
         }
         let e = find("laser").unwrap_err().to_string();
         assert!(
-            e.contains("--lecture") && e.contains("snell, fresnel, tir"),
+            e.contains("--lecture") && e.contains("energy, brdf-types") && e.contains("wine-glass"),
             "{e}"
         );
     }
