@@ -278,7 +278,12 @@ fn probe_bsdf(c: &ProbeCase) -> Bsdf {
     let col = PROBE_COLOR.extend(0.0);
     let (eta, alpha, dist) = (c.eta, c.alpha, dist_of(c.dist));
     match c.kind {
-        BSDF_LAMBERT => Bsdf::Lambert(Lambert::new(col)),
+        // The kernel reads a non-zero `metallic` slot of a Lambert as its uniform-sampling
+        // switch (material.wgsl); the cases with one check the uniform branch.
+        BSDF_LAMBERT => Bsdf::Lambert(Lambert {
+            albedo: col,
+            uniform: c.metallic != 0.0,
+        }),
         BSDF_MIRROR => Bsdf::Mirror(Mirror { reflectance: col }),
         BSDF_SMOOTH_DIELECTRIC => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
         BSDF_THIN_DIELECTRIC => Bsdf::ThinDielectric(ThinDielectric { eta }),

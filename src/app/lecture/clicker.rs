@@ -32,8 +32,12 @@ fn step_pressed(ctx: &egui::Context) -> Option<Step> {
     use egui::{Key, Modifiers};
     ctx.input_mut(|i| {
         let mut any = |keys: &[Key]| {
-            keys.iter()
-                .fold(false, |hit, &k| i.consume_key(Modifiers::NONE, k) || hit)
+            // Consume every listed key (no short-circuit: one press, one step).
+            let mut hit = false;
+            for &k in keys {
+                hit |= i.consume_key(Modifiers::NONE, k);
+            }
+            hit
         };
         if any(&[Key::PageDown, Key::ArrowRight, Key::ArrowDown]) {
             Some(Step::Next)

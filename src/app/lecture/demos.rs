@@ -72,7 +72,7 @@ pub const DEMOS: [Demo; 14] = [
         concept: "Three BRDF types",
         caption: "Three BRDF types: diffuse (f = ρ/π, light scattered evenly), the perfect \
                   mirror (a Dirac delta: one direction) and glossy (a lobe around the mirror \
-                  direction). The Fresnel panel draws the selected one's lobe.",
+                  direction). Drag the glossy sphere's roughness to 0 and it becomes the mirror.",
         select: Some("glossy"),
         ..demo("brdf-types", "Three BRDF types", "builtin:brdf-types")
     },
