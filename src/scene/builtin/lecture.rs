@@ -2,9 +2,9 @@
 //! sampling of the diffuse BRDF, the perfect mirror as a Dirac delta, and Fresnel for three
 //! indices of refraction. Each is small (fast on a laptop) and shows one idea.
 
-use super::{checkerboard, glossy_metal, oriented_box, rect, scene, settings, sphere};
+use super::{checkerboard, glossy_metal, rect, scene, settings, sphere};
 use crate::scene::{Camera, Material, Mesh, Scene};
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 /// A floor checkerboard (materials 0 and 1) and a back wall (2); material 3 is the light
 /// (radiance 30), placed by the caller. The camera looks at three spheres' places.
@@ -98,11 +98,13 @@ pub fn mirror_delta() -> Scene {
     materials.push(Material::mirror("mirror", Vec3::splat(0.95)));
     let (light, mirror) = (Vec3::new(-0.3, 0.6, 0.6), Vec3::new(0.0, 0.0, -0.2));
     rect(&mut m, light, mirror - light, 0.15, 0.15, 3);
-    oriented_box(
+    // A one-sided mirror 2 mm above the floor: no face coincides with it.
+    rect(
         &mut m,
-        mirror + Vec3::new(0.0, 0.005, 0.0),
-        Vec3::new(0.125, 0.005, 0.125),
-        Quat::IDENTITY,
+        mirror + Vec3::new(0.0, 0.002, 0.0),
+        Vec3::Y,
+        0.25,
+        0.25,
         4,
     );
     scene(
