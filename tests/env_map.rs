@@ -400,6 +400,25 @@ fn path_bdpt_and_light_tracing_agree_under_sun_and_sky() {
     assert_agree("path vs lt on L(D|G|S)*DE", &pt, &lt);
 }
 
+/// [`RUNS`] independent GPU renders of `scene` (seeds `seed0`…), as block means.
+fn gpu_runs(
+    g: &mut refract::gpu::GpuRenderer,
+    scene: &Scene,
+    seed0: u32,
+    spp: u32,
+) -> Vec<Vec<f64>> {
+    (0..RUNS)
+        .map(|i| {
+            let mut opts = RenderOptions::from_scene(scene);
+            opts.seed = seed0 + i;
+            g.set_options(opts).expect("options");
+            let img = g.render(spp).expect("render");
+            assert_eq!(img.dropped, 0, "GPU: the firewall dropped samples");
+            block_means(&img.mean, scene.settings.width, scene.settings.height)
+        })
+        .collect()
+}
+
 /// The HDRI-lit glass scene: CPU path tracing against BDPT (which reaches the sun caustic
 /// through its light subpaths), and the GPU path tracer against the CPU one.
 #[test]
@@ -418,16 +437,7 @@ fn glass_under_sun_and_sky_agrees_across_estimators_and_devices() {
         RenderOptions::from_scene(&scene),
     )
     .expect("GPU renderer");
-    let runs: Vec<Vec<f64>> = (0..RUNS)
-        .map(|i| {
-            let mut opts = RenderOptions::from_scene(&scene);
-            opts.seed = 2000 + i;
-            g.set_options(opts).expect("options");
-            let img = g.render(128).expect("render");
-            assert_eq!(img.dropped, 0, "GPU glass: the firewall dropped samples");
-            block_means(&img.mean, scene.settings.width, scene.settings.height)
-        })
-        .collect();
+    let runs = gpu_runs(&mut g, &scene, 2000, 128);
     assert_agree("glass: GPU path vs CPU path", &runs, &pt);
 }
 
@@ -449,16 +459,7 @@ fn gpu_path_and_lt_pt_agree_with_the_cpu_under_sun_and_sky() {
     .expect("GPU renderer");
     for est in [Estimator::Path, Estimator::LtPt] {
         g.set_estimator(est).expect("estimator");
-        let runs: Vec<Vec<f64>> = (0..RUNS)
-            .map(|i| {
-                let mut opts = RenderOptions::from_scene(&scene);
-                opts.seed = 1000 + i;
-                g.set_options(opts).expect("options");
-                let img = g.render(64).expect("render");
-                assert_eq!(img.dropped, 0, "GPU {est}: the firewall dropped samples");
-                block_means(&img.mean, scene.settings.width, scene.settings.height)
-            })
-            .collect();
+        let runs = gpu_runs(&mut g, &scene, 1000, 64);
         assert_agree(&format!("GPU {est} vs CPU path"), &runs, &cpu);
     }
 }
