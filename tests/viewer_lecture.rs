@@ -5,7 +5,9 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use refract::app::ViewerApp;
 use refract::app::lecture::{DEMOS, LARGE_ZOOM};
+use refract::app::panels::lobe::lobe_vertex;
 use refract::cpu::inspect::VertexEvent;
+use refract::cpu::inspect::lobe::lobe_slice;
 use std::time::{Duration, Instant};
 
 /// A viewer on `spec` rendering small images (fast on 2 cores).
@@ -129,6 +131,62 @@ fn the_tir_demo_inspects_paths_that_are_totally_reflected() {
             "fit {fit}: {events:?}"
         );
     }
+}
+
+/// Step `h` until the inspector has finished tracing.
+fn until_traced(h: &mut Harness<'static, ViewerApp>) {
+    let start = Instant::now();
+    while h.state().inspector.traced.is_none() || h.state().inspector.is_tracing() {
+        assert!(start.elapsed() < Duration::from_secs(60), "no trace");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.step();
+}
+
+#[test]
+fn the_brdf_types_demo_draws_the_lobe_of_the_inspected_sphere() {
+    let mut h = harness(app_on("builtin:furnace"));
+    let demo = DEMOS.iter().position(|d| d.key == "brdf-types").unwrap();
+    h.state_mut().start_demo(demo);
+    until_traced(&mut h);
+    // The demo inspects the glossy sphere: its first vertex scatters with a continuous lobe
+    // (no delta spike) peaked on the far side of the normal from the camera ray.
+    let traced = h.state().inspector.traced.clone().unwrap();
+    let (k, rec) = lobe_vertex(&traced.trace.paths[0], 1).expect("the path scatters");
+    assert_eq!(traced.trace.paths[0].vertices[k].material, "glossy");
+    let s = lobe_slice(&rec);
+    assert!(s.spikes.is_empty() && s.continuous_albedo > 0.5, "{s:?}");
+    let peak = s
+        .density
+        .iter()
+        .fold((0.0, 0.0), |a, p| if p.1 > a.1 { *p } else { a });
+    assert!(peak.0 < 0.0, "peak at {} rad", peak.0);
+    let label = format!("#{k} 'glossy'");
+    assert!(
+        h.query_by_label_contains(&label).is_some(),
+        "the panel names the vertex ({label})"
+    );
+    // Choosing the mirror sphere's path shows a spike instead: re-inspect a mirror point.
+    let mirror = glam::Vec3::new(0.9, 0.35 + 0.35 * 0.5, 0.35 * 0.866);
+    let size = h.state().settings.resolution(&h.state().scene);
+    let film = h
+        .state()
+        .scene
+        .camera
+        .to_film(mirror, size.0 as f32 / size.1 as f32)
+        .unwrap();
+    h.state_mut().lecture.inspect_point = None;
+    h.state_mut().inspector.clear();
+    h.state_mut().inspector.request(film);
+    until_traced(&mut h);
+    let traced = h.state().inspector.traced.clone().unwrap();
+    let (k, rec) = lobe_vertex(&traced.trace.paths[0], 1).expect("the path scatters");
+    assert_eq!(traced.trace.paths[0].vertices[k].material, "mirror");
+    let s = lobe_slice(&rec);
+    assert_eq!(s.spikes.len(), 1, "{s:?}");
+    assert!((s.spikes[0].fraction - 0.95).abs() < 1e-3, "{s:?}");
+    assert!(h.query_by_label_contains("reflected spike 0.950").is_some());
 }
 
 #[test]

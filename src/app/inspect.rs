@@ -32,6 +32,10 @@ pub struct Inspector {
     /// The path the list highlights (the others are drawn faint).
     pub highlight: Option<usize>,
     pub error: Option<String>,
+    /// The path and vertex whose BSDF lobe the panel draws (the first scattering vertex at
+    /// or after `lobe_vertex`).
+    pub lobe_path: usize,
+    pub lobe_vertex: usize,
     /// Where the image was drawn last frame (tests click into it).
     pub image_rect: Option<Rect>,
     /// The scene generation the current or pending trace was made for.
@@ -48,6 +52,8 @@ impl Default for Inspector {
             traced: None,
             highlight: None,
             error: None,
+            lobe_path: 0,
+            lobe_vertex: 1,
             image_rect: None,
             traced_generation: None,
             pending: None,

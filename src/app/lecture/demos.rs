@@ -70,9 +70,11 @@ pub const DEMOS: [Demo; 14] = [
     },
     Demo {
         concept: "Three BRDF types",
-        caption: "Three BRDF types: diffuse (f = ρ/π, light scattered evenly), the perfect \
-                  mirror (a Dirac delta: one direction) and glossy (a lobe around the mirror \
-                  direction). Drag the glossy sphere's roughness to 0 and it becomes the mirror.",
+        caption: "Three BRDF types: diffuse (f = ρ/π, light scattered evenly), glossy (a lobe \
+                  around the mirror direction) and the perfect mirror (a Dirac delta: one \
+                  direction). Click a sphere: the path inspector draws its lobe. Drag the \
+                  glossy sphere's roughness to 0 and it becomes the mirror.",
+        inspect: Some([-0.1284, 0.5069, 0.2853]), // on the glossy sphere, facing the camera
         select: Some("glossy"),
         ..demo("brdf-types", "Three BRDF types", "builtin:brdf-types")
     },

@@ -85,6 +85,8 @@ fn contents(app: &mut ViewerApp, ui: &mut egui::Ui) {
         )
         .weak(),
     );
+    super::lobe::show(ui, &t.paths, &mut ins.lobe_path, &mut ins.lobe_vertex);
+    ui.separator();
     legend(ui);
     let mut hovered = None;
     for (i, p) in t.paths.iter().enumerate() {

@@ -7,6 +7,7 @@ pub mod fresnel;
 pub mod inspect;
 pub mod lecture;
 pub mod light;
+pub mod lobe;
 pub mod material;
 pub mod rendering;
 pub mod scene;

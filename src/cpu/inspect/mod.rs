@@ -5,11 +5,14 @@
 //! is the rendered pixel's value. The inspector always path-traces (whatever the estimator
 //! option says): it shows one walk, not a combination of strategies.
 
+pub mod lobe;
 mod record;
 mod recorder;
 mod table;
 
-pub use record::{ConnectionRecord, PathRecord, PixelTrace, VertexEvent, VertexRecord};
+pub use record::{
+    ConnectionRecord, PathRecord, PixelTrace, ScatterRecord, VertexEvent, VertexRecord,
+};
 pub use recorder::sample_event;
 pub use table::format_table;
 

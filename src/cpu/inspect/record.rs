@@ -3,8 +3,10 @@
 //! "class":"S","event":"refract","material":"glass","eta_i":1.0,"eta_t":1.5,"cos_i":0.8,
 //! "cos_t":0.9,"fresnel":0.04,"throughput":[r,g,b]}, …]}]}` (plus a few extra fields).
 
+use crate::bsdf::Bsdf;
 use crate::cpu::observer::PathEnd;
 use crate::paths::Symbol;
+use glam::Vec3;
 use serde::{Serialize, Serializer};
 
 /// What happened at a vertex.
@@ -61,6 +63,20 @@ pub struct VertexRecord {
     /// it; not printed (tests compare it with eta_t/eta_i).
     #[serde(skip)]
     pub step_eta_rel: Option<f32>,
+    /// The BSDF the step scattered with and the direction towards the previous vertex, in
+    /// the shading frame: what the inspector's lobe plot evaluates. Not printed.
+    #[serde(skip)]
+    pub scatter: Option<ScatterRecord>,
+}
+
+/// A vertex's BSDF as the walk resolved it (textures looked up, η chosen for the path's
+/// wavelengths) and the local direction `wo` towards where the path came from.
+#[derive(Clone, Copy, Debug)]
+pub struct ScatterRecord {
+    pub bsdf: Bsdf,
+    pub wo: Vec3,
+    /// The colour lanes hold four hero wavelengths rather than RGB.
+    pub spectral: bool,
 }
 
 /// A next-event (shadow-ray) connection from a vertex to a point on a light: drawn dashed.

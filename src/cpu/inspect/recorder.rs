@@ -2,7 +2,9 @@
 //! from what the step itself used: the media of `PathState` for η_i and η_t, the BSDF
 //! sample's event, lobe, direction and selection probability for the event, cos θ_t and F.
 
-use super::record::{ConnectionRecord, PathRecord, VertexEvent, VertexRecord, heckbert_string};
+use super::record::{
+    ConnectionRecord, PathRecord, ScatterRecord, VertexEvent, VertexRecord, heckbert_string,
+};
 use crate::bsdf::fresnel::cos2_transmitted;
 use crate::bsdf::{Bsdf, BsdfSample, Event, Lobe, TransportMode};
 use crate::cpu::interaction::{Interaction, SurfaceHit};
@@ -142,6 +144,7 @@ impl PathObserver for Recorder {
             throughput: [1.0; 3],
             emitted: None,
             step_eta_rel: None,
+            scatter: None,
         });
     }
 
@@ -163,6 +166,7 @@ impl PathObserver for Recorder {
             throughput,
             emitted: None,
             step_eta_rel: None,
+            scatter: None,
         });
     }
 
@@ -216,6 +220,7 @@ impl PathObserver for Recorder {
         let eta_t = medium_ior(scene, st.medium_towards(scene, it, across), &self.sp);
         let (event, cos_t, fresnel) = classify(it, s, (eta_i, eta_t));
         self.dir = wi;
+        let spectral = self.sp.lambdas.is_some();
         if let Some(v) = self.last() {
             v.class = Symbol::from(s.lobe);
             v.event = event;
@@ -225,6 +230,11 @@ impl PathObserver for Recorder {
             v.cos_t = Some(cos_t);
             v.fresnel = fresnel;
             v.step_eta_rel = Some(s.eta_rel);
+            v.scatter = Some(ScatterRecord {
+                bsdf: it.bsdf,
+                wo: it.wo,
+                spectral,
+            });
         }
     }
 
@@ -259,6 +269,7 @@ impl PathObserver for Recorder {
             throughput,
             emitted,
             step_eta_rel: None,
+            scatter: None,
         });
     }
 

@@ -26,17 +26,18 @@ fn stage(m: &mut Mesh) -> (Vec<Material>, Camera) {
     (materials, cam)
 }
 
-/// The three BRDF types side by side: a diffuse (Lambert, albedo 0.8), a perfect mirror
-/// (reflectance 0.95) and a glossy metal (GGX, roughness 0.3) sphere, r = 0.35 m, under a
-/// 0.6 × 0.6 m ceiling light 2.2 m up.
+/// The three BRDF types side by side, from rough to smooth: a diffuse (Lambert, albedo
+/// 0.8), a glossy metal (GGX, roughness 0.3) and a perfect mirror (reflectance 0.95)
+/// sphere, r = 0.35 m, under a 0.6 × 0.6 m ceiling light 2.2 m up. The glossy one is in the
+/// middle, where a narrow (portrait) viewport still shows it.
 pub fn brdf_types() -> Scene {
     let mut m = Mesh::default();
     let (mut materials, cam) = stage(&mut m);
     rect(&mut m, Vec3::new(0.0, 2.2, 0.5), Vec3::NEG_Y, 0.6, 0.6, 3);
     materials.extend([
         Material::diffuse("diffuse", Vec3::splat(0.8)),
-        Material::mirror("mirror", Vec3::splat(0.95)),
         glossy_metal("glossy", Vec3::splat(0.9), 0.3),
+        Material::mirror("mirror", Vec3::splat(0.95)),
     ]);
     for k in 0..3 {
         let x = -0.9 + 0.9 * k as f32;
