@@ -1,4 +1,4 @@
-//! Screenshots: `<dir>/<scene>-<UTC timestamp>.png` (tone-mapped, as shown), `.exr` (linear
+//! Screenshots: `<dir>/<scene>-<local timestamp>.png` (tone-mapped, as shown), `.exr` (linear
 //! accumulated radiance) and `.json` (every setting, see [`crate::render::settings`]), so the image can
 //! be re-rendered headless with `refract render --settings <file>.json`.
 
@@ -7,7 +7,7 @@ use crate::film;
 use crate::render::settings::{CaptureInfo, EnvironmentSetting};
 use anyhow::Context;
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::SystemTime;
 
 /// The files one screenshot wrote.
 #[derive(Clone, Debug)]
@@ -17,26 +17,18 @@ pub struct Saved {
     pub json: PathBuf,
 }
 
-/// `YYYYMMDD-HHMMSS` in UTC (civil-from-days: Hinnant, "chrono-Compatible Low-Level Date
-/// Algorithms", 2013).
+/// `YYYYMMDD-HHMMSS` in the user's time zone (the system's, as file managers show file
+/// times; UTC where none is configured).
 pub fn timestamp(t: SystemTime) -> String {
-    let secs = t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs()) as i64;
-    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
-        rem / 3600,
-        rem / 60 % 60,
-        rem % 60
-    )
+    timestamp_in(t, &jiff::tz::TimeZone::system())
+}
+
+/// `YYYYMMDD-HHMMSS` of `t` in time zone `tz` (the Unix epoch for a time before it).
+pub fn timestamp_in(t: SystemTime, tz: &jiff::tz::TimeZone) -> String {
+    let ts = jiff::Timestamp::try_from(t).unwrap_or(jiff::Timestamp::UNIX_EPOCH);
+    ts.to_zoned(tz.clone())
+        .strftime("%Y%m%d-%H%M%S")
+        .to_string()
 }
 
 /// A file-name-safe version of a scene name.
@@ -120,14 +112,18 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::time::Duration;
+    use std::time::{Duration, UNIX_EPOCH};
 
     #[test]
-    fn timestamps_are_utc_civil_dates() {
-        assert_eq!(timestamp(UNIX_EPOCH), "19700101-000000");
-        // 2024-02-29 12:34:56 UTC
+    fn timestamps_are_civil_dates_in_the_time_zone() {
+        let utc = jiff::tz::TimeZone::UTC;
+        assert_eq!(timestamp_in(UNIX_EPOCH, &utc), "19700101-000000");
+        // 2024-02-29 12:34:56 UTC, a leap day; 13:34:56 in Berlin (CET, UTC+1).
         let t = UNIX_EPOCH + Duration::from_secs(1_709_210_096);
-        assert_eq!(timestamp(t), "20240229-123456");
+        assert_eq!(timestamp_in(t, &utc), "20240229-123456");
+        let cet = jiff::tz::TimeZone::fixed(jiff::tz::offset(1));
+        assert_eq!(timestamp_in(t, &cet), "20240229-133456");
+        assert_eq!(timestamp(t).len(), "20240229-123456".len());
     }
 
     #[test]

@@ -18,51 +18,30 @@ pub(super) fn check_uris(root: &json::Root) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Percent-decode a relative URI (invalid escapes are kept literally); None if not UTF-8.
+/// Percent-decode a relative URI (invalid escapes are kept literally, RFC 3986 §2.1 as the
+/// `percent-encoding` crate reads it); None if the bytes are not UTF-8.
 pub(super) fn percent_decode(s: &str) -> Option<String> {
-    let b = s.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        if b[i] == b'%'
-            && let Some(h) = b.get(i + 1..i + 3)
-            && let Ok(hs) = std::str::from_utf8(h)
-            && let Ok(v) = u8::from_str_radix(hs, 16)
-        {
-            out.push(v);
-            i += 3;
-            continue;
-        }
-        out.push(b[i]);
-        i += 1;
-    }
-    String::from_utf8(out).ok()
+    percent_encoding::percent_decode_str(s)
+        .decode_utf8()
+        .ok()
+        .map(|c| c.into_owned())
 }
 
-/// Minimal standard base64 decoder for `data:` image URIs (padding and whitespace tolerated).
+/// Decode the base64 payload of a `data:` URI (RFC 4648): the standard alphabet, or the
+/// URL-safe one some exporters write; padding optional, whitespace (line breaks in
+/// hand-edited files) ignored. None if it is not base64.
 pub(super) fn base64_decode(s: &str) -> Option<Vec<u8>> {
-    let mut out = Vec::with_capacity(s.len() / 4 * 3);
-    let mut acc = 0u32;
-    let mut bits = 0u32;
-    for c in s.bytes() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' | b'-' => 62,
-            b'/' | b'_' => 63,
-            b'=' | b' ' | b'\n' | b'\r' | b'\t' => continue,
-            _ => return None,
-        };
-        acc = (acc << 6) | v as u32;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Some(out)
+    use base64::Engine as _;
+    use base64::alphabet::{STANDARD, URL_SAFE};
+    use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
+    let config = GeneralPurposeConfig::new()
+        .with_decode_padding_mode(DecodePaddingMode::Indifferent)
+        .with_decode_allow_trailing_bits(true);
+    let compact: String = s.chars().filter(|c| !c.is_ascii_whitespace()).collect();
+    GeneralPurpose::new(&STANDARD, config)
+        .decode(&compact)
+        .or_else(|_| GeneralPurpose::new(&URL_SAFE, config).decode(&compact))
+        .ok()
 }
 
 /// The bytes of image `ii` from its URI: a base64 `data:` URI or a file relative to `base`.
@@ -91,5 +70,27 @@ pub(super) fn image_bytes(
         let what = format!("image {ii}");
         let path = super::files::resolve_uri(base, &rel, &what, limits.allow_absolute_uris)?;
         super::files::read_regular_file(&path, limits.max_file_bytes, &what)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percent_decoding_keeps_invalid_escapes_and_rejects_non_utf8() {
+        assert_eq!(percent_decode("a%20b.bin").as_deref(), Some("a b.bin"));
+        assert_eq!(percent_decode("100%.bin").as_deref(), Some("100%.bin"));
+        assert_eq!(percent_decode("%C3%A9").as_deref(), Some("é"));
+        assert_eq!(percent_decode("%FF"), None);
+    }
+
+    #[test]
+    fn base64_tolerates_padding_whitespace_and_the_url_safe_alphabet() {
+        assert_eq!(base64_decode("aGVsbG8=").as_deref(), Some(&b"hello"[..]));
+        assert_eq!(base64_decode("aGVs\nbG8").as_deref(), Some(&b"hello"[..]));
+        assert_eq!(base64_decode("-_8=").as_deref(), Some(&[0xfb, 0xff][..]));
+        assert_eq!(base64_decode("+/8=").as_deref(), Some(&[0xfb, 0xff][..]));
+        assert_eq!(base64_decode("a$b"), None);
     }
 }
