@@ -1,17 +1,17 @@
 //! The `render` command: the job on the GPU when it takes it, else on the CPU, and the
 //! progress and timing lines both backends print.
 
-use super::cli_job::{Job, prepare};
-use super::cli_layers::Layers;
-use super::cli_race::race_cpu;
-use super::{RenderArgs, thread_pool};
+use super::RenderArgs;
+use super::job::{Job, prepare};
+use super::layers::Layers;
+use super::progress::{budget_report, spp_progress_bar, spp_text};
+use super::race::race_cpu;
+use super::threads::thread_pool;
 use anyhow::{Context, Result};
-use indicatif::{ProgressBar, ProgressStyle};
 use refract::cpu::Renderer;
 use refract::film;
 use refract::render::{Estimator, RenderOptions};
 use refract::scene::Scene;
-use std::time::Duration;
 
 /// The `render` command: prepare the job, then render on the GPU or the CPU.
 pub(crate) fn render(args: &RenderArgs) -> Result<()> {
@@ -47,7 +47,7 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
     let mut opts = cpu_options(&renderer, job);
-    // `auto`: the estimators race on short trials, inside the time budget (`cli_race`).
+    // `auto`: the estimators race on short trials, inside the time budget (`cli::race`).
     let started = std::time::Instant::now();
     let raced = layers
         .is_none()
@@ -85,7 +85,7 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     bar.finish_and_clear();
     let (w, h) = (opts.width, opts.height);
     let what = (opts.estimator, "cpu");
-    super::cli_shard::save(args, &renderer.scene, job, (w, h), &film.image(), what)?;
+    super::shard::save(args, &renderer.scene, job, (w, h), &film.image(), what)?;
     eprintln!(
         "wrote {} — {} spp in {:.2} s, {:.3} M samples/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),
@@ -127,44 +127,4 @@ fn log_start(args: &RenderArgs, renderer: &Renderer, opts: &RenderOptions, spp: 
         spp_text(spp, args.time_budget),
         opts.max_depth
     );
-}
-
-/// The samples asked for, as the render commands log them: "64 spp", or "spp until 2s" for a
-/// time budget alone.
-pub(crate) fn spp_text(spp: Option<u32>, budget: Option<Duration>) -> String {
-    match (spp, budget) {
-        (Some(n), _) => format!("{n} spp"),
-        (None, Some(b)) => format!("spp until {b:?}"),
-        (None, None) => "spp unbounded".to_owned(),
-    }
-}
-
-/// With a time budget, one line on how far it got: the spp reached and the pass size (the
-/// most the last pass can overrun the budget by).
-pub(crate) fn budget_report(budget: Option<Duration>, spp: u64, pass_spp: u32) {
-    if let Some(b) = budget {
-        eprintln!("time budget {b:?}: {spp} spp reached in passes of {pass_spp} spp");
-    }
-}
-
-/// The render commands' progress bar over `spp` samples per pixel, a counter of samples
-/// when only a time budget bounds them (hidden when `quiet`).
-pub(crate) fn spp_progress_bar(spp: Option<u32>, quiet: bool) -> ProgressBar {
-    if quiet {
-        return ProgressBar::hidden();
-    }
-    let (bar, template) = match spp {
-        Some(n) => (
-            ProgressBar::new(n as u64),
-            "{bar:40} {pos}/{len} spp  {elapsed_precise} eta {eta}",
-        ),
-        None => (
-            ProgressBar::new_spinner(),
-            "{spinner} {pos} spp  {elapsed_precise}",
-        ),
-    };
-    bar.set_style(
-        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
 }

@@ -3,7 +3,7 @@
 //! sidecar key or scene field it came from.
 
 use super::RenderArgs;
-use super::cli_shard::ShardPlan;
+use super::shard::ShardPlan;
 use anyhow::{Context, Result, bail};
 use refract::film::ToneMap;
 use refract::math::spectrum;
@@ -24,7 +24,7 @@ pub(crate) struct Job {
     pub(crate) estimator: Estimator,
     /// `--estimator` as given (the GPU resolves `auto` by its own rule).
     pub(crate) choice: Estimator,
-    /// `auto` with `--measure-auto`: the CPU chooses by measurement (`cli_race`).
+    /// `auto` with `--measure-auto`: the CPU chooses by measurement (`cli::race`).
     pub(crate) measure_auto: bool,
     /// `--max-film-gib` in bytes.
     pub(crate) max_film_bytes: u64,
@@ -43,7 +43,7 @@ impl Job {
 
 /// The scene to render (sidecar edits and flags applied) and the job's other values.
 pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
-    let shard = super::cli_shard::plan(args)?;
+    let shard = super::shard::plan(args)?;
     let sidecar = args
         .settings
         .as_deref()

@@ -2,8 +2,8 @@
 //! main.rs so the CLI stays small).
 
 use super::RenderArgs;
-use super::cli_job::Job;
-use super::cli_render::{budget_report, spp_progress_bar, spp_text};
+use super::job::Job;
+use super::progress::{budget_report, spp_progress_bar, spp_text};
 use anyhow::Result;
 use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
 use refract::render::{Device, Estimator, RenderOptions};
@@ -52,7 +52,7 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     let stats = r.stats()?;
     let (w, h) = (img.width, img.height);
     let what = (r.effective_estimator(), "gpu");
-    super::cli_shard::save(args, scene, job, (w, h), &img.mean, what)?;
+    super::shard::save(args, scene, job, (w, h), &img.mean, what)?;
     eprintln!(
         "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),

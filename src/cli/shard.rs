@@ -1,9 +1,9 @@
 //! `render --shard I/N` (issue 37): one of N disjoint slices of the render's samples
 //! (`render::shard`), written as an EXR whose header records which samples of which render it
-//! holds (`render::shard_exr`), for `refract merge` (`cli_merge`).
+//! holds (`render::shard_exr`), for `refract merge` (`cli::merge`).
 
 use super::RenderArgs;
-use super::cli_job::Job;
+use super::job::Job;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
 use refract::math::fnv::Fnv1a64;

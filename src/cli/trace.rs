@@ -15,7 +15,7 @@ pub struct TraceArgs {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
-    load: crate::cli_load::LoadArgs,
+    load: super::load::LoadArgs,
     /// The pixel to trace through: column X, row Y (0, 0 = top left).
     #[arg(long, num_args = 2, value_names = ["X", "Y"], required = true)]
     pixel: Vec<u32>,

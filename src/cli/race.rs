@@ -6,7 +6,7 @@
 //! the render's, and the least relMSE × time renders the image. Scenes without glass or
 //! mirrors path-trace by the rule, without trials.
 
-use super::cli_job::Job;
+use super::job::Job;
 use refract::cpu::Renderer;
 use refract::render::race::{Halves, RaceReport, trials};
 use refract::render::{Estimator, RenderOptions};

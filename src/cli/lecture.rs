@@ -2,7 +2,7 @@
 //! every demo rendered headless to `DIR/KEY.png` (its scene, path filter; the teaching
 //! switches off) and `DIR/index.html` listing them in lecture order with their captions.
 
-use super::{RenderArgs, cli_render};
+use super::RenderArgs;
 use anyhow::{Context, Result};
 use clap::Parser;
 use refract::app::lecture::{DEMOS, Demo};
@@ -70,7 +70,8 @@ fn export(args: &ExportArgs) -> Result<()> {
     for (k, demo) in DEMOS.iter().enumerate() {
         eprintln!("[{}/{}] {} ({})", k + 1, DEMOS.len(), demo.key, demo.scene);
         let line = render_line(demo, args)?;
-        cli_render::render(&line.args).with_context(|| format!("lecture demo '{}'", demo.key))?;
+        super::render::render(&line.args)
+            .with_context(|| format!("lecture demo '{}'", demo.key))?;
     }
     let index = args.dir.join("index.html");
     refract::film::write_atomically(&index, |tmp| {
