@@ -57,18 +57,6 @@ fn errors_are_one_clear_line() {
         (&["render", "--tonemap", "sepia", "--out", &out], "tone map"),
         (&["render", "--threads", "0", "--out", &out], "threads"),
         (
-            &[
-                "render",
-                "--device",
-                "gpu",
-                "--estimator",
-                "bdpt",
-                "--out",
-                &out,
-            ],
-            "needs --device cpu",
-        ),
-        (
             &["bench", "--paths", "L(S", "--scenes", "builtin:furnace"],
             "--paths",
         ),

@@ -4,7 +4,7 @@
 mod common_scenes;
 
 use refract::bench::{Run, runs};
-use refract::render::Estimator;
+use refract::render::{Estimator, EstimatorPlan, Runner};
 use refract::render::settings::{CaptureInfo, ViewerSettings};
 use refract::scene::Scene;
 use std::process::Command;
@@ -38,8 +38,8 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         let (got, why) = Estimator::Auto.resolve_why(&scene);
         assert_eq!(got, cpu, "{name}: auto chose {got} ({why})");
         assert!(!why.is_empty(), "{name}: no reason given");
-        let (got, why) = Estimator::Auto.resolve_gpu_why(&scene);
-        assert_eq!(got, gpu, "{name}: auto chose {got} on the GPU ({why})");
+        let plan = EstimatorPlan::decide(Estimator::Auto, &scene, Runner::Gpu);
+        assert_eq!(plan.runs, gpu, "{name}: auto chose {plan:?} on the GPU");
     }
     let caustic = load("caustic");
     for e in [
@@ -50,11 +50,13 @@ fn auto_picks_the_documented_estimator_for_each_builtin() {
         Estimator::Sppm,
     ] {
         assert_eq!(e.resolve(&caustic), e, "an explicit {e} is kept");
-        assert_eq!(
-            e.resolve_gpu_why(&caustic).0,
-            e,
-            "an explicit {e} is kept on the GPU"
-        );
+        let plan = EstimatorPlan::decide(e, &caustic, Runner::Gpu);
+        // The GPU keeps what it implements and runs lt+pt for the CPU-only bdpt and lt.
+        let gpu = match e {
+            Estimator::Bdpt | Estimator::Lt => Estimator::LtPt,
+            e => e,
+        };
+        assert_eq!((plan.runs, plan.exact), (gpu, gpu == e), "{e} on the GPU");
     }
 }
 
@@ -316,5 +318,56 @@ fn gpu_auto_and_time_budget() {
     assert!(
         secs <= 2.0 + 2.0 * pass_s + 0.5 && wall <= 2.0 + 2.0 * pass_s + 20.0,
         "overran the budget: {secs} s ({wall} s wall), pass {pass_s} s"
+    );
+}
+
+/// One estimator decision for the CLI and the viewer (`render::estimator_plan`): `--device
+/// gpu` with an estimator the GPU lacks (bdpt) renders lt+pt and says so on stderr, as the
+/// viewer's GPU backend does; `--device cpu` renders bdpt itself, without the note.
+#[test]
+fn the_gpu_runs_lt_pt_for_bdpt_and_says_so() {
+    let out = tmp("bdpt-device.exr");
+    let run = |device: &str| {
+        let args = [
+            "render",
+            "--device",
+            device,
+            "--estimator",
+            "bdpt",
+            "--scene",
+            "builtin:caustic",
+            "--spp",
+            "2",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--quiet",
+            "--out",
+            &out,
+        ];
+        refract(&args)
+    };
+    let note = "note: estimator bdpt on the GPU:";
+    let (ok, err, _) = run("cpu");
+    assert!(ok && !err.contains(note), "{err}");
+    if let Err(e) = refract::gpu::GpuContext::new() {
+        assert!(
+            std::env::var_os("REFRACT_REQUIRE_GPU").is_none(),
+            "no GPU adapter although REFRACT_REQUIRE_GPU is set ({e:#})"
+        );
+        eprintln!("SKIP the GPU half: no adapter ({e:#})");
+        return;
+    }
+    let (ok, err, _) = run("gpu");
+    assert!(ok, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.starts_with(note))
+        .unwrap_or_else(|| panic!("no note in {err}"));
+    assert!(line.contains("lt+pt"), "{line}");
+    assert!(
+        err.contains("estimator lt+pt") || err.contains("lt+pt"),
+        "{err}"
     );
 }

@@ -6,7 +6,7 @@ use super::reference::reference;
 use super::{BenchOptions, BenchPoint, BenchSummary, RUN_SEED};
 use crate::cpu::Renderer;
 use crate::film::Film;
-use crate::render::{Estimator, RenderOptions};
+use crate::render::{Estimator, EstimatorPlan, RenderOptions, Runner};
 use crate::scene::Scene;
 use anyhow::Result;
 use glam::Vec3;
@@ -205,17 +205,15 @@ pub fn runs(asked: &[Estimator], scene: &Scene, gpu: bool) -> Vec<Run> {
     let mut runs: Vec<Run> = Vec::new();
     for &e in asked {
         let auto = e == Estimator::Auto;
-        let resolved = if gpu {
-            e.resolve_gpu_why(scene).0
-        } else {
-            e.resolve(scene)
-        };
-        let e = match (resolved, gpu) {
+        let runner = if gpu { Runner::Gpu } else { Runner::Cpu };
+        let plan = EstimatorPlan::decide(e, scene, runner);
+        if !plan.exact {
+            // A benchmark measures what was asked: the GPU's lt+pt stand-in is its own run.
+            eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
+            continue;
+        }
+        let e = match (plan.runs, gpu) {
             (Estimator::LtPt, false) if auto => Estimator::Bdpt,
-            (e @ (Estimator::Bdpt | Estimator::Lt), true) => {
-                eprintln!("  GPU: estimator {e} runs on the CPU only, skipped");
-                continue;
-            }
             (Estimator::LtPt, false) => {
                 eprintln!(
                     "  CPU: lt+pt is the GPU estimator (the CPU's bdpt is its superset), skipped"

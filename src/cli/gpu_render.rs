@@ -5,8 +5,8 @@ use super::RenderArgs;
 use super::job::Job;
 use super::progress::{budget_report, spp_progress_bar, spp_text};
 use anyhow::Result;
-use refract::gpu::{GpuContext, GpuRenderer, gpu_estimator};
-use refract::render::{Device, Estimator, RenderOptions};
+use refract::gpu::{GpuContext, GpuRenderer};
+use refract::render::{Device, EstimatorPlan, RenderOptions, Runner};
 use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
@@ -17,24 +17,23 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
         Device::Gpu => true,
         Device::Auto => false,
     };
-    let estimator = match gpu_estimator(job.choice, scene) {
-        Ok(e) => e,
-        Err(e) if forced => return Err(e),
-        Err(_) => return Ok(false),
-    };
+    let plan = EstimatorPlan::decide(job.choice, scene, Runner::Gpu);
+    if !plan.exact && !forced {
+        // Free to choose the device: the CPU runs exactly what was asked.
+        return Ok(false);
+    }
     let Some(ctx) = context(forced)? else {
         return Ok(false);
     };
-    if job.choice == Estimator::Auto {
-        let (_, why) = job.choice.resolve_gpu_why(scene);
-        eprintln!("estimator auto: {estimator} ({why})");
+    if let Some(note) = plan.note() {
+        eprintln!("{note}");
     }
     let mut opts = RenderOptions::from_scene(scene);
     opts.max_film_bytes = job.max_film_bytes;
     opts.seed = job.seed;
     opts.first_sample = job.first_sample();
     opts.set_filter(Some(&job.filter));
-    opts.estimator = estimator;
+    opts.estimator = plan.runs;
     let name = ctx.describe();
     let r = GpuRenderer::with_context(ctx, scene.clone(), opts);
     let Some(mut r) = or_cpu(r, forced, "GPU renderer unavailable")? else {

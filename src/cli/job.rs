@@ -8,8 +8,8 @@ use anyhow::{Context, Result, bail};
 use refract::film::ToneMap;
 use refract::math::spectrum;
 use refract::paths::PathFilter;
-use refract::render::Estimator;
 use refract::render::settings::{DEFAULT_SCENE, ViewerSettings, abbreviate};
+use refract::render::{Estimator, EstimatorPlan, Runner};
 use refract::scene::{MAX_IMAGE_SIDE, RenderSettings, Scene};
 
 /// Values of the render command resolved from flags and the settings sidecar.
@@ -20,9 +20,10 @@ pub(crate) struct Job {
     pub(crate) exposure: f32,
     pub(crate) seed: u32,
     pub(crate) filter: PathFilter,
-    /// `--estimator`, resolved for the scene on the CPU (never `auto`).
-    pub(crate) estimator: Estimator,
-    /// `--estimator` as given (the GPU resolves `auto` by its own rule).
+    /// The CPU's plan for `--estimator` (`render::estimator_plan`; `plan.runs` is never
+    /// `auto`). The GPU makes its own from `choice`, by the same decision.
+    pub(crate) plan: EstimatorPlan,
+    /// `--estimator` as given.
     pub(crate) choice: Estimator,
     /// `auto` with `--measure-auto`: the CPU chooses by measurement (`cli::race`).
     pub(crate) measure_auto: bool,
@@ -83,7 +84,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         .estimator
         .or(sidecar.as_ref().map(|s| s.render.estimator))
         .unwrap_or(Estimator::Auto);
-    let (estimator, _) = choice.resolve_why(&scene);
+    let plan = EstimatorPlan::decide(choice, &scene, Runner::Cpu);
     let measure_auto = choice == Estimator::Auto && args.measure_auto;
     let job = Job {
         spp,
@@ -91,7 +92,7 @@ pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
         exposure,
         seed,
         filter,
-        estimator,
+        plan,
         choice,
         measure_auto,
         max_film_bytes: film_budget(args),

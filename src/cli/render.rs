@@ -10,7 +10,7 @@ use super::threads::thread_pool;
 use anyhow::{Context, Result};
 use refract::cpu::Renderer;
 use refract::film;
-use refract::render::{Estimator, RenderOptions};
+use refract::render::{Estimator, EstimatorPlan, RenderOptions, Runner};
 use refract::scene::Scene;
 
 /// The `render` command: prepare the job, then render on the GPU or the CPU.
@@ -27,15 +27,15 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
         let size = (scene.settings.width, scene.settings.height);
         l.check_memory(size, job.max_film_bytes)?;
         // The layers come from the path tracer's camera walk (`auto` path-traces then).
-        if job.estimator != Estimator::Path {
+        if job.plan.runs != Estimator::Path {
             eprintln!(
                 "estimator auto: path (the layers need the path tracer; auto alone would \
                  pick {})",
-                job.estimator
+                job.plan.runs
             );
         }
-        job.estimator = Estimator::Path;
         job.choice = Estimator::Path;
+        job.plan = EstimatorPlan::decide(Estimator::Path, &scene, Runner::Cpu);
     } else if super::gpu_render::render(args, &scene, &job)? {
         return Ok(());
     }
@@ -60,9 +60,8 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
             report.line(*size),
             started.elapsed().as_secs_f64()
         );
-    } else if job.choice == Estimator::Auto {
-        let (_, why) = job.choice.resolve_why(&renderer.scene);
-        eprintln!("estimator auto: {} ({why})", job.estimator);
+    } else if let Some(note) = job.plan.note() {
+        eprintln!("{note}");
     }
     let budget = args
         .time_budget
@@ -108,8 +107,8 @@ fn cpu_options(renderer: &Renderer, job: &Job) -> RenderOptions {
     opts.seed = job.seed;
     opts.first_sample = job.first_sample();
     opts.set_filter(Some(&job.filter));
-    opts.estimator = job.estimator;
-    if job.estimator == Estimator::LtPt {
+    opts.estimator = job.plan.runs;
+    if job.plan.runs == Estimator::LtPt {
         eprintln!("note: on the CPU, lt+pt renders with bdpt (its strategies are a superset)");
     }
     opts

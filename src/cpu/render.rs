@@ -10,7 +10,7 @@ use crate::bvh::Bvh;
 use crate::film::Film;
 use crate::math::rng::Sampler;
 use crate::render::photon_aim::PhotonTargets;
-use crate::render::{Estimator, RenderOptions, RenderStats};
+use crate::render::{Estimator, EstimatorPlan, RenderOptions, RenderStats, Runner};
 use crate::scene::camera::CameraRays;
 use crate::scene::{Features, Scene, light::LightSet};
 use glam::Vec3;
@@ -129,7 +129,7 @@ impl Renderer {
         count: u32,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> bool {
-        let estimator = opts.estimator.resolve(&self.scene);
+        let estimator = EstimatorPlan::decide(opts.estimator, &self.scene, Runner::Cpu).runs;
         if estimator == Estimator::Sppm {
             return self.render_pass_sppm(opts, film, first_spp, count, cancelled);
         }

@@ -37,5 +37,5 @@ pub mod tonemap;
 pub mod upload;
 
 pub use context::GpuContext;
-pub use renderer::{GpuImage, GpuRenderer, gpu_estimator};
+pub use renderer::{GpuImage, GpuRenderer};
 pub use submissions::SUBMISSION_BUDGET;

@@ -103,12 +103,6 @@ impl Estimator {
         auto_with_small_light(f)
     }
 
-    /// [`Estimator::resolve_why`] for the GPU: the same choice (the GPU photon-maps caustics
-    /// too, src/shaders/photon.wgsl).
-    pub fn resolve_gpu_why(self, scene: &Scene) -> (Estimator, &'static str) {
-        self.resolve_why(scene)
-    }
-
     /// A clap value parser: the [`std::str::FromStr`] spellings and error message (aliases
     /// such as `pt` included), with the [`clap::ValueEnum`] names listed in `--help`.
     pub fn parser() -> EstimatorParser {
@@ -213,8 +207,7 @@ mod tests {
         let caustic = Scene::load("builtin:caustic").unwrap();
         let furnace = Scene::load("builtin:furnace").unwrap();
         assert_eq!(Estimator::Auto.resolve(&caustic), Estimator::Sppm);
-        assert_eq!(Estimator::Auto.resolve_gpu_why(&caustic).0, Estimator::Sppm);
-        assert_eq!(Estimator::Sppm.resolve_gpu_why(&caustic).0, Estimator::Sppm);
+        assert_eq!(Estimator::Sppm.resolve(&caustic), Estimator::Sppm);
         assert_eq!(Estimator::Auto.resolve(&furnace), Estimator::Path);
         // The reason states the threshold the rule uses (a literal in a `&'static str`).
         let (_, why) = Estimator::Auto.resolve_why(&furnace);

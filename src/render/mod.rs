@@ -7,6 +7,7 @@
 
 pub mod device;
 pub mod estimator;
+pub mod estimator_plan;
 pub mod options;
 pub mod photon_aim;
 pub mod photon_radius;
@@ -19,6 +20,7 @@ pub mod stats;
 
 pub use device::Device;
 pub use estimator::Estimator;
+pub use estimator_plan::{EstimatorPlan, Runner};
 pub use options::RenderOptions;
 pub use shard::Shard;
 pub use stats::RenderStats;

@@ -1,8 +1,8 @@
 //! Construction of a [`GpuRenderer`]: checks, specialisation, scene buffers and bind groups.
 
 use super::{
-    BATCHES_IN_FLIGHT, Buffers, BuiltBuffers, GpuRenderer, STATS_BYTES, film_bytes, gpu_estimator,
-    photon_paths, splat_film, sppm_for, wavefront, wavefront_override_from_env,
+    BATCHES_IN_FLIGHT, Buffers, BuiltBuffers, GpuRenderer, STATS_BYTES, film_bytes, gpu_plan,
+    photon_paths, splat_film, wavefront, wavefront_override_from_env,
 };
 use crate::gpu::GpuContext;
 use crate::gpu::buffers::{checked_storage, zeroed_storage};
@@ -73,13 +73,12 @@ impl GpuRenderer {
         Ok(r)
     }
 
-    /// The checks before any GPU work: a valid scene the kernels support, valid options and
-    /// an estimator the GPU implements.
+    /// The checks before any GPU work: a valid scene the kernels support and valid options
+    /// (every estimator has a GPU plan, `render::estimator_plan`).
     fn check_renderable(scene: &Scene, opts: &RenderOptions) -> Result<()> {
         scene.validate()?;
         upload::check_supported(scene)?;
         opts.check()?;
-        gpu_estimator(opts.estimator, scene)?;
         Ok(())
     }
 
@@ -196,7 +195,7 @@ impl GpuRenderer {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
             splats: splat_film(ctx, splat_bytes),
-            photon_store: PhotonStore::new(ctx, photon_paths(sppm_for(opts, scene), opts))?,
+            photon_store: PhotonStore::new(ctx, photon_paths(gpu_plan(opts, scene).sppm(), opts))?,
             env_offset,
             wavefront: wavefront::WavefrontBuffers::placeholder(ctx),
         };

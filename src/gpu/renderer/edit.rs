@@ -1,16 +1,14 @@
 //! Parameter edits (material, estimator, wavefront, environment, camera, options, scene,
 //! path filter) and the respecialisation and buffer fitting they entail.
 
-use super::{
-    GpuRenderer, film_bytes, gpu_estimator, light_tracing_for, photon_paths, splat_film, sppm_for,
-};
+use super::{GpuRenderer, film_bytes, gpu_plan, photon_paths, splat_film};
 use crate::gpu::buffers::{checked_bytes, storage, zeroed_storage};
 use crate::gpu::layout;
 use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::Specialization;
 use crate::gpu::upload::{self, GpuBvh};
 use crate::paths::{DfaTable, PathFilter};
-use crate::render::{Estimator, RenderOptions};
+use crate::render::{Estimator, EstimatorPlan, RenderOptions};
 use crate::scene::{Camera, Features, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
 use glam::Vec3;
@@ -109,8 +107,9 @@ impl GpuRenderer {
         let mut spec = Specialization::from_features(features).with_bvh(bvh);
         spec.bvh_x4 = spec.bvh_wide && software;
         spec.filter = opts.filter.is_some();
-        spec.light_tracing = light_tracing_for(opts, scene);
-        spec.sppm = sppm_for(opts, scene);
+        let plan = gpu_plan(opts, scene);
+        spec.light_tracing = plan.light_tracing();
+        spec.sppm = plan.sppm();
         match wavefront {
             Some(w) => Specialization {
                 wavefront: w,
@@ -190,10 +189,10 @@ impl GpuRenderer {
         self.wavefront_indirect = on && flags.contains(wgpu::DownlevelFlags::INDIRECT_EXECUTION);
     }
 
-    /// Choose the estimator: path, lt+pt or sppm (`auto` resolves to one of them for the scene);
-    /// compiles its pipelines on first use; accumulation restarts.
+    /// Choose the estimator (planned by `render::estimator_plan`: `auto` resolves for the
+    /// scene, bdpt and lt run as lt+pt); compiles its pipelines on first use; accumulation
+    /// restarts.
     pub fn set_estimator(&mut self, estimator: Estimator) -> Result<()> {
-        gpu_estimator(estimator, &self.scene)?;
         // Refused before anything changes: the films the estimator needs must fit (in tiles
         // where the renderer may tile).
         let opts = RenderOptions {
@@ -214,15 +213,14 @@ impl GpuRenderer {
         self.opts.estimator
     }
 
-    /// The estimator the kernels run.
+    /// The estimator the kernels run (the plan the kernels were specialised for).
     pub fn effective_estimator(&self) -> Estimator {
-        if self.spec.light_tracing {
-            Estimator::LtPt
-        } else if self.spec.sppm {
-            Estimator::Sppm
-        } else {
-            Estimator::Path
-        }
+        self.plan().runs
+    }
+
+    /// The one estimator decision for the estimator asked and the scene.
+    pub fn plan(&self) -> EstimatorPlan {
+        gpu_plan(&self.opts, &self.scene)
     }
 
     /// Light distribution changed (emission edits): rewrite triangles (pick probabilities) and

@@ -24,7 +24,7 @@ use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
 use crate::render::photon_aim::PhotonTargets;
-use crate::render::{Estimator, RenderOptions};
+use crate::render::{EstimatorPlan, RenderOptions, Runner};
 use crate::scene::{Features, Scene, light::LightSet};
 use anyhow::{Result, ensure};
 use glam::{Vec3, Vec4};
@@ -167,16 +167,9 @@ fn film_rows(opts: &RenderOptions, cap: u64, whole_image: bool, light_tracing: b
 /// Bytes of the light-tracing splat film per pixel (3 channels × 2 × u32).
 const SPLAT_BYTES_PER_PIXEL: u64 = 24;
 
-/// Whether `opts` make the kernels trace light subpaths in `scene` (`lt+pt`, or `auto`
-/// resolving to it).
-fn light_tracing_for(opts: &RenderOptions, scene: &Scene) -> bool {
-    matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::LtPt)
-}
-
-/// Whether `opts` make the kernels photon-map caustics in `scene` (`sppm`, or `auto`
-/// resolving to it).
-fn sppm_for(opts: &RenderOptions, scene: &Scene) -> bool {
-    matches!(opts.estimator.resolve_gpu_why(scene).0, Estimator::Sppm)
+/// The GPU's plan for `opts.estimator` on `scene` (the one decision, `render::estimator_plan`).
+fn gpu_plan(opts: &RenderOptions, scene: &Scene) -> EstimatorPlan {
+    EstimatorPlan::decide(opts.estimator, scene, Runner::Gpu)
 }
 
 /// Photon slots per iteration: one per pixel with `sppm` (`cpu::sppm::PHOTONS_PER_PIXEL`;
@@ -227,7 +220,7 @@ fn film_bytes(
     opts: &RenderOptions,
     tiles: bool,
 ) -> Result<(u64, u64)> {
-    let light_tracing = light_tracing_for(opts, scene);
+    let light_tracing = gpu_plan(opts, scene).light_tracing();
     let cap = ctx.max_binding_bytes();
     let rows = film_rows(opts, cap, !tiles, light_tracing);
     let accum_bytes = u64::from(opts.width) * 16 * u64::from(rows);
@@ -247,16 +240,6 @@ fn film_bytes(
         cap >> 20
     );
     Ok((accum_bytes, splat_bytes))
-}
-
-/// The estimator the GPU kernels run for `estimator` on `scene`: path tracing, lt+pt or sppm.
-pub fn gpu_estimator(estimator: Estimator, scene: &Scene) -> Result<Estimator> {
-    match estimator.resolve_gpu_why(scene).0 {
-        e @ (Estimator::Path | Estimator::LtPt | Estimator::Sppm) => Ok(e),
-        e => anyhow::bail!(
-            "the GPU renderer implements path, lt+pt and sppm (estimator '{e}' needs --device cpu)"
-        ),
-    }
 }
 
 /// `REFRACT_GPU_WAVEFRONT`: `on` or `off` forces the wavefront integrator on or off;

@@ -2,7 +2,7 @@
 
 use super::GpuBackend;
 use crate::app::backend::{Accumulated, Backend, DisplayParams, DisplayTexture};
-use crate::render::{Estimator, RenderOptions};
+use crate::render::RenderOptions;
 use crate::scene::{Camera, Material, Scene};
 use eframe::egui;
 use std::time::Duration;
@@ -229,11 +229,14 @@ impl Backend for GpuBackend {
         } else {
             r.effective_estimator().to_string()
         };
-        match self.options.map(|o| o.estimator) {
-            Some(e @ (Estimator::Bdpt | Estimator::Lt)) => {
-                format!("GPU {gpu}, {running} ({e} runs on the CPU backend only)")
-            }
-            _ => format!("GPU {gpu}, {running}"),
+        let plan = r.plan();
+        if plan.exact {
+            format!("GPU {gpu}, {running}")
+        } else {
+            format!(
+                "GPU {gpu}, {running} ({} runs on the CPU backend only)",
+                plan.asked
+            )
         }
     }
 

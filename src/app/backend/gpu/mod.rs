@@ -348,16 +348,11 @@ impl GpuBackend {
         Ok(true)
     }
 
-    /// The GPU estimator for the viewer's choice: path tracing, photon mapping (sppm) and
-    /// auto (resolved by the renderer for the scene, as on the CPU) run as chosen; the
-    /// bidirectional choices (lt+pt, and bdpt / lt, which exist only on the CPU) run light +
-    /// path tracing with MIS.
+    /// The viewer's choice, as asked: the renderer plans what runs for it
+    /// (`render::estimator_plan`, the same decision as `render --device gpu`: auto resolved
+    /// for the scene, bdpt and lt as lt+pt).
     fn wanted_estimator(&self) -> Estimator {
-        match self.options.map(|o| o.estimator) {
-            None | Some(Estimator::Path) => Estimator::Path,
-            Some(e @ (Estimator::Sppm | Estimator::Auto)) => e,
-            Some(_) => Estimator::LtPt,
-        }
+        self.options.map_or(Estimator::Path, |o| o.estimator)
     }
 
     /// Apply the wanted estimator (only when it changed: switching restarts accumulation).
