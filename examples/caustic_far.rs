@@ -4,7 +4,8 @@
 //! `cargo run --release --example caustic_far -- D OUT.glb`
 use anyhow::Context;
 use glam::Vec3;
-use refract::scene::{builtin, gltf_export::export_glb};
+use refract::gltf_io::export::export_glb;
+use refract::scene::builtin;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -1,6 +1,7 @@
 //! Write every built-in scene to `assets/<name>.glb` (run after changing `scene::builtin`):
 //! `cargo run --release --example export_builtins`
-use refract::scene::{builtin, gltf_export::export_glb};
+use refract::gltf_io::export::export_glb;
+use refract::scene::builtin;
 
 fn main() -> anyhow::Result<()> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");

@@ -59,7 +59,7 @@ fn main() -> anyhow::Result<()> {
         },
         warnings: vec![],
     };
-    let glb = refract::scene::gltf_export::export_glb(&scene)?;
+    let glb = refract::gltf_io::export::export_glb(&scene)?;
     std::fs::write(&out, glb).map_err(|e| anyhow::anyhow!("writing {out}: {e}"))?;
     Ok(())
 }

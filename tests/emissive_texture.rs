@@ -10,10 +10,10 @@ use common_scenes::*;
 use glam::{Vec2, Vec3};
 use refract::cpu::Renderer;
 use refract::film::Film;
+use refract::gltf_io::load::load_slice;
 use refract::gpu::GpuRenderer;
 use refract::math::color::srgb_to_linear;
 use refract::render::{Estimator, RenderOptions};
-use refract::scene::gltf_load::load_slice;
 use refract::scene::{Camera, Features, Material, Mesh, Scene};
 use serde_json::{Value, json};
 

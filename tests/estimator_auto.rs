@@ -4,8 +4,8 @@
 mod common_scenes;
 
 use refract::bench::{Run, runs};
-use refract::render::{Estimator, EstimatorPlan, Runner};
 use refract::render::settings::{CaptureInfo, ViewerSettings};
+use refract::render::{Estimator, EstimatorPlan, Runner};
 use refract::scene::Scene;
 use std::process::Command;
 use std::time::Instant;

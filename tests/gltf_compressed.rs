@@ -7,9 +7,9 @@ mod common_scenes;
 
 use glam::Vec3;
 use refract::cpu::Renderer;
+use refract::gltf_io::load::{load_path, load_slice};
 use refract::render::{Estimator, RenderOptions};
 use refract::scene::Scene;
-use refract::scene::gltf_load::{load_path, load_slice};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 

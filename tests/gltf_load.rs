@@ -2,9 +2,9 @@
 
 use glam::{Mat3, Vec2, Vec3};
 use refract::bsdf::MicrofacetDistribution;
+use refract::gltf_io::export::export_glb;
+use refract::gltf_io::load::load_slice;
 use refract::scene::builtin::{self, NAMES};
-use refract::scene::gltf_export::export_glb;
-use refract::scene::gltf_load::load_slice;
 use refract::scene::{Features, MaterialKind, Mesh, PunctualLight, Scene, Wrap};
 use serde_json::{Value, json};
 use std::collections::HashMap;

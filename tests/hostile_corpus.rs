@@ -4,7 +4,7 @@
 //! error (whose text names the source: JSON pointer, index or file) or load with its expected
 //! warning — never a panic, and every scene that loads validates.
 
-use refract::scene::gltf_load::load_slice;
+use refract::gltf_io::load::load_slice;
 use serde_json::{Value, json};
 
 /// What a case must do.

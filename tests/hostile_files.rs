@@ -4,8 +4,8 @@
 //! (absolute paths, `..` and symbolic links out of it are refused). Every case is an error or
 //! a warning naming its source, never a hang or a panic.
 
+use refract::gltf_io::load::{LoadLimits, load_path, load_path_with};
 use refract::scene::Scene;
-use refract::scene::gltf_load::{LoadLimits, load_path, load_path_with};
 use std::path::{Path, PathBuf};
 
 /// A fresh folder for one test.

@@ -3,9 +3,9 @@
 //! the binary chunk and truncations — must each load into a scene that validates or be
 //! refused with an error; never a panic. The whole loop runs in well under 60 s (release).
 
+use refract::gltf_io::export::export_glb;
+use refract::gltf_io::load::load_slice;
 use refract::scene::Scene;
-use refract::scene::gltf_export::export_glb;
-use refract::scene::gltf_load::load_slice;
 
 /// xorshift64 (Marsaglia 2003): a reproducible stream for the mutations.
 struct Rng(u64);

@@ -9,8 +9,8 @@ use glam::Vec3;
 use refract::bvh::Hit;
 use refract::cpu::Renderer;
 use refract::cpu::interaction::surface;
+use refract::gltf_io::load::load_slice;
 use refract::render::RenderOptions;
-use refract::scene::gltf_load::load_slice;
 use refract::scene::{Camera, Features, PunctualLight, Scene};
 use serde_json::{Value, json};
 

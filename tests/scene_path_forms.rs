@@ -8,8 +8,8 @@
 //! only one in this binary that does); the command-line checks run `refract` in a test-made
 //! current directory instead.
 
+use refract::gltf_io::load::load_path;
 use refract::scene::Scene;
-use refract::scene::gltf_load::load_path;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -10,8 +10,8 @@ mod common_scenes;
 use common_scenes::*;
 use glam::Vec3;
 use refract::cpu::Renderer;
+use refract::gltf_io::load::load_slice;
 use refract::render::RenderOptions;
-use refract::scene::gltf_load::load_slice;
 use refract::scene::{Camera, MaterialKind, Scene};
 use serde_json::json;
 

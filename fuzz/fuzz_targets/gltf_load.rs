@@ -6,7 +6,7 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(scene) = refract::scene::gltf_load::load_slice(data, None, "fuzz") {
+    if let Ok(scene) = refract::gltf_io::load::load_slice(data, None, "fuzz") {
         scene
             .validate()
             .expect("a scene the loader accepts must validate");

@@ -4,11 +4,11 @@
 use super::backend::{self, Backend, CpuBackend};
 use super::{FrameStats, Messages, ViewerApp, inspect, layer_view, lecture};
 use crate::bvh::Bvh;
+use crate::gltf_io::load::LoadLimits;
 use crate::gpu::GpuContext;
 use crate::render::Device;
 use crate::render::settings::ViewerSettings;
 use crate::scene::Scene;
-use crate::scene::gltf_load::LoadLimits;
 use eframe::egui;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};

@@ -30,11 +30,11 @@ mod status;
 mod window;
 
 use crate::bvh::Bvh;
+use crate::gltf_io::load::LoadLimits;
 use crate::render::Estimator;
 use crate::render::settings::ViewerSettings;
 use crate::scene::Scene;
 use crate::scene::edits::Orbit;
-use crate::scene::gltf_load::LoadLimits;
 use backend::Backend;
 pub use edit::{Edit, EnvEdit};
 use eframe::egui;

@@ -4,10 +4,10 @@
 use super::construct::choose_backend;
 use super::present::{self, WindowRenderer};
 use super::{STORAGE_KEY, ViewerApp, layer_view, lecture};
+use crate::gltf_io::load::LoadLimits;
 use crate::render::Device;
 use crate::render::settings::{DEFAULT_SCENE, ViewerSettings};
 use crate::scene::Scene;
-use crate::scene::gltf_load::LoadLimits;
 use eframe::egui;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

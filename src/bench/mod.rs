@@ -39,7 +39,7 @@ const RUN_SEED: u32 = 0x0bad_cafe;
 pub struct BenchOptions {
     pub scenes: Vec<String>,
     /// Budgets and URI permission of the glTF scenes.
-    pub limits: crate::scene::gltf_load::LoadLimits,
+    pub limits: crate::gltf_io::load::LoadLimits,
     /// Time budget of the measured run per scene and device.
     pub budget: Duration,
     pub out: PathBuf,

@@ -1,8 +1,8 @@
 //! The flags every subcommand that loads a glTF shares: its budgets and URI permission
-//! (`refract::scene::gltf_load::LoadLimits`).
+//! (`refract::gltf_io::load::LoadLimits`).
 
-use refract::scene::gltf_load::LoadLimits;
-use refract::scene::gltf_load::limits::{DEFAULT_MAX_TEXTURE_PIXELS, DEFAULT_MAX_TRIANGLES};
+use refract::gltf_io::load::LoadLimits;
+use refract::gltf_io::load::limits::{DEFAULT_MAX_TEXTURE_PIXELS, DEFAULT_MAX_TRIANGLES};
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct LoadArgs {

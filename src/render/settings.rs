@@ -201,9 +201,8 @@ impl ViewerSettings {
     /// Read a sidecar: a regular file (a FIFO or `/dev/zero` is refused before reading) of at
     /// most `MAX_SETTINGS_BYTES`.
     pub fn load(path: &Path) -> anyhow::Result<ViewerSettings> {
-        let bytes =
-            crate::scene::gltf_load::read_regular_file(path, MAX_SETTINGS_BYTES, "settings")
-                .map_err(anyhow::Error::msg)?;
+        let bytes = crate::files::read_regular_file(path, MAX_SETTINGS_BYTES, "settings")
+            .map_err(anyhow::Error::msg)?;
         let text = std::str::from_utf8(&bytes)
             .with_context(|| format!("settings '{}' is not UTF-8 text", path.display()))?;
         Self::parse(text)

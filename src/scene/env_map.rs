@@ -185,9 +185,9 @@ impl EnvMap {
     /// of at most 4 GiB, the loader's default file budget).
     pub fn load_file(path: &Path) -> anyhow::Result<(EnvMap, Vec<String>)> {
         let what = format!("environment image '{}'", path.display());
-        let bytes = super::gltf_load::read_regular_file(
+        let bytes = crate::files::read_regular_file(
             path,
-            super::gltf_load::limits::DEFAULT_MAX_FILE_BYTES,
+            crate::files::DEFAULT_MAX_FILE_BYTES,
             "environment image",
         )
         .map_err(anyhow::Error::msg)?;

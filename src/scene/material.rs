@@ -4,6 +4,10 @@ use crate::bsdf::{self, Bsdf, MicrofacetDistribution};
 use crate::math::{Color, rgb3};
 use glam::{Affine2, Vec2, Vec3, Vec4};
 
+/// Transmission factors at or above this make a material a dielectric (the glTF loader's
+/// rule for `KHR_materials_transmission`, applied per texel by [`Material::transmits_at`]).
+pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
+
 /// How the scene contract classifies a glTF material (DESIGN.md, "Scene contract").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -196,7 +200,7 @@ impl Material {
         self.is_transmissive()
             && self.transmission_texture.is_none_or(|r| {
                 self.transmission_factor * sample_texture(textures, &r, uv).x
-                    >= crate::scene::gltf_load::GLASS_TRANSMISSION_THRESHOLD
+                    >= GLASS_TRANSMISSION_THRESHOLD
             })
     }
 

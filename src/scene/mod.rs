@@ -8,8 +8,6 @@ pub mod caustic_casters;
 pub mod edits;
 pub mod env_map;
 pub mod features;
-pub mod gltf_export;
-pub mod gltf_load;
 pub mod hdri;
 pub mod light;
 pub mod material;
@@ -20,7 +18,6 @@ pub use features::Features;
 pub use material::{Material, MaterialKind, Texture, TextureRef, Wrap};
 
 use glam::{Vec2, Vec3, Vec4};
-use std::path::Path;
 
 /// Render settings from `scenes[0].extras.render` (all optional in the file).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -149,21 +146,6 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Load from a path or `builtin:NAME`.
-    pub fn load(spec: &str) -> anyhow::Result<Scene> {
-        Self::load_with(spec, &gltf_load::LoadLimits::default())
-    }
-
-    /// `load` with the budgets and URI permission of `limits` (glTF files only; built-ins are
-    /// within every budget).
-    pub fn load_with(spec: &str, limits: &gltf_load::LoadLimits) -> anyhow::Result<Scene> {
-        if let Some(name) = spec.strip_prefix("builtin:") {
-            builtin::load(name)
-        } else {
-            gltf_load::load_path_with(Path::new(spec), limits)
-        }
-    }
-
     /// `spec` as a record that names the same scene from any working directory: a file's
     /// canonical absolute path (what the viewer keeps in its settings and screenshot
     /// sidecars, so `render --settings` finds the scene wherever it runs), a built-in or a

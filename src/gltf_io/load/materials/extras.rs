@@ -2,8 +2,8 @@
 //! nested-dielectric priority and tabulated conductor.
 
 use crate::bsdf::{Metal, MicrofacetDistribution};
-use crate::scene::gltf_load::Loader;
-use crate::scene::gltf_load::extras::extras_value;
+use crate::gltf_io::load::Loader;
+use crate::gltf_io::load::extras::extras_value;
 use gltf::json;
 use serde_json::Value;
 

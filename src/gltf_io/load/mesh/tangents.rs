@@ -3,7 +3,7 @@
 //! the tangent space glTF 2.0 §3.7.2.1 prescribes when TANGENT is absent).
 
 use super::{PrimitiveData, WorldVertices};
-use crate::scene::gltf_load::Loader;
+use crate::gltf_io::load::Loader;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::json;
 use gltf::json::validation::Checked;

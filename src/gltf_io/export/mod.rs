@@ -1,5 +1,5 @@
 //! Minimal glTF 2.0 (.glb) writer for scenes, following the scene contract in DESIGN.md so
-//! that [`super::gltf_load::load_slice`] reads back the same scene (and Blender can open it).
+//! that [`super::load::load_slice`] reads back the same scene (and Blender can open it).
 //!
 //! One mesh (and node) per used material with POSITION, NORMAL, TEXCOORD_0 and u32 indices;
 //! the camera and the punctual lights as nodes; `scenes[0].extras.render` and
@@ -11,7 +11,7 @@ mod lights;
 mod material;
 mod mesh;
 
-use super::Scene;
+use crate::scene::Scene;
 use binary::{Buffers, glb};
 use camera::camera_json;
 use glam::Vec3;

@@ -2,7 +2,7 @@
 //! volume, specular and dispersion (each read and checked, with warnings).
 
 use super::clamp01;
-use crate::scene::gltf_load::Loader;
+use crate::gltf_io::load::Loader;
 use glam::Vec3;
 use gltf::json;
 

@@ -1,8 +1,8 @@
 //! A material's texture references: base colour, metallic-roughness, normal, emissive and
 //! transmission (with the checks that decide whether each is used).
 
+use crate::gltf_io::load::{GLASS_TRANSMISSION_THRESHOLD, Loader};
 use crate::scene::TextureRef;
-use crate::scene::gltf_load::{GLASS_TRANSMISSION_THRESHOLD, Loader};
 use glam::Vec3;
 use gltf::json;
 

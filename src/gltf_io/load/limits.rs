@@ -24,8 +24,7 @@ pub struct LoadLimits {
 pub const DEFAULT_MAX_TRIANGLES: u64 = 100_000_000;
 /// Default of `max_texture_pixels` (4 GiB of texels).
 pub const DEFAULT_MAX_TEXTURE_PIXELS: u64 = 1 << 28;
-/// Default of `max_file_bytes`.
-pub const DEFAULT_MAX_FILE_BYTES: u64 = 4 << 30;
+pub use crate::files::DEFAULT_MAX_FILE_BYTES;
 
 impl Default for LoadLimits {
     fn default() -> Self {

@@ -2,7 +2,7 @@
 //! (`emissiveFactor` × `KHR_materials_emissive_strength`).
 
 use super::clamp01;
-use crate::scene::gltf_load::Loader;
+use crate::gltf_io::load::Loader;
 use glam::Vec3;
 use gltf::json;
 

@@ -28,7 +28,7 @@ mod cameras;
 mod decode;
 mod environment;
 mod extras;
-mod files;
+use crate::files;
 mod json_error;
 mod lights;
 pub mod limits;
@@ -43,8 +43,8 @@ pub use cameras::default_camera;
 pub use files::{read_regular_file, scene_folder};
 pub use limits::LoadLimits;
 
-use super::env_map::EnvImage;
-use super::{Camera, Material, Mesh, PunctualLight, RenderSettings, Scene, Texture};
+use crate::scene::env_map::EnvImage;
+use crate::scene::{Camera, Material, Mesh, PunctualLight, RenderSettings, Scene, Texture};
 use anyhow::{Context, anyhow, bail};
 use glam::Vec3;
 use gltf::json;
@@ -65,8 +65,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     meshopt::EXT,
 ];
 
-/// Transmission factors at or above this make a material a dielectric.
-pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
+pub use crate::scene::material::GLASS_TRANSMISSION_THRESHOLD;
 
 /// Load a `.gltf` or `.glb` file with the default limits.
 pub fn load_path(path: &Path) -> anyhow::Result<Scene> {

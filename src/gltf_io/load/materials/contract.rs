@@ -1,6 +1,6 @@
 //! The scene contract's material kind decision and its rules on a converted material.
 
-use crate::scene::gltf_load::{GLASS_TRANSMISSION_THRESHOLD, Loader};
+use crate::gltf_io::load::{GLASS_TRANSMISSION_THRESHOLD, Loader};
 use crate::scene::{Material, MaterialKind};
 use glam::Vec3;
 

@@ -1,10 +1,14 @@
-//! Reading the files a glTF names, safely: only regular files (a FIFO would block forever,
+//! Reading files safely (a glTF and the files it names, environment images, settings
+//! sidecars): only regular files (a FIFO would block forever,
 //! `/dev/zero` would never end), never more bytes than the caller allows, and — for URIs —
 //! only inside the scene's folder (a downloaded glTF must not read `/etc/passwd` or
 //! `../../.ssh/id_rsa` into a texture).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
+
+/// Default of `max_file_bytes`.
+pub const DEFAULT_MAX_FILE_BYTES: u64 = 4 << 30;
 
 /// The contents of the regular file `path`, at most `max` bytes; `what` names it in errors.
 pub fn read_regular_file(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, String> {
