@@ -5,7 +5,7 @@
 //! Usage: cargo run --release --example camera_rays -- [scene]
 
 use refract::cpu::Renderer;
-use refract::cpu::render::camera_ray;
+use refract::cpu::camera_ray::camera_ray;
 use refract::math::{rng::Sampler, sampling};
 use refract::scene::Scene;
 use refract::scene::camera::CameraRays;

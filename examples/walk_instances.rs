@@ -9,7 +9,7 @@
 
 use glam::{Affine2, Vec3, Vec4};
 use refract::cpu::Renderer;
-use refract::cpu::render::camera_ray;
+use refract::cpu::camera_ray::camera_ray;
 use refract::cpu::walk_spec::{General, Lean, Spec, WalkSpec};
 use refract::math::rng::Sampler;
 use refract::render::RenderOptions;

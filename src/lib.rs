@@ -17,3 +17,4 @@ pub mod math;
 pub mod paths;
 pub mod render;
 pub mod scene;
+pub mod text;

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use refract::cpu::Renderer;
-use refract::cpu::render::camera_ray;
+use refract::cpu::camera_ray::camera_ray;
 use refract::cpu::spectral::Spectral;
 use refract::cpu::walk_spec::{General, Lean, Spec, WalkFeatures};
 use refract::math::rng::Sampler;

@@ -27,6 +27,7 @@ mod control;
 mod frame;
 mod input;
 mod status;
+mod wgpu_setup;
 mod window;
 
 use crate::bvh::Bvh;
@@ -41,7 +42,8 @@ use eframe::egui;
 use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
-pub use window::{EnvOverride, ViewOptions, run, wgpu_configuration, wgpu_configuration_on};
+pub use wgpu_setup::{wgpu_configuration, wgpu_configuration_on};
+pub use window::{EnvOverride, ViewOptions, run};
 
 /// How long a new viewport size must hold before the image restarts at it.
 pub const VIEWPORT_SETTLE: Duration = Duration::from_millis(250);

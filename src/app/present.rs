@@ -95,7 +95,7 @@ impl Presenter {
             Presenter::Glow => o.renderer = eframe::Renderer::Glow,
             Presenter::Wgpu(b) => {
                 o.renderer = eframe::Renderer::Wgpu;
-                o.wgpu_options = super::window::wgpu_configuration_on(b);
+                o.wgpu_options = super::wgpu_setup::wgpu_configuration_on(b);
             }
         }
         o

@@ -3,7 +3,7 @@
 //! sidecar key or scene field it came from.
 
 use super::RenderArgs;
-use super::shard::ShardPlan;
+use super::shard_plan::ShardPlan;
 use anyhow::{Context, Result, bail};
 use refract::film::ToneMap;
 use refract::math::spectrum;
@@ -44,7 +44,7 @@ impl Job {
 
 /// The scene to render (sidecar edits and flags applied) and the job's other values.
 pub(crate) fn prepare(args: &RenderArgs) -> Result<(Scene, Job)> {
-    let shard = super::shard::plan(args)?;
+    let shard = super::shard_plan::plan(args)?;
     let sidecar = args
         .settings
         .as_deref()

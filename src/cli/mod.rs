@@ -21,6 +21,7 @@ mod progress;
 mod race;
 mod render;
 mod shard;
+mod shard_plan;
 mod threads;
 mod trace;
 mod view;

@@ -5,6 +5,7 @@
 
 pub mod aov;
 pub mod bdpt;
+pub mod camera_ray;
 pub mod decompose;
 pub mod gather;
 pub mod inspect;

@@ -4,6 +4,7 @@
 //! Used by `examples/dump_kernels.rs` and the register-budget test (`tests/gpu_registers.rs`),
 //! so what is measured is what the Vulkan backend compiles.
 
+pub use super::pipeline::kernels_of;
 use super::pipeline::{Kernel, Specialization, integrator_source};
 use anyhow::{Context, Result};
 
@@ -108,24 +109,6 @@ pub fn wgsl(spec: &Specialization, kernel: Kernel) -> Result<String> {
     }
     s.push_str(&body);
     Ok(s)
-}
-
-/// The kernels `spec` runs (light tracing only with `light_tracing`, photons only with `sppm`).
-pub fn kernels_of(spec: &Specialization) -> Vec<Kernel> {
-    Kernel::ALL
-        .into_iter()
-        .filter(|k| match k {
-            Kernel::Render => !spec.wavefront,
-            Kernel::LightTrace => spec.light_tracing && !spec.wavefront,
-            Kernel::PhotonTrace => spec.sppm,
-            Kernel::LtWfStart
-            | Kernel::LtWfExtend
-            | Kernel::LtWfShade
-            | Kernel::LtWfSplat
-            | Kernel::LtWfFinish => spec.light_tracing && spec.wavefront,
-            _ => spec.wavefront,
-        })
-        .collect()
 }
 
 /// A resource binding of a kernel: (group, binding, is a uniform buffer; else storage).

@@ -13,6 +13,7 @@ use crate::film::ToneMap;
 use crate::paths::PathFilter;
 use crate::scene::edits::{CameraEdit, LightEdit, MaterialEdit, apply_materials};
 use crate::scene::{Material, Scene};
+pub use crate::text::abbreviate;
 use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -291,15 +292,6 @@ impl ViewerSettings {
         opts.set_filter(Some(&filter));
         opts.estimator = self.render.estimator.resolve(scene);
         Ok(opts)
-    }
-}
-
-/// At most 60 characters of `s` for an error line, with "… (N characters)" when it was longer.
-pub fn abbreviate(s: &str) -> String {
-    const MAX: usize = 60;
-    match s.char_indices().nth(MAX) {
-        Some((i, _)) => format!("{}… ({} characters)", &s[..i], s.chars().count()),
-        None => s.to_owned(),
     }
 }
 

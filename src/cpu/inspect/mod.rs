@@ -17,7 +17,7 @@ pub use recorder::sample_event;
 pub use table::format_table;
 
 use super::Renderer;
-use super::render::camera_ray;
+use super::camera_ray::camera_ray;
 use crate::math::rng::Sampler;
 use crate::render::RenderOptions;
 use rayon::prelude::*;

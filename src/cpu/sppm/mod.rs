@@ -33,7 +33,7 @@ mod lookup;
 mod photon;
 
 use super::Integrator;
-use super::render::camera_ray;
+use super::camera_ray::camera_ray;
 use super::spectral::Spectral;
 use crate::film::Film;
 use crate::math::rng::Sampler;

@@ -7,6 +7,7 @@
 use super::files::{read_regular_file, resolve_uri};
 use super::limits::LoadLimits;
 use super::uri::{base64_decode, percent_decode};
+use crate::text::abbreviate;
 use gltf::json;
 use std::path::Path;
 
@@ -89,12 +90,4 @@ fn buffer_from_uri(
     let what = format!("buffer {i}");
     let path = resolve_uri(base, &rel, &what, limits.allow_absolute_uris)?;
     read_regular_file(&path, limits.max_file_bytes, &what)
-}
-
-/// At most 80 characters of a long input, for messages.
-pub(super) fn abbreviate(s: &str) -> String {
-    match s.char_indices().nth(80) {
-        Some((i, _)) => format!("{}…", &s[..i]),
-        None => s.to_string(),
-    }
 }

@@ -1,6 +1,7 @@
 //! `extras` JSON: `scenes[0].extras.render` (render settings) and `extras.environment`.
 
 use crate::scene::RenderSettings;
+use crate::text::abbreviate;
 use anyhow::{anyhow, bail};
 use glam::Vec3;
 use gltf::json;
@@ -110,14 +111,6 @@ fn parse_light_line(r: &Value) -> anyhow::Result<Option<f32>> {
                 .map(Some)
                 .map_err(anyhow::Error::msg)
         }
-    }
-}
-
-/// At most 60 characters of `s`, for messages.
-fn abbreviate(s: &str) -> String {
-    match s.char_indices().nth(60) {
-        Some((i, _)) => format!("{}…", &s[..i]),
-        None => s.to_owned(),
     }
 }
 

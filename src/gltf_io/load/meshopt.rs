@@ -13,7 +13,7 @@
 //! input). Every size and mode the C++ decoders assert on is checked here first, so a hostile
 //! file gets an error naming the view, never an abort.
 
-use super::buffers::abbreviate;
+use crate::text::abbreviate;
 use gltf::json;
 use serde_json::Value;
 

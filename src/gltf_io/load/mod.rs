@@ -45,6 +45,7 @@ pub use limits::LoadLimits;
 
 use crate::scene::env_map::EnvImage;
 use crate::scene::{Camera, Material, Mesh, PunctualLight, RenderSettings, Scene, Texture};
+use crate::text::abbreviate;
 use anyhow::{Context, anyhow, bail};
 use glam::Vec3;
 use gltf::json;
@@ -147,7 +148,7 @@ pub fn load_slice_with(
 /// `minVersion` above the one it implements.
 fn check_version(asset: &json::Asset) -> anyhow::Result<()> {
     let major = |v: &str| v.split('.').next().map(str::to_owned).unwrap_or_default();
-    let short = |v: &str| buffers::abbreviate(v);
+    let short = |v: &str| abbreviate(v);
     if major(&asset.version) != "2" {
         bail!(
             "/asset/version is '{}': only glTF 2.x is supported",
@@ -377,7 +378,7 @@ fn check_required_extensions(root: &json::Root) -> anyhow::Result<()> {
             bail!(
                 "/extensionsRequired/{i}: the file requires the extension '{}', which \
                  refract does not support (supported: {}){}",
-                buffers::abbreviate(n),
+                abbreviate(n),
                 SUPPORTED_EXTENSIONS.join(", "),
                 workaround(n)
             );

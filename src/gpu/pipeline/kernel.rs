@@ -1,5 +1,7 @@
 //! [`Kernel`]: the integrator module's entry points.
 
+use super::Specialization;
+
 /// The entry points of the integrator module.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kernel {
@@ -71,4 +73,22 @@ impl Kernel {
             Kernel::LtWfFinish => "lt_wf_finish",
         }
     }
+}
+
+/// The kernels `spec` runs (light tracing only with `light_tracing`, photons only with `sppm`).
+pub fn kernels_of(spec: &Specialization) -> Vec<Kernel> {
+    Kernel::ALL
+        .into_iter()
+        .filter(|k| match k {
+            Kernel::Render => !spec.wavefront,
+            Kernel::LightTrace => spec.light_tracing && !spec.wavefront,
+            Kernel::PhotonTrace => spec.sppm,
+            Kernel::LtWfStart
+            | Kernel::LtWfExtend
+            | Kernel::LtWfShade
+            | Kernel::LtWfSplat
+            | Kernel::LtWfFinish => spec.light_tracing && spec.wavefront,
+            _ => spec.wavefront,
+        })
+        .collect()
 }

@@ -25,7 +25,7 @@ mod probe;
 mod specialization;
 mod wgsl;
 
-pub use kernel::Kernel;
+pub use kernel::{Kernel, kernels_of};
 use layouts::{IntegratorLayouts, check_storage_buffer_limit};
 pub(crate) use probe::dispatch_once;
 pub use probe::run_probe;
@@ -182,7 +182,7 @@ impl Pipelines {
 
     /// The kernels of `spec` not compiled yet.
     fn missing(&self, spec: Specialization) -> Vec<Kernel> {
-        super::kernels::kernels_of(&spec)
+        kernels_of(&spec)
             .into_iter()
             .filter(|&k| !self.cache.contains_key(&(spec, k)))
             .collect()
