@@ -1,5 +1,5 @@
 //! refract: a physically based light-transport renderer for teaching how light meets
-//! materials. See DESIGN.md for the architecture; layers, lowest first: `math`, `bsdf`,
+//! materials. See docs/design.md for the architecture; layers, lowest first: `math`, `bsdf`,
 //! `scene`, `bvh`, `paths`, `film`, then the render vocabulary (`render`: options, estimator,
 //! stats, device, settings sidecar), then the renderers (`cpu`, `gpu`, which never import
 //! each other), then the viewer (`app`), the benchmark and the CLI.

@@ -533,7 +533,7 @@ fn total_internal_reflection_always_reflects() {
 #[test]
 fn thin_dielectric_normal_incidence() {
     // R' = 2R/(1+R) at normal incidence; for n = 1.5: R = 0.04, R' = 0.076923…; slab
-    // transmittance T' = (1−R)/(1+R) (DESIGN.md "Testing"). Tolerance 1e-6.
+    // transmittance T' = (1−R)/(1+R) (docs/design.md "Testing"). Tolerance 1e-6.
     let b = ThinDielectric { eta: 1.5 };
     let r = 0.04f32;
     let rp = b.reflectance(Vec3::Z);

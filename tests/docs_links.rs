@@ -432,3 +432,68 @@ fn link_scanner_reads_what_markdown_means() {
     );
     assert_eq!(link("README.md", "../shared/DESIGN.md").resolved(), None);
 }
+
+/// Every `docs/NAME.md` or `README.md` a comment in `src/` or `tests/` cites exists in this
+/// repository (issue 44: the design references pointed at a file outside it).
+#[test]
+fn documents_cited_in_code_comments_exist() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["src", "tests"] {
+        collect_rs(&root.join(dir), &mut files);
+    }
+    let mut missing = Vec::new();
+    let mut cited = 0;
+    for f in files {
+        if f.ends_with("docs_links.rs") {
+            continue; // its own fixtures name documents that do not exist on purpose
+        }
+        let text = std::fs::read_to_string(&f).expect("a source file");
+        for (n, line) in text.lines().enumerate() {
+            if !line.trim_start().starts_with("//") {
+                continue;
+            }
+            for doc in cited_documents(line) {
+                cited += 1;
+                if !root.join(&doc).is_file() {
+                    missing.push(format!("{}:{}: {doc}", f.display(), n + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        cited > 10,
+        "only {cited} citations found: is the scan broken?"
+    );
+    assert!(
+        missing.is_empty(),
+        "cited but missing:\n{}",
+        missing.join("\n")
+    );
+}
+
+fn collect_rs(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    for e in std::fs::read_dir(dir).expect("readable") {
+        let p = e.expect("an entry").path();
+        if p.is_dir() {
+            collect_rs(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The `docs/NAME.md` and `README.md` paths in a line.
+fn cited_documents(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, _) in line.match_indices(".md") {
+        let start = line[..i]
+            .rfind(|c: char| !(c.is_alphanumeric() || "_-/.".contains(c)))
+            .map_or(0, |k| k + 1);
+        let path = &line[start..i + 3];
+        if path == "README.md" || path.starts_with("docs/") {
+            out.push(path.to_owned());
+        }
+    }
+    out
+}

@@ -1,4 +1,4 @@
-//! glTF loader, exporter and built-in scene tests (scene contract, DESIGN.md).
+//! glTF loader, exporter and built-in scene tests (scene contract, docs/design.md).
 
 use glam::{Mat3, Vec2, Vec3};
 use refract::bsdf::MicrofacetDistribution;

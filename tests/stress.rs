@@ -1,4 +1,4 @@
-//! Numerical stress suite (DESIGN.md "Testing"/"Stress"): scale invariance, thin and
+//! Numerical stress suite (docs/design.md "Testing"/"Stress"): scale invariance, thin and
 //! coincident geometry, grazing exits, coarse smooth normals, accumulation drift, NaN
 //! injection, index matching, extreme IOR and the error-vs-spp rate. Each test names the
 //! number it asserts, with a fixed seed and a tolerance in σ where the quantity is random.

@@ -1,6 +1,6 @@
 //! Bidirectional scattering distribution functions in a local shading frame (z = shading normal).
 //!
-//! Conventions (DESIGN.md): `wo` and `wi` both point away from the surface; `eval` returns f
+//! Conventions (docs/design.md): `wo` and `wi` both point away from the surface; `eval` returns f
 //! without the cosine; `pdf` is w.r.t. solid angle of `wi`; `sample` receives its random numbers
 //! as arguments and returns the weight f·|cos θi|/pdf directly. Delta lobes: `eval` and `pdf`
 //! return 0 and `sample` returns the weight (1 for a perfect mirror of reflectance 1).
@@ -69,7 +69,7 @@ pub enum MicrofacetDistribution {
     Beckmann,
 }
 
-/// α below this is treated as perfectly smooth (DESIGN.md).
+/// α below this is treated as perfectly smooth (docs/design.md).
 pub const SMOOTH_ALPHA: f32 = 1e-3;
 
 /// glTF convention: α = roughness².

@@ -101,7 +101,7 @@ fn normal_mapped(scene: &Scene, m: u32, v: [usize; 3], w: [f32; 3], n: Vec3, uv:
 
 /// Orient the normals for shading: opaque double-sided materials shade both sides alike,
 /// one-sided opaque back faces are black (`None`), dielectrics keep the outward normal (the
-/// eta convention of DESIGN.md). `front`: the ray arrived on the side `hit.ng` points to;
+/// eta convention of docs/design.md). `front`: the ray arrived on the side `hit.ng` points to;
 /// `transmits`: the material transmits at this point (`Material::transmits_at`).
 #[inline]
 pub fn orient_normals(

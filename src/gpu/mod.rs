@@ -1,7 +1,7 @@
 //! The GPU progressive renderer: a wgpu compute twin of the CPU path tracer
 //! (`cpu::Integrator::li`), with the same estimator and the same counter-based RNG so single
 //! paths can be compared. It takes the `render` vocabulary (options, estimator, stats) and
-//! depends on `wgpu` directly, never on the viewer. See DESIGN.md ("Architecture",
+//! depends on `wgpu` directly, never on the viewer. See docs/design.md ("Architecture",
 //! "Rendering").
 //!
 //! - [`context`]: adapter and device (`required_limits = adapter.limits()`).

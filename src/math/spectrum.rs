@@ -19,7 +19,7 @@ pub const LAMBDA_MAX: f32 = 830.0;
 /// Number of wavelengths a path carries (one hero plus three rotated companions).
 pub const HERO_COUNT: usize = 4;
 
-/// n(λ) from n_d and Abbe number V_d (DESIGN.md; Cauchy-type fit through the Fraunhofer
+/// n(λ) from n_d and Abbe number V_d (docs/design.md; Cauchy-type fit through the Fraunhofer
 /// d, F, C lines: 523655 = (486.1·656.3)²/(656.3²−486.1²)·…; KHR_materials_dispersion spec).
 /// n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1), λ in nm.
 #[inline]

@@ -8,7 +8,7 @@ use glam::{Affine2, Vec2, Vec3, Vec4};
 /// rule for `KHR_materials_transmission`, applied per texel by [`Material::transmits_at`]).
 pub const GLASS_TRANSMISSION_THRESHOLD: f32 = 0.5;
 
-/// How the scene contract classifies a glTF material (DESIGN.md, "Scene contract").
+/// How the scene contract classifies a glTF material (docs/design.md, "Scene contract").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MaterialKind {
@@ -205,7 +205,7 @@ impl Material {
     }
 
     /// Index of refraction at wavelength `lambda_nm` (Abbe-number dispersion model of
-    /// DESIGN.md: n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1)).
+    /// docs/design.md: n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1)).
     #[inline]
     pub fn ior_at(&self, lambda_nm: f32) -> f32 {
         match self.abbe {

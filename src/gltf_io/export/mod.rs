@@ -1,4 +1,4 @@
-//! Minimal glTF 2.0 (.glb) writer for scenes, following the scene contract in DESIGN.md so
+//! Minimal glTF 2.0 (.glb) writer for scenes, following the scene contract in docs/design.md so
 //! that [`super::load::load_slice`] reads back the same scene (and Blender can open it).
 //!
 //! One mesh (and node) per used material with POSITION, NORMAL, TEXCOORD_0 and u32 indices;

@@ -1,4 +1,4 @@
-//! glTF 2.0 loader following the scene contract in DESIGN.md ("Scene contract").
+//! glTF 2.0 loader following the scene contract in docs/design.md ("Scene contract").
 //!
 //! The file is parsed with `gltf::Gltf::from_slice_without_validation` (the crate's validation
 //! rejects `extensionsRequired` containing volume/dispersion) and every index, offset and
