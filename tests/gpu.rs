@@ -53,7 +53,7 @@ fn layout_matches_wgsl() {
 #[test]
 fn prelude_constants_match_rust() {
     use refract::gpu::pipeline::SHADER_FILES;
-    use refract::gpu::prelude::WGSL_CONSTANTS;
+    use refract::gpu::prelude::{WGSL_CONSTANTS, WGSL_F32_CONSTANTS, WGSL_VEC3_CONSTANTS};
     for (kernel, src) in [
         ("integrator", integrator_source()),
         ("probe", probe_source()),
@@ -74,10 +74,17 @@ fn prelude_constants_match_rust() {
             );
         }
     }
+    check_f32_constants();
+    let names = WGSL_CONSTANTS
+        .iter()
+        .map(|c| c.0)
+        .chain(WGSL_F32_CONSTANTS.iter().map(|c| c.0))
+        .chain(WGSL_VEC3_CONSTANTS.iter().map(|c| c.0));
+    let names: Vec<&str> = names.collect();
     for (file, text) in SHADER_FILES {
         for line in text.lines() {
             let decl = line.trim_start();
-            for &(name, _) in WGSL_CONSTANTS {
+            for &name in &names {
                 let defines = ["const ", "override ", "var ", "let "].iter().any(|k| {
                     decl.strip_prefix(k)
                         .and_then(|r| r.strip_prefix(name))
@@ -90,6 +97,91 @@ fn prelude_constants_match_rust() {
             }
         }
     }
+}
+
+/// The generated `f32` and `vec3<f32>` constants read back by naga equal their Rust values
+/// bit for bit, and no shader writes one of those numbers as a literal of its own (the
+/// twin's copy the prelude replaced). Numbers every kernel uses for other reasons — small
+/// multiples of 1/4 up to 4, such as 0.5 — are not counted as copies.
+fn check_f32_constants() {
+    use refract::gpu::pipeline::SHADER_FILES;
+    use refract::gpu::prelude::{WGSL_F32_CONSTANTS, WGSL_VEC3_CONSTANTS};
+    let module = naga::front::wgsl::parse_str(&integrator_source()).unwrap();
+    let literal = |name: &str| -> Vec<f32> {
+        let c = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .map(|(_, c)| c)
+            .unwrap_or_else(|| panic!("no WGSL constant {name}"));
+        let scalar = |h: naga::Handle<naga::Expression>| match module.global_expressions[h] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => v,
+            ref e => panic!("{name}: {e:?} is not an f32 literal"),
+        };
+        match &module.global_expressions[c.init] {
+            naga::Expression::Compose { components, .. } => {
+                components.iter().map(|&h| scalar(h)).collect()
+            }
+            _ => vec![scalar(c.init)],
+        }
+    };
+    let mut values = Vec::new();
+    for &(name, v) in WGSL_F32_CONSTANTS {
+        assert_eq!(literal(name)[0].to_bits(), v.to_bits(), "{name}");
+        values.push((name, v));
+    }
+    for &(name, v) in WGSL_VEC3_CONSTANTS {
+        let got: Vec<u32> = literal(name).iter().map(|x| x.to_bits()).collect();
+        assert_eq!(got, v.map(f32::to_bits).to_vec(), "{name}");
+        values.extend(v.iter().map(|&x| (name, x)));
+    }
+    let common = |v: f32| (v * 4.0).fract() == 0.0 && v.abs() <= 4.0;
+    for (file, text) in SHADER_FILES {
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for lit in float_literals(code) {
+                for &(name, v) in &values {
+                    assert!(
+                        common(v) || lit != v,
+                        "{file}:{}: the literal {lit} is the prelude constant {name}: {line}",
+                        n + 1
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The floating-point literals of a line of WGSL (digits with a point or an exponent).
+fn float_literals(code: &str) -> Vec<f32> {
+    let mut out = Vec::new();
+    let b = code.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit()
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < b.len()
+            && (b[j].is_ascii_digit()
+                || b[j] == b'.'
+                || b[j] == b'e'
+                || ((b[j] == b'-' || b[j] == b'+') && b[j - 1] == b'e'))
+        {
+            j += 1;
+        }
+        let s = &code[i..j];
+        if s.contains(['.', 'e'])
+            && let Ok(v) = s.parse::<f32>()
+        {
+            out.push(v);
+        }
+        i = j.max(i + 1);
+    }
+    out
 }
 
 /// The BVH2 repack keeps triangles in `primitive_indices` order and every scene triangle

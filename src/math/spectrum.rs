@@ -24,8 +24,13 @@ pub const HERO_COUNT: usize = 4;
 /// n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1), λ in nm.
 #[inline]
 pub fn cauchy_from_abbe(n_d: f32, abbe: f32, lambda_nm: f32) -> f32 {
-    (n_d + (n_d - 1.0) / abbe * (523_655.0 / (lambda_nm * lambda_nm) - 1.5168)).max(1.0)
+    (n_d + (n_d - 1.0) / abbe * (ABBE_B_NM2 / (lambda_nm * lambda_nm) - ABBE_C)).max(1.0)
 }
+
+/// The Abbe model's B (nm²) in n(λ) = n_d + (n_d − 1)/V_d · (B/λ² − C).
+pub const ABBE_B_NM2: f32 = 523_655.0;
+/// The Abbe model's C = B/λ_d² (λ_d = 587.56 nm), so that n(λ_d) = n_d.
+pub const ABBE_C: f32 = 1.5168;
 
 /// Hero wavelength sampling: the hero is uniform in [360, 830] nm, the other three are
 /// rotated from it by equal offsets of 470/4 nm with wrap-around, so each one is uniform too.

@@ -10,6 +10,7 @@ pub mod estimator;
 pub mod estimator_plan;
 pub mod options;
 pub mod photon_aim;
+pub mod photon_params;
 pub mod photon_radius;
 pub mod race;
 pub mod settings;

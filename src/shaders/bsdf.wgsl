@@ -22,7 +22,6 @@ override HAS_THIN_DIELECTRIC: bool = true;
 override HAS_CONDUCTOR: bool = true;
 
 // Smooth threshold (bsdf::SMOOTH_ALPHA).
-const SMOOTH_ALPHA: f32 = 1e-3;
 
 // glTF convention: α = roughness².
 fn roughness_to_alpha(roughness: f32) -> f32 {

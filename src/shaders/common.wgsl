@@ -151,11 +151,10 @@ fn uniform_hemisphere(u: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(r * cos(phi), r * sin(phi), z);
 }
 
-// pdf of `uniform_hemisphere`: 1/2π.
-const UNIFORM_HEMISPHERE_PDF: f32 = 0.5 * FRAC_1_PI;
+// pdf of `uniform_hemisphere`: 1/2π (UNIFORM_HEMISPHERE_PDF, from the prelude).
 
-// pdf of `uniform_sphere` w.r.t. solid angle: 1/4π. PBR 4th ed. §A.5.2.
-const UNIFORM_SPHERE_PDF: f32 = 0.25 * FRAC_1_PI;
+// pdf of `uniform_sphere` w.r.t. solid angle: 1/4π (UNIFORM_SPHERE_PDF, from the
+// prelude). PBR 4th ed. §A.5.2.
 
 // Power heuristic with β = 2. Veach 1997, §9.2.4.
 fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {

@@ -265,7 +265,7 @@ fn light_image_sample_dir(light: Light, u: vec2<f32>) -> ImageDirSample {
 // glTF spot-light angular falloff (KHR_lights_punctual spec, "Spot"): smooth, squared
 // linear ramp of cosθ between the outer and inner cone. Twin of `scene::light::spot_falloff`.
 fn spot_falloff(cos_theta: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    let scale = 1.0 / max(cos_inner - cos_outer, 1e-3);
+    let scale = 1.0 / max(cos_inner - cos_outer, SPOT_MIN_RAMP_COS);
     let offset = -cos_outer * scale;
     let a = clamp(cos_theta * scale + offset, 0.0, 1.0);
     return a * a;

@@ -40,11 +40,9 @@ struct Photon {
 @group(0) @binding(11) var<storage, read_write> photon_grid: array<atomic<u32>>;
 @group(0) @binding(12) var<storage, read_write> photons: array<Photon>;
 
-// Photons landing on a surface turned by more than this from the query's (cosine of the
-// normals) are another surface (`lookup::SAME_SURFACE_COS`).
-const PHOTON_SAME_SURFACE_COS: f32 = 0.5;
-// The sampler's dimension where photon paths start (`sppm::PHOTON_DIMS`).
-const PHOTON_DIMS: u32 = 131072u;
+// PHOTON_SAME_SURFACE_COS (photons on a surface turned further than this from the query's
+// are another surface, `lookup::SAME_SURFACE_COS`) and PHOTON_DIMS (the sampler's dimension
+// where photon paths start, `sppm::PHOTON_DIMS`) come from the prelude.
 const COLLAPSED_BIT: u32 = 0x80000000u;
 
 // Octahedral unit-vector encoding (Meyer et al. 2010; Cigolle et al. 2014, JCGT 3(2), §3.1).

@@ -3,21 +3,13 @@
 // spectrum → RGB estimator and the smooth RGB → spectrum uplift. Only reached when the scene
 // has a dispersive material (HAS_SPECTRAL in integrator.wgsl).
 
-const LAMBDA_MIN: f32 = 360.0;
-const LAMBDA_MAX: f32 = 830.0;
-const HERO_COUNT: u32 = 4u;
-
-const UPLIFT_BLUE_EDGE_NM: f32 = 488.0;
-const UPLIFT_BLUE_HALF_WIDTH_NM: f32 = 48.0;
-const UPLIFT_RED_EDGE_NM: f32 = 589.5;
-const UPLIFT_RED_HALF_WIDTH_NM: f32 = 15.25;
-
-// ∫ cmf(λ) dλ over [360, 830] nm (math::spectrum::CIE_CMF_INTEGRAL).
-const CIE_CMF_INTEGRAL: vec3<f32> = vec3<f32>(106.76582, 106.92207, 106.875);
+// LAMBDA_MIN, LAMBDA_MAX, HERO_COUNT, the UPLIFT_* edges, CIE_CMF_INTEGRAL (∫ cmf(λ) dλ over
+// [360, 830] nm) and the Abbe model's ABBE_B_NM2, ABBE_C come from the prelude
+// (gpu::prelude, from math::spectrum).
 
 // n(λ) = max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1), λ in nm.
 fn cauchy_from_abbe(n_d: f32, abbe: f32, lambda_nm: f32) -> f32 {
-    return max(n_d + (n_d - 1.0) / abbe * (523655.0 / (lambda_nm * lambda_nm) - 1.5168), 1.0);
+    return max(n_d + (n_d - 1.0) / abbe * (ABBE_B_NM2 / (lambda_nm * lambda_nm) - ABBE_C), 1.0);
 }
 
 // Rust's f32::rem_euclid (x % m is exact fmod there; here x ∈ [0, 2m) so one subtraction is

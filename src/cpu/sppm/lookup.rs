@@ -12,9 +12,7 @@ use crate::cpu::spectral::Spectral;
 use crate::math::Color;
 use crate::paths::{DfaTable, Symbol};
 
-/// Photons landing on a surface turned by more than this from the query's surface (cosine
-/// of the normals) are another surface (a corner, the far side of a thin wall).
-const SAME_SURFACE_COS: f32 = 0.5;
+use crate::render::photon_params::SAME_SURFACE_COS;
 
 /// One iteration's photons, ready for queries.
 pub struct PhotonLookup<'a> {

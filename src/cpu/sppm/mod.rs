@@ -50,8 +50,7 @@ pub use crate::render::photon_radius::{ALPHA, RADIUS_PIXELS};
 pub const PHOTONS_PER_PIXEL: u32 = 1;
 /// Photon paths per parallel chunk (fixed, for images independent of the thread count).
 const CHUNK: u32 = 1024;
-/// The sampler's dimension where photon paths start (the camera's start at 0).
-const PHOTON_DIMS: u32 = 1 << 17;
+pub use crate::render::photon_params::PHOTON_DIMS;
 
 /// The photon-mapping parameters of one render.
 #[derive(Clone, Copy, Debug)]

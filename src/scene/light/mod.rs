@@ -54,7 +54,7 @@ pub use environment::UniformEnvironment;
 pub use image_environment::ImageEnvironment;
 pub use point::PointLight;
 pub use set::LightSet;
-pub use spot::{SpotLight, spot_falloff};
+pub use spot::{SPOT_MIN_RAMP_COS, SpotLight, spot_falloff};
 pub use triangle::TriangleLight;
 
 use glam::{Vec2, Vec3};

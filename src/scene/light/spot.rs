@@ -17,11 +17,15 @@ pub struct SpotLight {
     pub cos_outer: f32,
 }
 
+/// The narrowest ramp of cosθ [`spot_falloff`] divides by (inner and outer cones that
+/// coincide would divide by zero).
+pub const SPOT_MIN_RAMP_COS: f32 = 1e-3;
+
 /// glTF spot-light angular falloff (KHR_lights_punctual spec, "Spot"): smooth, squared
 /// linear ramp of cosθ between the outer and inner cone.
 #[inline]
 pub fn spot_falloff(cos_theta: f32, cos_inner: f32, cos_outer: f32) -> f32 {
-    let scale = 1.0 / (cos_inner - cos_outer).max(1e-3);
+    let scale = 1.0 / (cos_inner - cos_outer).max(SPOT_MIN_RAMP_COS);
     let offset = -cos_outer * scale;
     let a = (cos_theta * scale + offset).clamp(0.0, 1.0);
     a * a
