@@ -113,3 +113,50 @@ fn a_background_compile_renders_with_the_general_kernel_first() {
     let more = g.render(1).expect("render");
     assert_eq!(more.spp, 2, "accumulation goes on across the switch");
 }
+
+/// A lecture's next demo prepared ahead (`GpuRenderer::compile_ahead_for`, what
+/// `Backend::prepare_for` calls when a demo opens): its family's general kernel compiles
+/// while the current scene renders, so opening it renders at once — with the general kernel
+/// while its own specialisation compiles — instead of waiting for a compile.
+#[test]
+fn the_next_scene_prepared_ahead_renders_at_once() {
+    let Some(ctx) = gpu_context("prepared_ahead") else {
+        return;
+    };
+    let now = small("cornell-glass", 32, 24);
+    // The next demo: dispersion (spectral) and bidirectional (what `auto` picks for it),
+    // another family than what the current renderer compiles for its own edits.
+    let next = small("prism", 32, 24);
+    let next_opts = RenderOptions {
+        estimator: Estimator::LtPt,
+        ..RenderOptions::from_scene(&next)
+    };
+    let mut g =
+        GpuRenderer::with_context_in_background(ctx, now.clone(), RenderOptions::from_scene(&now))
+            .expect("renderer");
+    g.set_compile_ahead(true);
+    let family = g.general_kernel_for(&next, &next_opts);
+    assert!(family.spectral, "the prism's family is spectral");
+    assert!(
+        !g.is_compiled(family),
+        "not compiled before it is asked for"
+    );
+    g.compile_ahead_for(&next, &next_opts).expect("queued");
+    let start = std::time::Instant::now();
+    while !g.is_compiled(family) {
+        assert!(
+            start.elapsed().as_secs() < 600,
+            "not compiled ahead in 600 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    g.set_scene(next, next_opts).expect("the next scene");
+    g.set_estimator(Estimator::LtPt).expect("lt+pt");
+    assert!(
+        g.pipelines_ready().expect("compile"),
+        "the prepared general kernel renders at once"
+    );
+    let img = g.render(1).expect("render");
+    assert_eq!(img.spp, 1);
+    assert!(img.mean.iter().all(|p| p.is_finite()));
+}

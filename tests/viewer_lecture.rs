@@ -208,3 +208,29 @@ fn dispersion_panel_says_when_there_is_no_dispersive_glass() {
     h.step();
     h.get_by_label_contains("No dispersive glass in this scene");
 }
+
+/// Opening a demo prepares its neighbours in the background (`lecture::Ahead`): the scenes
+/// of the demos before and after it arrive at the backend (`Backend::prepare_for`; the GPU
+/// compiles their general kernels ahead, tests/gpu_general_kernel.rs) without the UI
+/// thread waiting for them.
+#[test]
+fn opening_a_demo_prepares_the_next_and_the_previous() {
+    let mut h = harness(app_on("builtin:furnace"));
+    let k = DEMOS.iter().position(|d| d.key == "snell").unwrap();
+    h.state_mut().start_demo(k);
+    let start = Instant::now();
+    while h.state().lecture.ahead.prepared < 2 {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "neighbours not prepared: {}",
+            h.state().lecture.ahead.prepared
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    assert_eq!(
+        h.state().lecture.ahead.prepared,
+        2,
+        "next and previous, once"
+    );
+}

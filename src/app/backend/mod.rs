@@ -112,6 +112,10 @@ pub trait Backend {
     fn general_kernel(&self) -> bool {
         false
     }
+    /// Prepare, in the background, to render `scene` with `options` next (a lecture's next
+    /// demo): the GPU compiles the general kernel of its family ahead of need. The CPU has
+    /// nothing to prepare.
+    fn prepare_for(&mut self, _scene: &Scene, _options: &RenderOptions) {}
     /// A notice for the user since the last call (e.g. "the GPU cannot render this scene,
     /// rendering on the CPU"); the viewer shows it in the side panel.
     fn take_message(&mut self) -> Option<String> {

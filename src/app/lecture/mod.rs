@@ -5,10 +5,12 @@
 //! A demo is data ([`Demo`]); [`ViewerApp::start_demo`] turns it into ordinary edits, so a
 //! demo is exactly what a user could set up by hand and every control keeps working in it.
 
+mod ahead;
 mod clicker;
 mod demos;
 mod toggle;
 
+pub use ahead::Ahead;
 pub use demos::{DEMOS, Demo, Toggle};
 
 use super::{Edit, ViewerApp};
@@ -40,6 +42,8 @@ pub struct Lecture {
     pub inspect_point: Option<glam::Vec3>,
     /// The image size the point was last projected at.
     inspected_size: Option<(u32, u32)>,
+    /// The neighbouring demos being prepared (`ahead`).
+    pub ahead: Ahead,
 }
 
 impl Lecture {
@@ -76,12 +80,17 @@ impl ViewerApp {
             self.set_view(demo.view);
         }
         self.lecture.active = Some(index);
+        self.lecture.ahead.start(index, &self.settings);
         self.lecture_follow();
     }
 
-    /// Keep the demo's inspected scene point under the inspector when the image changes size
+    /// Hand the neighbouring demos that finished loading to the backend to prepare for, and
+    /// keep the demo's inspected scene point under the inspector when the image changes size
     /// (Fit viewport: the inspector's own panel narrows the image when it opens).
     pub fn lecture_follow(&mut self) {
+        for (scene, opts) in self.lecture.ahead.take_ready() {
+            self.backend.prepare_for(&scene, &opts);
+        }
         let Some(p) = self.lecture.inspect_point else {
             return;
         };

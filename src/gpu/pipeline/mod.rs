@@ -39,8 +39,9 @@ pub use wgsl::{
 /// `wf_advance`'s group 1).
 pub const STORAGE_BUFFERS: u32 = 15;
 
-/// The most specialisations whose pipelines stay compiled: the oldest compiled is dropped
-/// beyond (and compiled again if it is needed again). Unbounded, a long viewer session that
+/// The most specialisations whose pipelines stay compiled: beyond, the least recently used
+/// specialised one is dropped (and compiled again if it is needed again), a family's general
+/// kernel only when nothing else is left ([`eviction_victim`]). Unbounded, a long viewer session that
 /// visits many scenes, estimators and filters kept every pipeline it ever compiled — on
 /// lavapipe, where each is LLVM-compiled machine code, resident memory grew 13 % over 300
 /// random edits after a warm-up through every scene (tests/viewer_soak.rs).
@@ -59,7 +60,8 @@ pub struct Pipelines {
     /// The driver's pipeline cache, kept on disk (None: the device has none).
     disk_cache: Option<Arc<DiskPipelineCache>>,
     cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
-    /// The cached specialisations, oldest first: at most [`MAX_CACHED_SPECIALIZATIONS`].
+    /// The cached specialisations, least recently used first: at most
+    /// [`MAX_CACHED_SPECIALIZATIONS`].
     order: std::collections::VecDeque<Specialization>,
     /// Specialisations being compiled on worker threads.
     pending: Vec<Pending>,
@@ -306,11 +308,20 @@ impl Pipelines {
         self.order.retain(|s| *s != spec);
         self.order.push_back(spec);
         while self.order.len() > MAX_CACHED_SPECIALIZATIONS {
-            if let Some(old) = self.order.pop_front() {
+            if let Some(old) = self.order.remove(eviction_victim(&self.order)) {
                 self.cache.retain(|(s, _), _| *s != old);
             }
         }
         Ok(())
+    }
+
+    /// Mark `spec` as just used (the renderer switched to it): eviction drops the least
+    /// recently used first.
+    pub fn touch(&mut self, spec: Specialization) {
+        if let Some(i) = self.order.iter().position(|s| *s == spec) {
+            self.order.remove(i);
+            self.order.push_back(spec);
+        }
     }
 
     /// The compiled pipeline of `kernel` for `spec` (None: not compiled, see
@@ -321,5 +332,51 @@ impl Pipelines {
         kernel: Kernel,
     ) -> Option<&wgpu::ComputePipeline> {
         self.cache.get(&(spec, kernel))
+    }
+}
+
+/// Which cached specialisation to drop, `order` being least recently used first: the least
+/// recently used specialised one, sparing the general kernels (one per family: what renders
+/// while any specialisation of the family compiles, so dropping one brings the frozen image
+/// back) and the most recent entry (just compiled or just used); the oldest entry when
+/// nothing else is left.
+pub fn eviction_victim(order: &std::collections::VecDeque<Specialization>) -> usize {
+    let candidates = order.len().saturating_sub(1);
+    order
+        .iter()
+        .take(candidates)
+        .position(|s| *s != s.general())
+        .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod eviction_tests {
+    use super::*;
+    use std::collections::VecDeque;
+
+    #[test]
+    fn eviction_spares_general_kernels_and_the_newest() {
+        let general = Specialization::all().general();
+        let a = Specialization {
+            mirror: false,
+            ..general
+        };
+        let b = Specialization {
+            lambert: false,
+            ..general
+        };
+        let spectral_general = Specialization {
+            spectral: true,
+            ..general
+        };
+        assert_ne!(a, a.general());
+        // The oldest is a general kernel: the oldest specialised one goes instead.
+        let order = VecDeque::from([general, spectral_general, a, b]);
+        assert_eq!(eviction_victim(&order), 2);
+        // Only general kernels and the newest (specialised) one: the newest stays.
+        let order = VecDeque::from([general, spectral_general, a]);
+        assert_eq!(eviction_victim(&order), 0);
+        let order = VecDeque::from([b, a]);
+        assert_eq!(eviction_victim(&order), 0);
     }
 }

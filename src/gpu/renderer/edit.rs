@@ -173,6 +173,38 @@ impl GpuRenderer {
         self.request_pipelines();
     }
 
+    /// The general kernel of the family `scene` rendered with `opts` would run here
+    /// (`Specialization::general`: what renders while its own specialisation compiles).
+    pub fn general_kernel_for(&self, scene: &Scene, opts: &RenderOptions) -> Specialization {
+        Self::specialization_for(
+            scene.features(),
+            opts,
+            scene,
+            &self.bvh,
+            self.wavefront_override,
+            self.ctx.is_software(),
+        )
+        .general()
+    }
+
+    /// Compile ahead of need the general kernel `scene` with `opts` would run (a lecture's
+    /// next demo): opening that scene then renders at once with it while its own
+    /// specialisation compiles. Nothing happens where compiling ahead is off (software
+    /// drivers, by default).
+    pub fn compile_ahead_for(&mut self, scene: &Scene, opts: &RenderOptions) -> Result<()> {
+        let spec = self.general_kernel_for(scene, opts);
+        self.pipelines.compile_ahead(spec)
+    }
+
+    /// Whether the pipelines of `spec` are compiled (e.g. [`GpuRenderer::general_kernel_for`]
+    /// compiled ahead), collecting finished background compilations first.
+    pub fn is_compiled(&mut self, spec: Specialization) -> bool {
+        if let Err(e) = self.pipelines.poll() {
+            super::super::context::record(&self.ctx.errors, format!("{e:#}"));
+        }
+        self.pipelines.is_ready(spec)
+    }
+
     /// Run the camera walk as a wavefront (`Some(true)`), as the megakernel (`Some(false)`) or
     /// as `Specialization::wants_wavefront` decides (`None`); accumulation restarts.
     pub fn set_wavefront(&mut self, wavefront: Option<bool>) {

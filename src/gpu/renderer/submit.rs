@@ -286,6 +286,9 @@ impl GpuRenderer {
     ///
     /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
     pub(super) fn request_pipelines(&mut self) {
+        // In use again: least recently used is what the cache drops first.
+        self.pipelines.touch(self.spec.general());
+        self.pipelines.touch(self.spec);
         let r = if self.background_compile {
             compile_family_in_background(&mut self.pipelines, self.spec)
         } else {

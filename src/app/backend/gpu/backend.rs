@@ -311,6 +311,17 @@ impl Backend for GpuBackend {
         self.runs_general_kernel()
     }
 
+    fn prepare_for(&mut self, scene: &Scene, options: &RenderOptions) {
+        if self.fallback.is_some() {
+            return;
+        }
+        if let Some(r) = self.renderer.as_mut()
+            && let Err(e) = r.compile_ahead_for(scene, options)
+        {
+            self.message = Some(format!("{e:#}"));
+        }
+    }
+
     fn take_message(&mut self) -> Option<String> {
         self.message.take()
     }
