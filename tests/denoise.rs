@@ -2,6 +2,8 @@
 //! unbiased EXR, it preserves what has no noise, and it brings a noisy image closer to a
 //! converged one.
 
+mod common_scenes;
+use common_scenes::gpu_context;
 use glam::Vec3;
 use refract::bench::rel_mse;
 use refract::cpu::Renderer;
@@ -167,4 +169,33 @@ fn denoising_brings_a_noisy_image_closer_to_the_converged_one() {
         e_den < 0.5 * e_raw,
         "denoised relMSE {e_den} vs raw {e_raw}"
     );
+}
+
+/// The WGSL filter and its CPU twin compute the same image (float tolerance), with the
+/// measured variance and with the neighbourhood's.
+#[test]
+fn wgsl_filter_matches_the_cpu_twin() {
+    let Some(ctx) = gpu_context("wgsl_filter_matches_the_cpu_twin") else {
+        return;
+    };
+    let (r, mut o) = small("builtin:cornell-glass");
+    (o.width, o.height) = (37, 29);
+    let (film, half, _) = r.render_with_half(&o, (4, None), |_| {});
+    let raw = film.image();
+    let (first, k) = half.unwrap();
+    let var = half_variance(&first, &raw, k, 4);
+    let guides = render_guides(&r, (o.width, o.height), 2, 1);
+    let gpu = refract::denoise::gpu::GpuDenoiser::new(&ctx).unwrap();
+    let p = DenoiseParams::default();
+    for v in [Some(var.as_slice()), None] {
+        let cpu = denoise(&raw, v, &guides, &p);
+        let dev = gpu.denoise(&ctx, &raw, v, &guides, &p).unwrap();
+        let mut worst = 0.0f32;
+        for (a, b) in cpu.iter().zip(&dev) {
+            let err = (*a - *b).abs().max_element() / (a.abs().max_element() + 1e-2);
+            worst = worst.max(err);
+        }
+        assert!(worst < 1e-3, "CPU and GPU differ by {worst} (relative)");
+        assert!(cpu != raw, "the filter did nothing");
+    }
 }
