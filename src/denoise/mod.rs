@@ -10,6 +10,7 @@
 //! filter (`shaders/denoise.wgsl`, run by [`gpu`]); both compute the same thing in f32.
 
 pub mod atrous;
+pub mod badge;
 pub mod gpu;
 pub mod guides;
 pub mod weights;
