@@ -199,3 +199,101 @@ fn wgsl_filter_matches_the_cpu_twin() {
         assert!(cpu != raw, "the filter did nothing");
     }
 }
+
+/// The viewer on the CPU backend, paused after its first samples.
+fn paused_viewer() -> egui_kittest::Harness<'static, refract::app::ViewerApp> {
+    use refract::app::{Edit, ViewerApp};
+    use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
+    let backend = refract::app::backend::CpuBackend::new(None);
+    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
+    settings.render.render_scale = 0.125;
+    settings.render.fit_viewport = false;
+    let base = Scene::load(DEFAULT_SCENE).unwrap();
+    let app = ViewerApp::with_backend(base, settings, Box::new(backend)).unwrap();
+    let mut h = egui_kittest::Harness::builder()
+        .with_size(eframe::egui::vec2(800.0, 600.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    let start = std::time::Instant::now();
+    while h.state().backend().spp() < 2 && start.elapsed().as_secs() < 60 {
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    h.state_mut().push(Edit::Pause(true));
+    h.step();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    h.step();
+    h
+}
+
+/// Step until the denoised image of the current generation is on screen.
+fn wait_denoised(h: &mut egui_kittest::Harness<'static, refract::app::ViewerApp>) {
+    let start = std::time::Instant::now();
+    let showing = |h: &egui_kittest::Harness<'static, refract::app::ViewerApp>| {
+        let app = h.state();
+        app.denoise.showing(app.backend().generation())
+    };
+    while !showing(h) && start.elapsed().as_secs() < 60 {
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(showing(h), "no denoised image within a minute");
+}
+
+#[test]
+fn the_viewer_toggle_never_touches_the_accumulation() {
+    let mut h = paused_viewer();
+    let raw = h.state().backend().read_image().expect("samples");
+    assert!(!h.state().denoise.on, "denoising is off by default");
+    h.state_mut().denoise.on = true;
+    wait_denoised(&mut h);
+    let during = h.state().backend().read_image().unwrap();
+    h.state_mut().denoise.on = false;
+    h.step();
+    let after = h.state().backend().read_image().unwrap();
+    let bits = |a: &refract::app::backend::Accumulated| -> Vec<[u32; 3]> {
+        a.pixels
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    };
+    assert_eq!(
+        (raw.spp, during.spp, after.spp),
+        (raw.spp, raw.spp, raw.spp)
+    );
+    assert!(
+        bits(&raw) == bits(&during),
+        "the accumulation changed while denoising"
+    );
+    assert!(
+        bits(&raw) == bits(&after),
+        "the accumulation changed after toggling off"
+    );
+    assert!(
+        !h.state().denoise.showing(h.state().backend().generation()),
+        "off, the viewport still paints the denoised image"
+    );
+}
+
+#[test]
+fn a_denoised_screenshot_shows_the_split_and_keeps_the_raw_exr() {
+    let mut h = paused_viewer();
+    let dir = tmp_dir("shot");
+    h.state_mut().screenshot_dir = dir.clone();
+    h.state_mut().denoise.on = true;
+    h.state_mut().denoise.split = 0.5;
+    wait_denoised(&mut h);
+    let raw = h.state().backend().read_image().unwrap();
+    let saved = h.state_mut().save_screenshot().expect("screenshot");
+    let (_, _, exr) = refract::film::load_exr(&saved.exr).unwrap();
+    let close = exr
+        .iter()
+        .zip(&raw.pixels)
+        .all(|(a, b)| (*a - *b).abs().max_element() <= 1e-3 * b.max_element().max(1.0));
+    assert!(close, "the screenshot's EXR is not the raw accumulation");
+    let denoised_exr = saved.exr.with_extension("denoised.exr");
+    assert!(denoised_exr.exists(), "no {}", denoised_exr.display());
+    let png = image::open(&saved.png).unwrap().to_rgba8();
+    let col = refract::denoise::badge::split_column(png.width(), 0.5);
+    let line = (0..png.height()).all(|y| png.get_pixel(col, y).0 == [255, 255, 255, 255]);
+    assert!(line, "no split line at column {col}");
+}

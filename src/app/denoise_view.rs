@@ -184,6 +184,16 @@ impl DenoiseView {
         }
     }
 
+    /// True when [`DenoiseView::paint`] draws over the image of `generation` (on, and a
+    /// denoised image of that generation has arrived).
+    pub fn showing(&self, generation: u64) -> bool {
+        self.on
+            && self
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.generation == generation)
+    }
+
     /// Paint the denoised part, the split line and the badge over the image in `rect` (only
     /// when on and the denoised image is of the generation on screen).
     pub fn paint(&self, ui: &egui::Ui, rect: Rect, generation: u64) {

@@ -35,15 +35,18 @@ pub fn compose(raw: &[u8], denoised: Option<&[u8]>, width: u32, split: f32) -> V
     let col = split_column(width, split) as usize;
     let mut out = raw.to_vec();
     for (i, px) in out.chunks_exact_mut(4).enumerate() {
-        let x = i % w;
-        if x >= col {
+        if i % w >= col {
             px.copy_from_slice(&den[i * 4..i * 4 + 4]);
         }
+    }
+    draw_badge(&mut out, width, (raw.len() / 4 / w) as u32);
+    // The split line last: on a narrow image it crosses the badge, never the reverse.
+    for (i, px) in out.chunks_exact_mut(4).enumerate() {
+        let x = i % w;
         if x + 1 == col || x == col {
             px.copy_from_slice(&[255, 255, 255, 255]);
         }
     }
-    draw_badge(&mut out, width, (raw.len() / 4 / w) as u32);
     out
 }
 
