@@ -87,7 +87,7 @@ fn reference(
         );
         return Ok(img);
     }
-    let mut o = opts.clone();
+    let mut o = *opts;
     o.seed = 0xdead;
     eprintln!("rendering the reference ({spp} spp) to {}", path.display());
     let (film, _) = r.render(&o, spp, None, |_| {});

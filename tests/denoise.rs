@@ -156,7 +156,7 @@ fn denoising_brings_a_noisy_image_closer_to_the_converged_one() {
     let (r, o) = small("builtin:cornell-glass");
     let (reference, _) = r.render(&o, 512, None, |_| {});
     let reference = reference.image();
-    let mut o8 = o.clone();
+    let mut o8 = o;
     o8.seed = 11;
     let (film, half, _) = r.render_with_half(&o8, (8, None), |_| {});
     let raw = film.image();
