@@ -24,7 +24,10 @@ fn main() -> anyhow::Result<()> {
     let renderer = Renderer::new(Scene::load(spec)?)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);
     (opts.width, opts.height, opts.estimator) = (size, size, Estimator::Path);
-    opts.seed = 1;
+    // `DENOISE_SEED`: the seed of the measured renders (the reference's is its own).
+    opts.seed = std::env::var("DENOISE_SEED")
+        .map_or(Ok(1), |s| s.parse())
+        .context("DENOISE_SEED")?;
     let reference = reference(&renderer, &opts, spec, ref_spp)?;
     let mut params = DenoiseParams::default();
     if let Ok(v) = std::env::var("DENOISE_PARAMS") {
@@ -41,7 +44,10 @@ fn main() -> anyhow::Result<()> {
             sigma_z: f[3],
         };
     }
-    println!("scene {spec}, {size}², reference {ref_spp} spp (path), {params:?}");
+    println!(
+        "scene {spec}, {size}², seed {}, reference {ref_spp} spp (path), {params:?}",
+        opts.seed
+    );
     println!("| spp | raw relMSE | denoised relMSE | guide spp |");
     println!("|----:|-----------:|----------------:|----------:|");
     for spp in [4u32, 16, 64, 256] {

@@ -36,7 +36,7 @@ impl Default for DenoiseParams {
         DenoiseParams {
             iterations: 5,
             sigma_l: 4.0,
-            sigma_n: 128.0,
+            sigma_n: 8.0,
             sigma_z: 1.0,
         }
     }
