@@ -99,37 +99,51 @@ pub fn prepare(
     for y in 0..h {
         for x in 0..w {
             let ip = (y * w + x) as usize;
-            let (mut sw, mut m1, mut m2, mut mv) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-            for dy in -VAR_RADIUS..=VAR_RADIUS {
-                for dx in -VAR_RADIUS..=VAR_RADIUS {
-                    let (qx, qy) = (x + dx, y + dy);
-                    if qx < 0 || qy < 0 || qx >= w || qy >= h {
-                        continue;
-                    }
-                    let iq = (qy * w + qx) as usize;
-                    let dist = ((dx * dx + dy * dy) as f32).sqrt();
-                    let wt = if iq == ip {
-                        1.0
-                    } else {
-                        guide_weight(g, grad, ip, iq, dist, p)
-                    };
-                    let l = luma(irr[iq]);
-                    sw += wt;
-                    m1 += wt * l;
-                    m2 += wt * l * l;
-                    mv += wt * measured.as_ref().map_or(0.0, |v| v[iq]);
-                }
-            }
-            let (m1, m2) = (m1 / sw, m2 / sw);
-            let var = match &measured {
-                // A firefly's own variance is not diluted by its calm neighbours.
-                Some(v) => (mv / sw).max(v[ip]),
-                None => (m2 - m1 * m1).max(0.0),
-            };
+            let var = pixel_variance(&irr, measured.as_deref(), (g, grad), (x, y), p);
             out.push(irr[ip].extend(var));
         }
     }
     out
+}
+
+/// The variance of pixel (x, y): the guide-weighted 7×7 mean of `measured` (never below the
+/// pixel's own: a firefly is not diluted by its calm neighbours), or without it the weighted
+/// variance of the neighbourhood's luminance.
+fn pixel_variance(
+    irr: &[Vec3],
+    measured: Option<&[f32]>,
+    (g, grad): (&Guides, &[f32]),
+    (x, y): (i32, i32),
+    p: &DenoiseParams,
+) -> f32 {
+    let (w, h) = (g.width as i32, g.height as i32);
+    let ip = (y * w + x) as usize;
+    let (mut sw, mut m1, mut m2, mut mv) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    for dy in -VAR_RADIUS..=VAR_RADIUS {
+        for dx in -VAR_RADIUS..=VAR_RADIUS {
+            let (qx, qy) = (x + dx, y + dy);
+            if qx < 0 || qy < 0 || qx >= w || qy >= h {
+                continue;
+            }
+            let iq = (qy * w + qx) as usize;
+            let dist = ((dx * dx + dy * dy) as f32).sqrt();
+            let wt = if iq == ip {
+                1.0
+            } else {
+                guide_weight(g, grad, ip, iq, dist, p)
+            };
+            let l = luma(irr[iq]);
+            sw += wt;
+            m1 += wt * l;
+            m2 += wt * l * l;
+            mv += wt * measured.map_or(0.0, |v| v[iq]);
+        }
+    }
+    let (m1, m2) = (m1 / sw, m2 / sw);
+    match measured {
+        Some(v) => (mv / sw).max(v[ip]),
+        None => (m2 - m1 * m1).max(0.0),
+    }
 }
 
 /// The guides' part of a tap's weight: normal, depth and specular fraction.
