@@ -9,6 +9,7 @@ pub mod bench;
 pub mod bsdf;
 pub mod bvh;
 pub mod cpu;
+pub mod denoise;
 pub mod files;
 pub mod film;
 pub mod gltf_io;

@@ -23,6 +23,7 @@ const LAYERS: &[&[&str]] = &[
     &["scene"],
     &["bvh", "gltf_io", "render"],
     &["cpu", "gpu"],
+    &["denoise"],
     &["bench", "app"],
     &["cli"],
 ];

@@ -52,6 +52,7 @@ impl ViewerApp {
             inspector: inspect::Inspector::default(),
             view: layer_view::ViewMode::Beauty,
             lecture: lecture::Lecture::default(),
+            denoise: Default::default(),
             viewport_pending: None,
             backend,
             display_device: String::new(),

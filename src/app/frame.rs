@@ -55,6 +55,13 @@ impl ViewerApp {
         let yfov = self.scene.camera.yfov;
         let mut orbit = self.orbit;
         let r = viewport::show(ui, tex, res, &mut orbit, yfov);
+        let (display, scene) = (self.display_params(), &self.scene);
+        self.denoise
+            .step(ctx, self.backend.as_ref(), scene, display);
+        if tex.is_some() {
+            self.denoise
+                .paint(ui, r.image_rect, self.backend.generation());
+        }
         if r.camera_changed {
             self.push(Edit::Orbit(orbit));
         }

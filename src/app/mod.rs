@@ -11,6 +11,7 @@
 //! `window` (`refract view`).
 
 pub mod backend;
+pub mod denoise_view;
 pub mod edit;
 pub mod inspect;
 pub mod inspect_overlay;
@@ -104,6 +105,8 @@ pub struct ViewerApp {
     pub view: layer_view::ViewMode,
     /// Lecture mode: the demo on screen and large type.
     pub lecture: lecture::Lecture,
+    /// The live view's denoiser: toggle, split-screen compare and badge (off by default).
+    pub denoise: denoise_view::DenoiseView,
     /// A viewport size waiting to hold for [`VIEWPORT_SETTLE`], and since when.
     viewport_pending: Option<((u32, u32), Instant)>,
     backend: Box<dyn Backend>,

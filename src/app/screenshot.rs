@@ -84,14 +84,18 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
     let exr = dir.join(format!("{stem}.exr"));
     let json = dir.join(format!("{stem}.json"));
     let d = app.settings.display;
-    film::save_image(
-        &png,
-        acc.width,
-        acc.height,
-        &acc.pixels,
-        d.exposure,
-        d.tone_map,
-    )?;
+    if app.denoise.on {
+        save_denoised(app, &acc, &png, &dir.join(format!("{stem}.denoised.exr")))?;
+    } else {
+        film::save_image(
+            &png,
+            acc.width,
+            acc.height,
+            &acc.pixels,
+            d.exposure,
+            d.tone_map,
+        )?;
+    }
     film::save_image(&exr, acc.width, acc.height, &acc.pixels, 0.0, d.tone_map)?;
     let mut sidecar = app.settings.clone();
     sidecar.environment = EnvironmentSetting::of(&app.base);
@@ -107,6 +111,29 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
     });
     sidecar.save(&json)?;
     Ok(Saved { png, exr, json })
+}
+
+/// With the denoiser on: the PNG as the viewport shows it (raw left of the split, denoised
+/// right, the split line and the badge) and the denoised image as `denoised_exr`; the
+/// screenshot's EXR stays the raw accumulation.
+fn save_denoised(
+    app: &ViewerApp,
+    acc: &crate::app::backend::Accumulated,
+    png: &Path,
+    denoised_exr: &Path,
+) -> anyhow::Result<()> {
+    let d = app.settings.display;
+    let den = super::denoise_view::denoise_now(&app.scene, acc)?;
+    film::save_image(denoised_exr, acc.width, acc.height, &den, 0.0, d.tone_map)?;
+    let raw8 = film::to_srgb8(&acc.pixels, d.exposure, d.tone_map);
+    let den8 = film::to_srgb8(&den, d.exposure, d.tone_map);
+    let shown = crate::denoise::badge::compose(&raw8, Some(&den8), acc.width, app.denoise.split);
+    let img = image::RgbaImage::from_raw(acc.width, acc.height, shown)
+        .context("screenshot: image size does not match its pixels")?;
+    film::write_atomically(png, |tmp| {
+        img.save_with_format(tmp, image::ImageFormat::Png)
+            .with_context(|| format!("cannot write '{}'", png.display()))
+    })
 }
 
 #[cfg(test)]

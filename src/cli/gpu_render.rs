@@ -61,6 +61,13 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
         stats.segments_per_sec() / 1e6,
         stats.dropped
     );
+    let rendered = super::denoise::Rendered {
+        size: (w, h),
+        mean: &img.mean,
+        spp: stats.spp,
+        half: None,
+    };
+    super::denoise::write_for_scene(args, scene, job, rendered)?;
     budget_report(args.time_budget, stats.spp, r.batch_spp());
     Ok(true)
 }

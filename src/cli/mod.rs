@@ -10,6 +10,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 mod bench;
+mod denoise;
 mod duration;
 mod gpu_render;
 mod job;
@@ -285,6 +286,12 @@ struct RenderArgs {
     /// the image one machine renders with the same seed. Needs --spp.
     #[arg(long, value_name = "I/N", value_parser = Shard::parse, allow_hyphen_values = true)]
     shard: Option<Shard>,
+    /// Also write a denoised image beside the unbiased one: OUT.denoised.exr (and
+    /// OUT.denoised.png when OUT is a .png); the unbiased OUT is written as without it. An
+    /// edge-avoiding à-trous filter guided by first-hit albedo, normal and depth
+    /// (docs/denoise.md): it blurs caustics seen through glass.
+    #[arg(long)]
+    denoise: bool,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,

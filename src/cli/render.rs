@@ -17,6 +17,7 @@ use refract::scene::Scene;
 pub(crate) fn render(args: &RenderArgs) -> Result<()> {
     // Before any work: a render whose image cannot be written is an error now, not after.
     film::check_output_path(&args.out).context("--out")?;
+    super::denoise::check(args)?;
     let layers = Layers::parse(args.decompose.as_deref(), args.aov.as_deref())?;
     if let Some(l) = &layers {
         l.check_outputs(&args.out)?;
@@ -69,12 +70,20 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     log_start(args, &renderer, &opts, job.spp);
     let bar = spp_progress_bar(job.spp, args.quiet);
     let n = job.spp.unwrap_or(u32::MAX);
+    let mut half = None;
+    let half_film = &mut half;
     let (film, layer_film, stats) = pool.install(|| match layers {
         Some(l) => {
             let proto = l.proto();
             let progress = |d| bar.set_position(d);
             let (f, lf, s) = renderer.render_layered(&opts, (n, budget), &proto, progress);
             (f, Some(lf), s)
+        }
+        None if args.denoise => {
+            let progress = |d| bar.set_position(d);
+            let (f, half, s) = renderer.render_with_half(&opts, (n, budget), progress);
+            *half_film = half;
+            (f, None, s)
         }
         None => {
             let (f, s) = renderer.render(&opts, n, budget, |d| bar.set_position(d));
@@ -96,6 +105,14 @@ fn render_cpu(args: &RenderArgs, scene: Scene, job: &Job, layers: Option<&Layers
     if let (Some(l), Some(lf)) = (layers, &layer_film) {
         l.save(&args.out, lf, film.spp)?;
     }
+    let mean = film.image();
+    let rendered = super::denoise::Rendered {
+        size: (w, h),
+        mean: &mean,
+        spp: film.spp,
+        half: half.as_ref().map(|(img, k)| (img.as_slice(), *k)),
+    };
+    super::denoise::write(args, &renderer, job, rendered)?;
     budget_report(args.time_budget, stats.spp, opts.pass_spp());
     Ok(())
 }

@@ -303,6 +303,33 @@ impl Renderer {
         (film, stats)
     }
 
+    /// [`Renderer::render`] that also returns the mean image after the first `k` samples
+    /// and `k` (the denoiser's two-halves variance, `denoise::half_variance`): no pass
+    /// crosses `spp / 2`. The film is that of [`Renderer::render`] sample for sample; only
+    /// the path tracer and SPPM are split (their films do not depend on how samples are split
+    /// into passes; bidirectional splats are folded per pass), else no half is returned.
+    pub fn render_with_half(
+        &self,
+        opts: &RenderOptions,
+        (spp, budget): (u32, Option<Duration>),
+        progress: impl FnMut(u64),
+    ) -> (Film, Option<(Vec<Vec3>, u64)>, RenderStats) {
+        let resolved = opts.estimator.resolve(&self.scene);
+        let split = matches!(resolved, Estimator::Path | Estimator::Sppm) && spp >= 2;
+        let half_at = if split { spp / 2 } else { u32::MAX };
+        let mut film = Film::new(opts.width, opts.height);
+        let mut half = None;
+        let mut stats = self.render_passes_split(opts, (spp, budget), half_at, progress, |f, n| {
+            self.render_pass(opts, &mut film, f, n);
+            if half.is_none() && film.spp >= half_at as u64 {
+                half = Some((film.image(), film.spp));
+            }
+        });
+        (stats.spp, stats.dropped) = (film.spp, film.dropped);
+        let half = half.filter(|h| h.1 < film.spp);
+        (film, half, stats)
+    }
+
     /// [`Renderer::render`] walking with the layer observer `proto` (path tracing only): the
     /// beauty film and the observer's layers.
     pub fn render_layered<O: LayerObserver>(
@@ -328,6 +355,18 @@ impl Renderer {
         &self,
         opts: &RenderOptions,
         (spp, budget): (u32, Option<Duration>),
+        progress: impl FnMut(u64),
+        pass: impl FnMut(u32, u32),
+    ) -> RenderStats {
+        self.render_passes_split(opts, (spp, budget), u32::MAX, progress, pass)
+    }
+
+    /// [`Renderer::render_passes`] in which no pass crosses `split` samples.
+    fn render_passes_split(
+        &self,
+        opts: &RenderOptions,
+        (spp, budget): (u32, Option<Duration>),
+        split: u32,
         mut progress: impl FnMut(u64),
         mut pass: impl FnMut(u32, u32),
     ) -> RenderStats {
@@ -338,7 +377,8 @@ impl Renderer {
         while done < spp {
             let n = pass_spp
                 .min(spp - done)
-                .min(budget.map_or(u32::MAX, |b| spp_that_fit(b, start.elapsed(), done)));
+                .min(budget.map_or(u32::MAX, |b| spp_that_fit(b, start.elapsed(), done)))
+                .min(if done < split { split - done } else { u32::MAX });
             pass(opts.first_sample.saturating_add(done), n);
             done += n;
             progress(done as u64);

@@ -229,6 +229,26 @@ fn display(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if display != app.settings.display {
         app.push(Edit::Display(display));
     }
+    denoise(app, ui);
+}
+
+/// The live view's denoiser: the toggle and the split between raw (left) and denoised.
+fn denoise(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    ui.checkbox(&mut app.denoise.on, "Denoise").on_hover_text(
+        "Show the image filtered by an edge-avoiding à-trous wavelet filter (guided by first-hit \
+         albedo, normal and depth) right of the split line, raw left of it. Display only: the \
+         accumulation and screenshots' EXR stay unbiased. It blurs caustics seen through glass.",
+    );
+    if app.denoise.on {
+        ui.add(
+            Slider::new(&mut app.denoise.split, 0.0..=1.0)
+                .text("Split (raw | denoised)")
+                .clamping(SliderClamping::Always),
+        );
+        if !app.denoise.split.is_finite() {
+            app.denoise.split = 0.5;
+        }
+    }
 }
 
 /// Pause, restart, spp target, render scale and seed (edits `r`).
