@@ -21,6 +21,7 @@ pub mod metal_rough;
 pub mod microfacet;
 pub mod rough_dielectric;
 pub mod thin;
+pub mod thin_film;
 
 use crate::math::Color;
 use glam::{Vec2, Vec3};
