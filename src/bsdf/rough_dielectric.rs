@@ -263,7 +263,11 @@ impl RoughDielectric {
         }
         let fr = fresnel_dielectric_terms(dot_o, self.eta);
         // TIR (Snell's test, fr.f = 1) reflects whatever `fresnel` says.
-        let p = if fr.f >= 1.0 { 1.0 } else { fresnel.select(dot_o) };
+        let p = if fr.f >= 1.0 {
+            1.0
+        } else {
+            fresnel.select(dot_o)
+        };
         let (wi, event, eta_rel) = if uc < p {
             // Microfacet mirror reflection (includes TIR where F = 1).
             (reflect(wo, m), Event::Reflect, 1.0)

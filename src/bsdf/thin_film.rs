@@ -311,7 +311,10 @@ mod tests {
             let glass = film.airy(c, Cx::real(1.5), 550.0);
             assert!((glass - fresnel_dielectric(c, 1.5)).abs() < 2e-5, "cos {c}");
             let gold = film.airy(c, Cx::new(0.2, 2.45), 550.0);
-            assert!((gold - fresnel_conductor(c, 0.2, 2.45)).abs() < 2e-5, "cos {c}");
+            assert!(
+                (gold - fresnel_conductor(c, 0.2, 2.45)).abs() < 2e-5,
+                "cos {c}"
+            );
         }
     }
 

@@ -54,6 +54,8 @@ bitflags::bitflags! {
         const ROUGH_FRESNEL_CONDUCTOR = 1 << 18;
         /// A material with a tangent-space normal map (`normalTexture`).
         const NORMAL_MAP = 1 << 19;
+        /// A dielectric or metal under a thin film (`KHR_materials_iridescence`).
+        const IRIDESCENCE = 1 << 20;
     }
 }
 
@@ -131,6 +133,8 @@ pub(crate) fn bsdf_features(scene: &Scene, m: &Material) -> Features {
         Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
         Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
         Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
+        Bsdf::Iridescent(b) if b.is_smooth() => Features::IRIDESCENCE,
+        Bsdf::Iridescent(b) => Features::IRIDESCENCE | dist(b.dist),
         Bsdf::MetalRough(_) => {
             let mut k = Features::METAL_ROUGH | Features::GGX;
             k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());

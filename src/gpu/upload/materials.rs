@@ -20,6 +20,23 @@ pub fn bsdf_kind(scene: &Scene, m: &crate::scene::Material) -> (u32, Vec3) {
         Bsdf::MetalRough(_) => (layout::BSDF_METAL_ROUGH, m.base_color),
         Bsdf::SmoothConductor(_) => (layout::BSDF_SMOOTH_CONDUCTOR, m.base_color),
         Bsdf::RoughFresnelConductor(_) => (layout::BSDF_ROUGH_FRESNEL_CONDUCTOR, m.base_color),
+        // `check_supported` keeps films off the GPU (no WGSL twin of `bsdf::Iridescent` yet);
+        // were one to get here, it would render as its bare base.
+        Bsdf::Iridescent(b) => (bare_kind(b), m.base_color),
+    }
+}
+
+/// The BSDF kind of a film's base (the film left out).
+fn bare_kind(b: crate::bsdf::Iridescent) -> u32 {
+    use crate::bsdf::FilmBase;
+    match (b.base, b.is_smooth()) {
+        (FilmBase::Dielectric { .. }, true) => layout::BSDF_SMOOTH_DIELECTRIC,
+        (FilmBase::Dielectric { .. }, false) => layout::BSDF_ROUGH_DIELECTRIC,
+        (FilmBase::Sheet { .. }, _) => layout::BSDF_THIN_DIELECTRIC,
+        (FilmBase::Conductor { .. }, true) => layout::BSDF_SMOOTH_CONDUCTOR,
+        (FilmBase::Conductor { .. }, false) => layout::BSDF_ROUGH_FRESNEL_CONDUCTOR,
+        (FilmBase::Reflectance { .. }, true) => layout::BSDF_MIRROR,
+        (FilmBase::Reflectance { .. }, false) => layout::BSDF_ROUGH_CONDUCTOR,
     }
 }
 
