@@ -87,9 +87,12 @@ fn with_film(m: Material, film: ThinFilm) -> Material {
     }
 }
 
+/// A substrate's name, material and index as a function of λ (nm).
+type Substrate = (&'static str, Material, Box<dyn Fn(f32) -> Cx>);
+
 /// The substrates of the check: glass, gold (tabulated η, k) and a grey metal of the scene
 /// contract (F₀ = 0.6 → η = (1 + √F₀)/(1 − √F₀)), each with its index as a function of λ.
-fn substrates() -> Vec<(&'static str, Material, Box<dyn Fn(f32) -> Cx>)> {
+fn substrates() -> Vec<Substrate> {
     let f0: f32 = 0.6;
     let grey_eta = (1.0 + f0.sqrt()) / (1.0 - f0.sqrt());
     vec![

@@ -431,7 +431,7 @@ mod tests {
                     ior: 1.33,
                     thickness_nm: d,
                 };
-                for c in [1.0f32, 0.7071, 0.3] {
+                for c in [1.0f32, std::f32::consts::FRAC_1_SQRT_2, 0.3] {
                     let want = integrated(film, c, n3);
                     let got = film.rgb(c, n3);
                     let err = (got - want).abs().max_element();
