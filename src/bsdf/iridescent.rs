@@ -53,7 +53,7 @@ pub struct Iridescent {
 }
 
 /// The largest F₀ turned into an index (F₀ = 1 would be an infinite one).
-const MAX_F0: f32 = 0.9999;
+pub const MAX_F0: f32 = 0.999;
 
 impl Iridescent {
     /// `base` under `film`: the dielectrics and metals take the film, the other BSDFs (Lambert,

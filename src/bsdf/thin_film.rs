@@ -196,7 +196,7 @@ impl ThinFilm {
         let r12_2 = r12.norm2();
         let t121 = 1.0 - r12_2;
         let r23_2 = r23.norm2();
-        let r123_2 = (r12_2 * r23_2).min(1.0 - 1e-7);
+        let r123_2 = (r12_2 * r23_2).min(MAX_R123_SQ);
         let rs = t121 * t121 * r23_2 / (1.0 - r123_2);
         FourierTerms {
             c0: r12_2 + rs,
@@ -248,6 +248,10 @@ impl ThinFilm {
     }
 }
 
+/// The largest R₁₂R₂₃ the series uses: 1/(1 − R₁₂R₂₃) stays finite where both interfaces
+/// reflect totally.
+pub const MAX_R123_SQ: f32 = 0.999_99;
+
 /// C₀, C₁/r₁₂₃ (the harmonics' common factor R_s − T₁₂₁), r₁₂₃ and φ of one polarisation.
 struct FourierTerms {
     c0: f32,
@@ -260,7 +264,7 @@ struct FourierTerms {
 /// (amplitude, centre frequency in 1/m, variance), x̄ with a second lobe — the constants of the
 /// paper's supplemental material. ∫ s(λ) cos(2π x/λ + φ) dλ ≈ a √(2π v) cos(2π μ x + φ)
 /// exp(−v (2π x)²), x in m.
-const SENSITIVITY_FIT: [[f32; 3]; 4] = [
+pub const SENSITIVITY_FIT: [[f32; 3]; 4] = [
     [5.4856e-13, 1.6810e+06, 4.3278e+09],
     [4.4201e-13, 1.7953e+06, 9.3046e+09],
     [5.2481e-13, 2.2084e+06, 6.6121e+09],

@@ -104,7 +104,11 @@ fn material_features(scene: &Scene, m: &Material) -> Features {
     if m.is_transmissive() && m.abbe.is_some() {
         f |= Features::DISPERSION;
     }
-    if m.base_color_texture.is_some() || (m.is_emissive() && m.emissive_texture.is_some()) {
+    let film_texture = m.iridescence.is_some_and(|i| i.thickness_texture.is_some());
+    if m.base_color_texture.is_some()
+        || (m.is_emissive() && m.emissive_texture.is_some())
+        || film_texture
+    {
         f |= Features::TEXTURES;
     }
     if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {

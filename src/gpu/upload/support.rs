@@ -12,16 +12,10 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
         !(f.intersects(conductors) && f.contains(Features::DISPERSION)),
         "the GPU renderer has no spectral (hero-wavelength) conductor yet: this scene has a tabulated metal (extras.conductor) and a dispersive material; render it on the CPU"
     );
-    if let Some(m) = scene
-        .materials
-        .iter()
-        .find(|m| m.iridescence.is_some_and(|i| i.factor > 0.0))
-    {
-        bail!(
-            "the GPU renderer has no thin film (iridescence) yet (material '{}'): render it on the CPU (--device cpu)",
-            m.name
-        );
-    }
+    ensure!(
+        !(f.contains(Features::IRIDESCENCE) && f.contains(Features::DISPERSION)),
+        "the GPU renderer has no spectral (hero-wavelength) thin film yet (its films use Belcour & Barla's RGB integral): this scene has a film (KHR_materials_iridescence) and a dispersive material; render it on the CPU (--device cpu)"
+    );
     ensure!(
         scene.settings.light_line_nm.is_none(),
         "the GPU renderer has no light line yet (light_line_nm = {} nm): render it on the CPU (--device cpu)",
