@@ -333,6 +333,12 @@ fn assert_same_scene(a: &Scene, b: &Scene) {
         assert_eq!(x.double_sided, y.double_sided);
         assert_eq!(x.attenuation_distance, y.attenuation_distance);
         assert_eq!(x.priority, y.priority, "{n}: {} priority", x.name);
+        // A film round-trips without its thickness texture (the exporter writes none).
+        let film = |m: &refract::scene::Material| {
+            m.iridescence
+                .map(|i| (i.factor, i.ior, i.thickness_min, i.thickness_max))
+        };
+        assert_eq!(film(x), film(y), "{n}: {} film", x.name);
     }
     // Same area per material.
     let areas = |s: &Scene| {
@@ -1400,4 +1406,50 @@ fn extras_conductor_makes_a_tabulated_metal_and_rejects_unknown_names() {
         msg.contains("material 'plastic'") && msg.contains("needs a metallic material"),
         "{msg}"
     );
+}
+
+/// KHR_materials_iridescence: the factor, film IOR and thickness range are read (defaults
+/// where absent), a factor of 0 (the extension's default) is no film, and a film IOR below 1
+/// or a negative thickness is an error naming the material and the JSON path.
+#[test]
+fn iridescence_is_read_and_checked() {
+    let material = |ext: Value| {
+        json!({"materials": [{"name": "coated", "pbrMetallicRoughness": {"metallicFactor": 1.0,
+            "roughnessFactor": 0.0}, "extensions": {"KHR_materials_iridescence": ext}}],
+            "extensionsUsed": ["KHR_materials_iridescence"]})
+    };
+    let with_material = |ext: Value| {
+        let mut doc: Value = serde_json::from_str(&one_triangle(material(ext))).unwrap();
+        doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+        doc.to_string()
+    };
+    let s = load(&with_material(
+        json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.45,
+        "iridescenceThicknessMaximum": 550.0}),
+    ))
+    .unwrap();
+    let film = s.materials[0].iridescence.expect("a film");
+    assert_eq!((film.factor, film.ior), (1.0, 1.45));
+    assert_eq!((film.thickness_min, film.thickness_max), (100.0, 550.0));
+    assert!(!has_warning(&s, "unsupported"), "{:?}", s.warnings);
+    let none = load(&with_material(json!({"iridescenceIor": 1.45}))).unwrap();
+    assert!(none.materials[0].iridescence.is_none(), "factor 0: no film");
+    for (bad, field) in [
+        (
+            json!({"iridescenceFactor": 1.0, "iridescenceIor": 0.5}),
+            "film IOR 0.5",
+        ),
+        (
+            json!({"iridescenceFactor": 1.0, "iridescenceThicknessMinimum": -3.0}),
+            "minimum -3",
+        ),
+        (json!({"iridescenceFactor": 2.0}), "factor 2"),
+        (json!({"iridescenceFactor": "a lot"}), "iridescenceFactor"),
+    ] {
+        let e = format!("{:#}", load(&with_material(bad)).unwrap_err());
+        assert!(
+            e.contains("coated") && e.contains(field) && e.contains("KHR_materials_iridescence"),
+            "{e}"
+        );
+    }
 }

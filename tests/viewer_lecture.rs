@@ -234,3 +234,34 @@ fn opening_a_demo_prepares_the_next_and_the_previous() {
         "next and previous, once"
     );
 }
+
+/// The thin-film demo selects the soap bubble; its Material group shows the film's sliders,
+/// and unticking the film removes it from the material (an edit the renderer receives).
+#[test]
+fn the_thin_film_demo_shows_the_film_controls_of_the_bubble() {
+    let mut h = harness(app_on("builtin:furnace"));
+    open_lecture_group(&mut h);
+    h.get_by_label("Thin-film interference").click();
+    h.step();
+    h.step();
+    let bubble = |h: &Harness<'static, ViewerApp>| {
+        let app = h.state();
+        let i = app.selected.expect("a selection");
+        assert_eq!(app.scene.materials[i].name, "soap-bubble");
+        app.scene.materials[i].iridescence
+    };
+    let film = bubble(&h).expect("the bubble has a film");
+    assert_eq!(film.ior, refract::scene::builtin::thin_film::SOAP_FILM_IOR);
+    for label in ["Film thickness (nm)", "Film IOR"] {
+        assert!(h.query_all_by_label_contains(label).count() > 0, "{label}");
+    }
+    h.get_by_label("Thin film (iridescence)").click();
+    h.step();
+    h.step();
+    assert_eq!(bubble(&h), None, "unticked: no film");
+    assert!(
+        h.state().messages.error.is_none(),
+        "{:?}",
+        h.state().messages.error
+    );
+}
