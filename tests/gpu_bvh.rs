@@ -1,7 +1,7 @@
 //! The GPU traversals (BVH2 and the compressed wide BVH) against a brute-force loop over every
 //! triangle with the same watertight test — `traverse` over a one-leaf BVH2 holding every
 //! triangle slot, the same kernel code — both run by the traversal probe (`gpu::bvh_probe`,
-//! src/shaders/bvh_probe.wgsl): exactly the same closest hit (bit-identical
+//! src/gpu/bvh_probe.wgsl): exactly the same closest hit (bit-identical
 //! t, the same triangle or another at bit-identically the same t) and the same occlusion
 //! answers for segments ending before, at and after it, on random rays, rays starting on
 //! surfaces, grazing rays and rays lying in box faces, on several built-ins and on scenes

@@ -1,4 +1,4 @@
-//! GPU light tracing combined with path tracing by MIS (`lt+pt`, src/shaders/light_tracing.wgsl):
+//! GPU light tracing combined with path tracing by MIS (`lt+pt`, src/gpu/light_tracing.wgsl):
 //! it converges to the path tracer's image on every built-in scene (block Z-test against the CPU
 //! path tracer), through Heckbert filters and with punctual lights, and it beats path tracing
 //! on caustics at equal sample count. Tests print a SKIP line without an adapter (CI installs

@@ -1,4 +1,4 @@
-//! GPU photon mapping (`sppm`, src/shaders/photon.wgsl, src/gpu/photons.rs): the same radius
+//! GPU photon mapping (`sppm`, src/gpu/photon.wgsl, src/gpu/photons.rs): the same radius
 //! schedule as the CPU's, and images that agree with CPU sppm and CPU bdpt on the caustic
 //! scenes (block Z-tests over independent runs), also for the caustic class LS+DE alone, and
 //! photons from lights at infinity (a directional light, the sun-and-sky image): their

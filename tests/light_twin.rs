@@ -1,5 +1,5 @@
-//! Light twin test: the WGSL lights (src/shaders/light.wgsl, run through
-//! src/shaders/light_probe.wgsl) against the Rust `scene::light::Light` methods, on one scene
+//! Light twin test: the WGSL lights (src/scene/light/light.wgsl, run through
+//! src/gpu/light_probe.wgsl) against the Rust `scene::light::Light` methods, on one scene
 //! with every light type — a one-sided area light with an emissive texture (a bilinear ramp
 //! under a `KHR_texture_transform` scale) and a two-sided one, a point light, a spot light
 //! (reference points and directions inside the inner cone, in the falloff ramp and outside

@@ -16,7 +16,7 @@
 //!
 //! Scenes without nested volumes (`Features::NESTED` unset) keep the one-level rule of
 //! before: entering a volume makes it the medium, leaving any volume returns to air.
-//! Camera and lights are in air. Twin: `MediumStack` in src/shaders/interaction.wgsl.
+//! Camera and lights are in air. Twin: `MediumStack` in src/cpu/interaction.wgsl.
 
 use super::spectral::Spectral;
 use crate::math::{Color, rgb3};

@@ -1,4 +1,4 @@
-//! The CPU twin of `shaders/denoise.wgsl`: demodulate by albedo and estimate each pixel's
+//! The CPU twin of `src/denoise/denoise.wgsl`: demodulate by albedo and estimate each pixel's
 //! noise variance from its guide-similar 7×7 neighbourhood ([`prepare`]), run the à-trous
 //! levels with steps 1, 2, 4, … ([`level`]), re-multiply by albedo ([`finish`]). The
 //! spatial variance estimate is SVGF's fallback for a short history (Schied et al. 2017

@@ -1,4 +1,4 @@
-//! The WGSL filter (`shaders/denoise.wgsl`) on a wgpu device: the same passes as the CPU twin
+//! The WGSL filter (`src/denoise/denoise.wgsl`) on a wgpu device: the same passes as the CPU twin
 //! ([`super::atrous`]) in one submission, reading the image and guides from buffers it owns
 //! and writing the result to another (never to a renderer's accumulation).
 
@@ -10,7 +10,7 @@ use anyhow::{Result, ensure};
 use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
-const SOURCE: &str = include_str!("../shaders/denoise.wgsl");
+const SOURCE: &str = include_str!("denoise.wgsl");
 
 /// The uniform block of `denoise.wgsl` (`Params`).
 #[repr(C)]

@@ -7,7 +7,7 @@
 //!
 //! It reads the mean image and the guides and returns a new image: it never writes to the
 //! accumulation film nor to the unbiased output. [`atrous`] is the CPU twin of the WGSL
-//! filter (`shaders/denoise.wgsl`, run by [`gpu`]); both compute the same thing in f32.
+//! filter (`src/denoise/denoise.wgsl`, run by [`gpu`]); both compute the same thing in f32.
 
 pub mod atrous;
 pub mod badge;

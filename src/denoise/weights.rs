@@ -1,6 +1,6 @@
 //! The edge-stopping weights of the à-trous filter (Dammertz et al. 2010 §3, with SVGF's
 //! variance-scaled luminance term, Schied et al. 2017 §4.4). The WGSL twins are the
-//! functions of the same names in `shaders/denoise.wgsl`.
+//! functions of the same names in `src/denoise/denoise.wgsl`.
 
 use glam::Vec3;
 

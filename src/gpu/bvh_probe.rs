@@ -1,5 +1,5 @@
 //! The traversal probe: runs scene.wgsl's `traverse` (the BVH2 or the CWBVH of cwbvh.wgsl)
-//! on a list of rays with its work counted (src/shaders/bvh_probe.wgsl). `tests/gpu_bvh.rs`
+//! on a list of rays with its work counted (src/gpu/bvh_probe.wgsl). `tests/gpu_bvh.rs`
 //! checks the trees against a one-leaf tree (brute force); `examples/bvh_cost.rs` counts
 //! nodes and triangles per ray.
 

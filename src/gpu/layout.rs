@@ -1,5 +1,5 @@
 //! GPU buffer layouts: `#[repr(C)]` + `bytemuck::Pod` twins of the WGSL structs in
-//! `src/shaders/*.wgsl`. No `vec3` in storage buffers: three-component values are `[f32; 3]`
+//! the `.wgsl` twins beside the Rust files. No `vec3` in storage buffers: three-component values are `[f32; 3]`
 //! (`array<f32, 3>` in WGSL). `tests/gpu.rs` checks every struct's size and field offsets
 //! against the WGSL via naga reflection ([`wgsl_struct_layout`]). The enum and flag constants
 //! below are the only definition of their values: `gpu::prelude` emits them into the WGSL.
@@ -252,7 +252,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// One stored caustic photon (src/shaders/photon.wgsl; cpu `sppm::photon::Photon`).
+    /// One stored caustic photon (src/gpu/photon.wgsl; cpu `sppm::photon::Photon`).
     pub struct Photon {
         pub px: f32,
         pub py: f32,
@@ -288,7 +288,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// Input of the probe kernel (src/shaders/probe.wgsl).
+    /// Input of the probe kernel (src/gpu/probe.wgsl).
     pub struct ProbeCase {
         pub wo: [f32; 3],
         pub uc: f32,
@@ -350,7 +350,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
-    /// Uniforms of the light probe kernel (src/shaders/light_probe.wgsl): what light.wgsl
+    /// Uniforms of the light probe kernel (src/gpu/light_probe.wgsl): what light.wgsl
     /// reads of the integrator's [`Params`], plus the environment radiance.
     pub struct LightProbeParams {
         pub environment: [f32; 4],

@@ -1,4 +1,4 @@
-//! The light twin probe: runs `src/shaders/light_probe.wgsl` (light.wgsl's `light_sample_li`,
+//! The light twin probe: runs `src/gpu/light_probe.wgsl` (light.wgsl's `light_sample_li`,
 //! `light_pdf_li`, `light_le`, `light_sample_le`, `light_pdf_le`, `light_set_pick`,
 //! `light_set_area`) on a scene's packed lights, so `tests/light_twin.rs` can compare every
 //! light type with the Rust `scene::light::Light` methods.

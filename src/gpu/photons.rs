@@ -1,4 +1,4 @@
-//! The GPU photon store of `sppm` (src/shaders/photon.wgsl): the radius schedule, the two
+//! The GPU photon store of `sppm` (src/gpu/photon.wgsl): the radius schedule, the two
 //! buffers (photons, and the hash grids' counters, links and bucket heads) and the clear at
 //! the start of a submission. Twin of `cpu::sppm` (`SppmParams`, `HashGrid`): same radius
 //! schedule (`render::photon_radius`, shared by both renderers), same number of photon paths

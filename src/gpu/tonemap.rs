@@ -1,6 +1,6 @@
 //! GPU tone mapping for display: the renderer's accumulation buffer (mean radiance) →
 //! exposure → tone curve → sRGB-encoded bytes in an `Rgba8Unorm` storage texture
-//! (`shaders/tonemap.wgsl`, the twin of `film::to_srgb8`). Where the adapter has
+//! (`src/film/tonemap.wgsl`, the twin of `film::to_srgb8`). Where the adapter has
 //! `DownlevelFlags::VIEW_FORMATS` the texture may also be viewed as `Rgba8UnormSrgb`, so a UI
 //! that samples it as an sRGB texture shows exactly those bytes. Elsewhere (wgpu's GL backend)
 //! the bytes are copied, unchanged, through a buffer into an `Rgba8UnormSrgb` texture of their
@@ -11,7 +11,7 @@ use super::layout::GpuLayout;
 use crate::film::{ToneMap, exposure_scale};
 use anyhow::{Context as _, Result};
 
-const TONEMAP_WGSL: &str = include_str!("../shaders/tonemap.wgsl");
+const TONEMAP_WGSL: &str = include_str!("../film/tonemap.wgsl");
 
 /// Uniforms of `tonemap.wgsl` (`ToneParams`).
 #[repr(C)]

@@ -1,6 +1,6 @@
 //! Colour: the sRGB transfer functions, luminance and black-body colour, in linear Rec.709
 //! RGB (the renderer's colour space). The WGSL twin of [`linear_to_srgb`] is in
-//! `shaders/tonemap.wgsl`.
+//! `src/film/tonemap.wgsl`.
 
 use glam::Vec3;
 

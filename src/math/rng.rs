@@ -1,6 +1,6 @@
 //! Counter-based random numbers: a pure hash of (pixel, sample index, dimension, seed).
 //!
-//! Identical in Rust and WGSL (`shaders/rng.wgsl` uses the same names), so CPU and GPU renders
+//! Identical in Rust and WGSL (`src/math/rng.wgsl` uses the same names), so CPU and GPU renders
 //! can be compared sample for sample and every render is reproducible regardless of thread
 //! scheduling. Only 32-bit integer multiplies, adds, xors and shifts are used.
 

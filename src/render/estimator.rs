@@ -31,7 +31,7 @@ pub enum Estimator {
     /// Pure light tracing (light subpaths connected to the camera only).
     Lt,
     /// Path tracing and light tracing combined by MIS: the GPU estimator for caustics
-    /// (src/shaders/light_tracing.wgsl). The CPU renders it with full BDPT, whose strategies
+    /// (src/gpu/light_tracing.wgsl). The CPU renders it with full BDPT, whose strategies
     /// are a superset.
     #[serde(rename = "lt+pt", alias = "ltpt")]
     #[value(name = "lt+pt", alias = "ltpt")]

@@ -5,7 +5,7 @@ use crate::gpu::GpuContext;
 use crate::gpu::layout::{GpuLayout, ProbeCase, ProbeOut};
 use anyhow::Result;
 
-/// Run the probe kernel (src/shaders/probe.wgsl) on `cases`.
+/// Run the probe kernel (src/gpu/probe.wgsl) on `cases`.
 pub fn run_probe(ctx: &GpuContext, cases: &[ProbeCase]) -> Result<Vec<ProbeOut>> {
     use wgpu::util::DeviceExt;
     anyhow::ensure!(!cases.is_empty(), "no probe cases");

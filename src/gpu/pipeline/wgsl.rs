@@ -4,37 +4,37 @@
 use crate::gpu::GpuContext;
 use anyhow::Result;
 
-const COMMON: &str = include_str!("../../shaders/common.wgsl");
-const RNG: &str = include_str!("../../shaders/rng.wgsl");
-const SPECTRUM: &str = include_str!("../../shaders/spectrum.wgsl");
+const COMMON: &str = include_str!("../../math/common.wgsl");
+const RNG: &str = include_str!("../../math/rng.wgsl");
+const SPECTRUM: &str = include_str!("../../math/spectrum.wgsl");
 // The BSDFs: one file per src/bsdf/*.rs, the dispatch (mod.rs) first.
-const BSDF: &str = include_str!("../../shaders/bsdf.wgsl");
-const FRESNEL: &str = include_str!("../../shaders/fresnel.wgsl");
-const MICROFACET: &str = include_str!("../../shaders/microfacet.wgsl");
-const DIFFUSE: &str = include_str!("../../shaders/diffuse.wgsl");
-const CONDUCTOR: &str = include_str!("../../shaders/conductor.wgsl");
-const DIELECTRIC: &str = include_str!("../../shaders/dielectric.wgsl");
-const THIN: &str = include_str!("../../shaders/thin.wgsl");
-const GLOSSY: &str = include_str!("../../shaders/glossy.wgsl");
-const ROUGH_DIELECTRIC: &str = include_str!("../../shaders/rough_dielectric.wgsl");
-const METAL_ROUGH: &str = include_str!("../../shaders/metal_rough.wgsl");
-const THIN_FILM: &str = include_str!("../../shaders/thin_film.wgsl");
-const IRIDESCENT: &str = include_str!("../../shaders/iridescent.wgsl");
-const SCENE: &str = include_str!("../../shaders/scene.wgsl");
-const CWBVH: &str = include_str!("../../shaders/cwbvh.wgsl");
-const LIGHT: &str = include_str!("../../shaders/light.wgsl");
-const SPECTRAL: &str = include_str!("../../shaders/spectral.wgsl");
-const MATERIAL: &str = include_str!("../../shaders/material.wgsl");
-const PATH_FILTER: &str = include_str!("../../shaders/path_filter.wgsl");
-const INTERACTION: &str = include_str!("../../shaders/interaction.wgsl");
-const INTEGRATOR: &str = include_str!("../../shaders/integrator.wgsl");
-const LIGHT_TRACING: &str = include_str!("../../shaders/light_tracing.wgsl");
-const PHOTON: &str = include_str!("../../shaders/photon.wgsl");
-const WAVEFRONT: &str = include_str!("../../shaders/wavefront.wgsl");
-const LIGHT_WAVEFRONT: &str = include_str!("../../shaders/light_wavefront.wgsl");
-const PROBE: &str = include_str!("../../shaders/probe.wgsl");
-const LIGHT_PROBE: &str = include_str!("../../shaders/light_probe.wgsl");
-const BVH_PROBE: &str = include_str!("../../shaders/bvh_probe.wgsl");
+const BSDF: &str = include_str!("../../bsdf/bsdf.wgsl");
+const FRESNEL: &str = include_str!("../../bsdf/fresnel.wgsl");
+const MICROFACET: &str = include_str!("../../bsdf/microfacet.wgsl");
+const DIFFUSE: &str = include_str!("../../bsdf/diffuse.wgsl");
+const CONDUCTOR: &str = include_str!("../../bsdf/conductor.wgsl");
+const DIELECTRIC: &str = include_str!("../../bsdf/dielectric.wgsl");
+const THIN: &str = include_str!("../../bsdf/thin.wgsl");
+const GLOSSY: &str = include_str!("../../bsdf/glossy.wgsl");
+const ROUGH_DIELECTRIC: &str = include_str!("../../bsdf/rough_dielectric.wgsl");
+const METAL_ROUGH: &str = include_str!("../../bsdf/metal_rough.wgsl");
+const THIN_FILM: &str = include_str!("../../bsdf/thin_film.wgsl");
+const IRIDESCENT: &str = include_str!("../../bsdf/iridescent.wgsl");
+const SCENE: &str = include_str!("../../gpu/scene.wgsl");
+const CWBVH: &str = include_str!("../../gpu/cwbvh.wgsl");
+const LIGHT: &str = include_str!("../../scene/light/light.wgsl");
+const SPECTRAL: &str = include_str!("../../cpu/spectral.wgsl");
+const MATERIAL: &str = include_str!("../../scene/material.wgsl");
+const PATH_FILTER: &str = include_str!("../../paths/path_filter.wgsl");
+const INTERACTION: &str = include_str!("../../cpu/interaction.wgsl");
+const INTEGRATOR: &str = include_str!("../../gpu/integrator.wgsl");
+const LIGHT_TRACING: &str = include_str!("../../gpu/light_tracing.wgsl");
+const PHOTON: &str = include_str!("../../gpu/photon.wgsl");
+const WAVEFRONT: &str = include_str!("../../gpu/wavefront.wgsl");
+const LIGHT_WAVEFRONT: &str = include_str!("../../gpu/light_wavefront.wgsl");
+const PROBE: &str = include_str!("../../gpu/probe.wgsl");
+const LIGHT_PROBE: &str = include_str!("../../gpu/light_probe.wgsl");
+const BVH_PROBE: &str = include_str!("../../gpu/bvh_probe.wgsl");
 
 /// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
 const MATHS: &[&str] = &[

@@ -1,5 +1,5 @@
 //! The camera walk and lt+pt's light subpaths as wavefronts on the host side
-//! (shaders/wavefront.wgsl, light_wavefront.wgsl): the path-state buffers, the chunk table
+//! (src/gpu/wavefront.wgsl, light_wavefront.wgsl): the path-state buffers, the chunk table
 //! read at a dynamic offset, and the dispatches of one submission — every chunk's light
 //! subpaths first (`lt_wf_start`, per bounce `lt_wf_extend`, `lt_wf_shade`, `lt_wf_splat`,
 //! then `lt_wf_finish`: their splats land anywhere in the film), then per chunk of whole

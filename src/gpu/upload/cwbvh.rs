@@ -2,7 +2,7 @@
 //! "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG) with every
 //! child box re-quantised so that it encloses the child exactly as the WGSL decodes it.
 //!
-//! The traversal (src/shaders/cwbvh.wgsl) decodes a plane as `p + e·q` in f32: e is a power
+//! The traversal (src/gpu/cwbvh.wgsl) decodes a plane as `p + e·q` in f32: e is a power
 //! of two and q ≤ 255, so e·q is exact and the sum rounds once, whether or not the compiler
 //! fuses it. Here each decoded minimum is ≤ and each decoded maximum ≥ the child's exact
 //! bounds (the min / max of its triangles' vertices), found by the same f32 arithmetic — so

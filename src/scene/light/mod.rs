@@ -1,6 +1,6 @@
 //! Lights as one interface (pbrt-v4 `Light`, PBR 4th ed. ch. 12; Mitsuba 3 `Emitter`): every
 //! walk — CPU path tracing, CPU BDPT and light tracing, and their WGSL twins in
-//! `src/shaders/light.wgsl` — samples and evaluates lights only through these methods and
+//! `src/scene/light/light.wgsl` — samples and evaluates lights only through these methods and
 //! never matches on the light type itself.
 //!
 //! - `sample_li` / `pdf_li`: incident illumination at a reference point (next-event
@@ -30,7 +30,7 @@
 //!    `tests.rs` (`lights()`).
 //! 2. WGSL: a `LIGHT_*` kind in `gpu::layout`, its fields in `upload::pack_lights` (the GPU
 //!    `Light` entry), and a `case LIGHT_*` in each `light_*` function of
-//!    `src/shaders/light.wgsl`, the twins named and cited as here.
+//!    `src/scene/light/light.wgsl`, the twins named and cited as here.
 //! 3. The twin test: the light in `all_lights_scene` of tests/light_twin.rs (with reference
 //!    points and directions that reach each branch), so the probe compares it with the Rust
 //!    methods to f32 tolerance.

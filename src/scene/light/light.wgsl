@@ -27,7 +27,7 @@
 // Adding a light type: the Rust file and `Light` variant in src/scene/light/ (see its module
 // docs), a LIGHT_* kind in gpu::layout packed by `upload::pack_lights`, a `case LIGHT_*` in
 // every light_* function below, and the light in tests/light_twin.rs `all_lights_scene`, which
-// runs these functions through src/shaders/light_probe.wgsl against the Rust methods.
+// runs these functions through src/gpu/light_probe.wgsl against the Rust methods.
 
 // Pipeline specialisation: area and punctual lights compiled out when a scene has none.
 override HAS_LIGHTS: bool = true;
