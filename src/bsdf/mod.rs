@@ -15,10 +15,12 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod fresnel_polarized;
 pub mod glossy;
 pub mod metal_ior;
 pub mod metal_rough;
 pub mod microfacet;
+pub mod polarized;
 pub mod rough_dielectric;
 pub mod thin;
 
