@@ -128,6 +128,44 @@ mod tests {
         assert_eq!(frame_angle(prop, Vec3::X, Vec3::X), 0.0);
     }
 
+    /// Two reflections at Brewster's angle off glass (a periscope): with the planes of
+    /// incidence parallel, unpolarised light leaves with ½ r_s⁴ (the first reflection is all
+    /// s, the second reflects s again); crossed at 90° about the middle beam, the first
+    /// reflection's s is the second's p, which it does not reflect at all. The unpolarised
+    /// product F² lies between. Checks the frame rotation between the two events.
+    #[test]
+    fn crossed_brewster_reflections_extinguish_and_parallel_ones_do_not() {
+        let theta = 1.5f32.atan();
+        let (s2, c2) = (2.0 * theta).sin_cos();
+        let d2 = Vec3::Z; // the middle beam, from plate A to plate B
+        let d3 = Vec3::new(s2, 0.0, -c2); // leaves B; plane of incidence at B: x–z
+        let ev = [reflection_mueller(theta.cos(), Complex::real(1.5)); 4];
+        let intensity = |d1: Vec3| {
+            let mut chain = MuellerChain::camera(-d3, Vec3::Y);
+            chain.scatter(d3, -d2, &ev);
+            chain.scatter(d2, -d1, &ev);
+            chain.unpolarized(Color::ONE)[0].x
+        };
+        // Angles of incidence: θ at both plates for either d1.
+        let crossed = -Vec3::new(0.0, s2, c2); // plane of incidence at A: y–z
+        let parallel = -Vec3::new(s2, 0.0, c2); // x–z, as at B
+        for d1 in [crossed, parallel] {
+            assert!(((-d1).dot(d2) - (2.0 * theta).cos()).abs() < 1e-6);
+        }
+        assert!(((-d2).dot(d3) - (2.0 * theta).cos()).abs() < 1e-6);
+        let a = crate::bsdf::fresnel_polarized::fresnel_amplitudes(theta.cos(), Complex::real(1.5));
+        let rs2 = a.r_s.norm2();
+        let (ic, ip) = (intensity(crossed), intensity(parallel));
+        assert!(ic < 1e-7, "crossed: {ic}");
+        assert!(
+            (ip - 0.5 * rs2 * rs2).abs() < 1e-6,
+            "parallel: {ip} vs {}",
+            0.5 * rs2 * rs2
+        );
+        let f = 0.5 * rs2;
+        assert!(ic < f * f && f * f < ip);
+    }
+
     /// A horizontal glass floor seen by a level camera: the reflection of unpolarised light is
     /// s-polarised, and s (the normal of the vertical plane of incidence) is the image's
     /// horizontal: Q > 0, AoP 0, whichever way round s came out.
