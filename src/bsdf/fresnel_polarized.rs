@@ -96,7 +96,10 @@ mod tests {
         let mut v = vec![Vec4::new(1.0, 0.0, 0.0, 0.0)];
         for i in 0..12 {
             for j in 0..7 {
-                let (az, el) = (i as f32 * 0.5236, -1.5 + j as f32 * 0.5);
+                let (az, el) = (
+                    i as f32 * std::f32::consts::FRAC_PI_6,
+                    -1.5 + j as f32 * 0.5,
+                );
                 v.push(Vec4::new(
                     1.0,
                     el.cos() * az.cos(),

@@ -154,8 +154,8 @@ mod tests {
                     continue;
                 };
                 let m = sample_mueller(&b, wo, &s);
-                for l in 0..3 {
-                    let i_out = (m[l] * Vec4::X).x;
+                for (l, ml) in m.iter().enumerate().take(3) {
+                    let i_out = (*ml * Vec4::X).x;
                     assert!((i_out - s.weight[l]).abs() <= 1e-6 * s.weight[l].abs().max(1.0));
                 }
             }

@@ -115,7 +115,11 @@ impl Div for Complex {
     type Output = Complex;
     #[inline]
     fn div(self, o: Complex) -> Complex {
-        self * o.recip()
+        let d = o.norm2();
+        Complex::new(
+            (self.re * o.re + self.im * o.im) / d,
+            (self.im * o.re - self.re * o.im) / d,
+        )
     }
 }
 
