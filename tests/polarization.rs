@@ -384,3 +384,61 @@ fn command_line_renders_the_brewster_pair_and_refuses_what_it_cannot_do() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The viewer (CPU backend) on `builtin:brewster` at 1/8 resolution: the mean of the image's
+/// centre, where the panel is seen in the plate at Brewster's angle, once `spp` samples of
+/// the current generation are in.
+fn viewer_centre(h: &mut egui_kittest::Harness<'static, refract::app::ViewerApp>, spp: u64) -> f64 {
+    let start = std::time::Instant::now();
+    let done = |h: &egui_kittest::Harness<'static, refract::app::ViewerApp>| {
+        h.state()
+            .backend()
+            .read_image()
+            .is_some_and(|a| a.spp >= spp)
+    };
+    while !done(h) && start.elapsed().as_secs() < 120 {
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let a = h
+        .state()
+        .backend()
+        .read_image()
+        .expect("samples within two minutes");
+    let (w, ht) = (a.width as usize, a.height as usize);
+    // The panel's reflection: the middle fifth across, the middle eighth down.
+    let (x0, x1, y0, y1) = (2 * w / 5, 3 * w / 5, 7 * ht / 16, 9 * ht / 16);
+    let mut sum = 0.0f64;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            sum += a.pixels[y * w + x].y as f64;
+        }
+    }
+    sum / ((x1 - x0) * (y1 - y0)) as f64
+}
+
+#[test]
+fn viewer_polarizer_removes_the_brewster_reflection() {
+    use refract::app::ViewerApp;
+    use refract::render::settings::ViewerSettings;
+    let scene = "builtin:brewster";
+    let backend = refract::app::backend::CpuBackend::new(None);
+    let mut settings = ViewerSettings::for_scene(scene);
+    settings.render.render_scale = 0.125;
+    settings.render.fit_viewport = false;
+    let app =
+        ViewerApp::with_backend(Scene::load(scene).unwrap(), settings, Box::new(backend)).unwrap();
+    let mut h = egui_kittest::Harness::builder()
+        .with_size(eframe::egui::vec2(800.0, 600.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    let plain = viewer_centre(&mut h, 32);
+    h.state_mut().set_polarizer(Some(90.0));
+    assert_eq!(h.state().polarizer, Some(90.0));
+    let p = viewer_centre(&mut h, 32);
+    h.state_mut().set_polarizer(Some(0.0));
+    let s = viewer_centre(&mut h, 32);
+    eprintln!("centre: no filter {plain:.4}, 0° {s:.4}, 90° {p:.4}");
+    // All of the reflection is s-polarised (horizontal): 0° passes it, 90° removes it.
+    assert!(p < 0.1 * plain, "90°: {p} vs {plain}");
+    assert!(s > 0.6 * plain, "0°: {s} vs {plain}");
+}
