@@ -39,13 +39,14 @@ fn perpendicular(v: Vec3, d: Vec3) -> Vec3 {
         .unwrap_or_else(|| d.any_orthonormal_vector())
 }
 
-/// The s vector of a scattering event: the unit normal of the plane of (ωi, ωo); any unit
-/// vector ⊥ ωo when they are parallel (normal incidence, where every plane is one).
+/// The s vector of a scattering event: the unit normal of the plane of (ωi, ωo); when they
+/// are parallel (a thin sheet's straight pass, backscatter) that of the plane of (n, ωo), n
+/// the surface normal; any unit vector ⊥ ωo at normal incidence, where every plane is one.
 #[inline]
-pub fn s_vector(wi: Vec3, wo: Vec3) -> Vec3 {
-    wi.cross(wo)
-        .try_normalize()
-        .filter(|_| wi.cross(wo).length_squared() > 1e-12)
+pub fn s_vector(wi: Vec3, wo: Vec3, n: Vec3) -> Vec3 {
+    let unit = |v: Vec3| (v.length_squared() > 1e-12).then(|| v.normalize());
+    unit(wi.cross(wo))
+        .or_else(|| unit(n.cross(wo)))
         .unwrap_or_else(|| wo.any_orthonormal_vector())
 }
 
@@ -88,19 +89,25 @@ impl MuellerChain {
         column_times(&self.m, c)
     }
 
-    /// The event `ev` at a vertex (light in along −`wi`, out along `wo`, world) joins the
-    /// chain; the next segment's reference is the event's s.
-    pub fn scatter(&mut self, wo: Vec3, wi: Vec3, ev: &MuellerLanes) {
-        let s = s_vector(wi, wo);
+    /// The event `ev` at a vertex with normal `n` (light in along −`wi`, out along `wo`,
+    /// world) joins the chain; the next segment's reference is the event's s.
+    pub fn scatter(&mut self, (wo, wi, n): (Vec3, Vec3, Vec3), ev: &MuellerLanes) {
+        let s = s_vector(wi, wo, n);
         let here = self.at_vertex(wo, s);
         self.m = std::array::from_fn(|l| here[l] * ev[l]);
         self.x = s;
     }
 
     /// The Stokes vector at the camera of unpolarised light `c` (per lane) that arrives along
-    /// −`wi` and scatters towards `wo` by `ev` (next-event estimation), the chain unchanged.
-    pub fn through(&self, wo: Vec3, wi: Vec3, ev: &MuellerLanes, c: Color) -> StokesLanes {
-        let here = self.at_vertex(wo, s_vector(wi, wo));
+    /// −`wi` and scatters towards `wo` at normal `n` by `ev` (next-event estimation), the
+    /// chain unchanged.
+    pub fn through(
+        &self,
+        (wo, wi, n): (Vec3, Vec3, Vec3),
+        ev: &MuellerLanes,
+        c: Color,
+    ) -> StokesLanes {
+        let here = self.at_vertex(wo, s_vector(wi, wo, n));
         let m: MuellerLanes = std::array::from_fn(|l| here[l] * ev[l]);
         column_times(&m, c)
     }
@@ -142,8 +149,8 @@ mod tests {
         let ev = [reflection_mueller(theta.cos(), Complex::real(1.5)); 4];
         let intensity = |d1: Vec3| {
             let mut chain = MuellerChain::camera(-d3, Vec3::Y);
-            chain.scatter(d3, -d2, &ev);
-            chain.scatter(d2, -d1, &ev);
+            chain.scatter((d3, -d2, (d3 - d2).normalize()), &ev);
+            chain.scatter((d2, -d1, (d2 - d1).normalize()), &ev);
             chain.unpolarized(Color::ONE)[0].x
         };
         // Angles of incidence: θ at both plates for either d1.
@@ -166,6 +173,27 @@ mod tests {
         assert!(ic < f * f && f * f < ip);
     }
 
+    /// Light through a level thin glass sheet seen obliquely (ωi = −ωo: no plane of (ωi, ωo))
+    /// is partly p-polarised, and p lies in the vertical plane of (n, ωo): vertical on the
+    /// image (Q < 0, AoP 90°).
+    #[test]
+    fn straight_pass_through_a_sheet_takes_its_plane_from_the_normal() {
+        use crate::bsdf::fresnel_polarized::transmission_mueller;
+        use crate::math::mueller::normalized;
+        let dir = Vec3::new(0.0, -0.6, -0.8);
+        let mut chain = MuellerChain::camera(dir, Vec3::X);
+        let t = transmission_mueller(0.6, 1.5);
+        chain.scatter((-dir, dir, Vec3::Y), &[normalized(t * t); 4]);
+        let s = chain.unpolarized(Color::ONE);
+        let stokes = Vec4::new(s[0].x, s[1].x, s[2].x, s[3].x);
+        assert!(stokes.y < -0.01 && stokes.z.abs() < 1e-6, "{stokes}");
+        let aop = angle_of_polarization(stokes);
+        assert!(
+            (aop.abs() - std::f32::consts::FRAC_PI_2).abs() < 1e-4,
+            "{aop}"
+        );
+    }
+
     /// A horizontal glass floor seen by a level camera: the reflection of unpolarised light is
     /// s-polarised, and s (the normal of the vertical plane of incidence) is the image's
     /// horizontal: Q > 0, AoP 0, whichever way round s came out.
@@ -177,7 +205,7 @@ mod tests {
         let n = Vec3::Y;
         let cos = wi.dot(n);
         let ev = [reflection_mueller(cos, Complex::real(1.5)); 4];
-        chain.scatter(wo, wi, &ev);
+        chain.scatter((wo, wi, Vec3::Y), &ev);
         let s = chain.unpolarized(Color::ONE);
         let stokes = Vec4::new(s[0].x, s[1].x, s[2].x, s[3].x);
         assert!(stokes.y > 0.0, "{stokes}");
@@ -185,7 +213,7 @@ mod tests {
         // The same with the opposite s (ωi, ωo swapped in the cross product): same Stokes.
         let mut other = MuellerChain::camera(dir, Vec3::X);
         other.x = -other.x;
-        other.scatter(wo, wi, &ev);
+        other.scatter((wo, wi, Vec3::Y), &ev);
         let t = other.unpolarized(Color::ONE);
         for k in 0..4 {
             assert!((t[k].x - s[k].x).abs() < 1e-6);

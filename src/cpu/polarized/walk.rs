@@ -135,11 +135,8 @@ impl Integrator<'_> {
                 Bounce::Absorbed => return Some(l),
                 Bounce::Poisoned => return None,
             };
-            chain.scatter(
-                it.wo_w,
-                wi,
-                &event_mueller(&it.bsdf, it.wo, s.wi, s.event, s.lobe),
-            );
+            let ev = event_mueller(&it.bsdf, it.wo, s.wi, s.event, s.lobe);
+            chain.scatter((it.wo_w, wi, it.ns), &ev);
             st.scatter_with(scene, &it, (&s, wi), TransportMode::Radiance, media);
             (prev_pdf, prev_delta) = (s.pdf, s.is_delta);
             o = it.spawn(wi);
@@ -172,7 +169,7 @@ impl Integrator<'_> {
             return zero;
         };
         match self.polarized_connection(it, st, &ls, media, sp) {
-            Some((m, c)) => chain.through(it.wo_w, ls.wi, &m, st.weight() * c),
+            Some((m, c)) => chain.through((it.wo_w, ls.wi, it.ns), &m, st.weight() * c),
             None => zero,
         }
     }
