@@ -442,3 +442,20 @@ fn viewer_polarizer_removes_the_brewster_reflection() {
     assert!(p < 0.1 * plain, "90°: {p} vs {plain}");
     assert!(s > 0.6 * plain, "0°: {s} vs {plain}");
 }
+
+#[test]
+fn fresnel_plot_cursor_is_the_inspected_points_angle() {
+    use refract::app::panels::fresnel::inspected_angle;
+    let r = Renderer::new(Scene::load("builtin:brewster").unwrap()).unwrap();
+    let mut opts = RenderOptions::from_scene(&r.scene);
+    // An odd size: the centre pixel's centre is the image's, where the camera looks at
+    // the plate at Brewster's angle; 161 rows of a 43° field of view keep the pixel's
+    // footprint to ±0.14°.
+    (opts.width, opts.height) = (241, 161);
+    let trace = refract::cpu::inspect::trace_pixel(&r, &opts, (120, 80), 4).unwrap();
+    let (deg, leaving) = inspected_angle(&trace, None, "glass-plate").expect("the plate");
+    let want = 1.5f64.atan().to_degrees();
+    eprintln!("inspected θ {deg:.3}°, Brewster {want:.3}°");
+    assert!((deg - want).abs() < 0.3 && !leaving, "{deg}");
+    assert_eq!(inspected_angle(&trace, None, "no-such-material"), None);
+}
