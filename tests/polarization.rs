@@ -246,7 +246,22 @@ fn bsdfs() -> Vec<Bsdf> {
         alpha: 0.3,
         dist: MicrofacetDistribution::Ggx,
     };
+    let film = refract::bsdf::thin_film::ThinFilm {
+        ior: 1.33,
+        thickness_nm: 400.0,
+    };
+    let filmed = |b: Bsdf| refract::bsdf::Iridescent::over(b, film, 1.0);
     vec![
+        filmed(Bsdf::SmoothDielectric(SmoothDielectric { eta: 1.5 })),
+        filmed(Bsdf::RoughDielectric(RoughDielectric {
+            eta: 1.5,
+            alpha: 0.3,
+            dist: MicrofacetDistribution::Ggx,
+        })),
+        filmed(Bsdf::SmoothConductor(SmoothConductor {
+            ior: ComplexIor::rgb(Metal::Au),
+            tint: Color::ONE,
+        })),
         Bsdf::Lambert(Lambert {
             albedo: Color::splat(0.5),
             uniform: false,

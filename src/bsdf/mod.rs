@@ -17,12 +17,14 @@ pub mod diffuse;
 pub mod fresnel;
 pub mod fresnel_polarized;
 pub mod glossy;
+pub mod iridescent;
 pub mod metal_ior;
 pub mod metal_rough;
 pub mod microfacet;
 pub mod polarized;
 pub mod rough_dielectric;
 pub mod thin;
+pub mod thin_film;
 
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -32,11 +34,13 @@ pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
 pub use glossy::RoughConductor;
+pub use iridescent::{FilmBase, Iridescent};
 pub use metal_ior::Metal;
 pub use metal_rough::MetalRough;
 pub use microfacet::Microfacet;
 pub use rough_dielectric::RoughDielectric;
 pub use thin::ThinDielectric;
+pub use thin_film::ThinFilm;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -188,6 +192,8 @@ pub enum Bsdf {
     SmoothConductor(SmoothConductor),
     /// Rough conductor with a complex IOR (tabulated metal).
     RoughFresnelConductor(RoughFresnelConductor),
+    /// A dielectric or metal under a thin film (iridescence), smooth or rough.
+    Iridescent(Iridescent),
 }
 
 impl Bsdf {
@@ -204,6 +210,7 @@ impl Bsdf {
             | Bsdf::RoughConductor(_)
             | Bsdf::MetalRough(_)
             | Bsdf::RoughFresnelConductor(_) => false,
+            Bsdf::Iridescent(b) => b.is_smooth(),
         }
     }
 
@@ -238,6 +245,7 @@ impl Bsdf {
                 },
                 ..b
             }),
+            Bsdf::Iridescent(b) => Bsdf::Iridescent(b.map_colors(f)),
             other => other,
         }
     }
@@ -255,6 +263,7 @@ impl Bsdf {
                 ior: b.ior.at_wavelengths(lambdas),
                 ..b
             }),
+            Bsdf::Iridescent(b) => Bsdf::Iridescent(b.at_wavelengths(lambdas)),
             other => other,
         }
     }
@@ -270,6 +279,7 @@ impl Bsdf {
             | Bsdf::SmoothConductor(_)
             | Bsdf::RoughFresnelConductor(_) => false,
             Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => true,
+            Bsdf::Iridescent(b) => b.can_transmit(),
         }
     }
 
@@ -287,6 +297,8 @@ impl Bsdf {
             | Bsdf::RoughConductor(_)
             | Bsdf::MetalRough(_)
             | Bsdf::RoughFresnelConductor(_) => Lobe::G,
+            Bsdf::Iridescent(b) if b.is_smooth() => Lobe::S,
+            Bsdf::Iridescent(_) => Lobe::G,
         }
     }
 
@@ -323,6 +335,7 @@ impl BxDF for Bsdf {
             Bsdf::MetalRough(b) => b.eval(wo, wi, mode),
             Bsdf::SmoothConductor(b) => b.eval(wo, wi, mode),
             Bsdf::RoughFresnelConductor(b) => b.eval(wo, wi, mode),
+            Bsdf::Iridescent(b) => b.eval(wo, wi, mode),
         }
     }
     #[inline]
@@ -337,6 +350,7 @@ impl BxDF for Bsdf {
             Bsdf::MetalRough(b) => b.pdf(wo, wi),
             Bsdf::SmoothConductor(b) => b.pdf(wo, wi),
             Bsdf::RoughFresnelConductor(b) => b.pdf(wo, wi),
+            Bsdf::Iridescent(b) => b.pdf(wo, wi),
         }
     }
     #[inline]
@@ -351,6 +365,7 @@ impl BxDF for Bsdf {
             Bsdf::MetalRough(b) => b.sample(wo, uc, u2, mode),
             Bsdf::SmoothConductor(b) => b.sample(wo, uc, u2, mode),
             Bsdf::RoughFresnelConductor(b) => b.sample(wo, uc, u2, mode),
+            Bsdf::Iridescent(b) => b.sample(wo, uc, u2, mode),
         }
     }
 }

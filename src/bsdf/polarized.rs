@@ -15,12 +15,18 @@
 //! - Thin dielectric sheets: one interface's reflection; transmission through both
 //!   interfaces (the inner reflections' polarisation is neglected).
 //! - Lambert and the diffuse lobe of glTF metallic-roughness: the depolariser.
+//! - A thin film (iridescence) on any of these: its base's matrix (the film's own
+//!   polarisation, an Airy sum per polarisation, is not followed).
 //! - glTF metallic-roughness's specular lobe: Schlick's F has no phases; its polarisation is
 //!   that of dielectric reflection at the material's IOR, blended towards the ideal
 //!   conductor by `metallic` (an approximation; documented in docs/polarization.md).
 
 use super::fresnel_polarized::{ideal_conductor_mueller, reflection_mueller, transmission_mueller};
-use super::{Bsdf, BsdfSample, Event, Lobe, LobeValues};
+use super::{
+    Bsdf, BsdfSample, Event, FilmBase, Iridescent, Lobe, LobeValues, RoughConductor,
+    RoughDielectric, RoughFresnelConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
+    effectively_smooth,
+};
 use crate::math::Color;
 use crate::math::complex::Complex;
 use crate::math::mueller::{depolarizer, normalized};
@@ -90,6 +96,7 @@ pub fn event_mueller(bsdf: &Bsdf, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) 
             Some(m) => conductor(wi.dot(m), b.ior.eta, b.ior.k),
             None => all(depolarizer()),
         },
+        Bsdf::Iridescent(b) => event_mueller(&film_base(b), wo, wi, event, lobe),
         Bsdf::MetalRough(b) => match (lobe, half(1.0)) {
             (Lobe::G, Some(m)) => {
                 let d = dielectric(wi.dot(m), b.ior, Event::Reflect);
@@ -97,6 +104,35 @@ pub fn event_mueller(bsdf: &Bsdf, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) 
             }
             _ => all(depolarizer()),
         },
+    }
+}
+
+/// The BSDF a thin film lies on, whose Fresnel matrix stands for the film's: the film's
+/// interference is an Airy sum per polarisation (Belcour & Barla 2017 sum s and p
+/// separately), which this does not follow; its intensity is the scalar BSDF's.
+fn film_base(b: &Iridescent) -> Bsdf {
+    let smooth = effectively_smooth(b.alpha);
+    let rough = |reflectance: Color| RoughConductor {
+        reflectance,
+        alpha: b.alpha,
+        dist: b.dist,
+    };
+    match b.base {
+        FilmBase::Dielectric { eta } if smooth => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
+        FilmBase::Dielectric { eta } => Bsdf::RoughDielectric(RoughDielectric {
+            eta,
+            alpha: b.alpha,
+            dist: b.dist,
+        }),
+        FilmBase::Sheet { eta } => Bsdf::ThinDielectric(ThinDielectric { eta }),
+        FilmBase::Conductor { ior, tint } if smooth => {
+            Bsdf::SmoothConductor(SmoothConductor { ior, tint })
+        }
+        FilmBase::Conductor { ior, tint } => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+            ior,
+            lobe: rough(tint),
+        }),
+        FilmBase::Reflectance { f0 } => Bsdf::RoughConductor(rough(f0)),
     }
 }
 

@@ -30,45 +30,55 @@ impl RoughDielectric {
         Microfacet::new(self.dist, self.alpha)
     }
 
-    /// f(wo, wi) (scalar, the same for every channel) and pdf(wo, wi), computed together so that
-    /// `eval`, `pdf` and `sample` agree exactly.
+    /// f(wo, wi) and pdf(wo, wi) with the Fresnel term of `fresnel`, computed together so that
+    /// `eval`, `pdf` and `sample` agree exactly. The scalar f is computed with the reflection
+    /// probability P of `fresnel` in place of F, then multiplied by its lane factors (1 for
+    /// the plain interface, whose f is the same in every channel).
     #[inline]
-    fn eval_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (f32, f32) {
+    pub(super) fn eval_pdf_with(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        mode: TransportMode,
+        fresnel: &impl FacetFresnel,
+    ) -> (Color, f32) {
         let (cos_o, cos_i) = (wo.z, wi.z);
         if cos_o == 0.0 || cos_i == 0.0 || self.eta == 1.0 {
-            return (0.0, 0.0);
+            return (Color::ZERO, 0.0);
         }
         let reflect = cos_o * cos_i > 0.0;
         let Some(m) = self.half_vector(wo, wi, reflect) else {
-            return (0.0, 0.0);
+            return (Color::ZERO, 0.0);
         };
         let dot_o = wo.dot(m);
         let dot_i = wi.dot(m);
         // Back-facing microfacets contribute nothing: each direction must be on the same side of
         // m as of the macro normal (Walter 2007 §5, the χ⁺ terms of eqs. 20–21).
         if dot_o * cos_o <= 0.0 || dot_i * cos_i <= 0.0 {
-            return (0.0, 0.0);
+            return (Color::ZERO, 0.0);
         }
         let mf = self.mf();
         let d = mf.d(m);
         if d <= 0.0 {
-            return (0.0, 0.0);
+            return (Color::ZERO, 0.0);
         }
         // Visible normals of the side wo is on (wo mirrored to the upper hemisphere).
         let wo_up = if cos_o > 0.0 { wo } else { -wo };
+        let cos_f = Self::facet_cosine(reflect, cos_o, (dot_o, dot_i));
         let facet = Facet {
             cos: (cos_o, cos_i),
             dot: (dot_o, dot_i),
             pdf_m: mf.pdf_visible(wo_up, m),
             g: mf.g2(wo, wi),
             d,
-            fr: self.facet_fresnel(reflect, cos_o, (dot_o, dot_i)),
+            fr: fresnel.select(cos_f),
         };
-        if reflect {
+        let (f, pdf) = if reflect {
             facet.reflection()
         } else {
             self.transmission(&facet, mode)
-        }
+        };
+        (Color::splat(f) * fresnel.lanes(cos_f, reflect), pdf)
     }
 
     /// The microfacet normal of the pair (wo, wi): the generalised half vector
@@ -93,17 +103,18 @@ impl RoughDielectric {
         Some(if m.z < 0.0 { -m } else { m })
     }
 
-    /// Fresnel at the microfacet, from a symmetric argument: the mean cosine for reflection
-    /// (wo·m = wi·m analytically) and the outside direction's cosine for transmission
-    /// (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo) share it.
+    /// The cosine Fresnel is evaluated at, a symmetric argument: the mean cosine for
+    /// reflection (wo·m = wi·m analytically) and the outside direction's cosine for
+    /// transmission (T(θ_outside) = T(θ_inside) for a Snell pair), so f(wo, wi) and f(wi, wo)
+    /// share it.
     #[inline(always)]
-    fn facet_fresnel(&self, reflect: bool, cos_o: f32, (dot_o, dot_i): (f32, f32)) -> f32 {
+    fn facet_cosine(reflect: bool, cos_o: f32, (dot_o, dot_i): (f32, f32)) -> f32 {
         if reflect {
-            fresnel_dielectric(0.5 * (dot_o + dot_i), self.eta)
+            0.5 * (dot_o + dot_i)
         } else if cos_o > 0.0 {
-            fresnel_dielectric(dot_o, self.eta)
+            dot_o
         } else {
-            fresnel_dielectric(dot_i, self.eta)
+            dot_i
         }
     }
 
@@ -146,7 +157,32 @@ impl RoughDielectric {
     }
 }
 
-/// What `eval_pdf` knows of one microfacet m between wo and wi.
+/// The Fresnel term at a microfacet as the rough dielectric uses it: the probability of
+/// reflection P (which also weights the pdf) and, per colour lane, the factor that turns
+/// f computed with P into f with the lane's own reflectance F_c: F_c/P for reflection and
+/// (1 − F_c)/(1 − P) for transmission (a film's coloured Fresnel, `bsdf::iridescent`).
+pub(super) trait FacetFresnel {
+    /// P at the cosine `cos` (signed as `fresnel_dielectric`'s: negative from inside).
+    fn select(&self, cos: f32) -> f32;
+    /// The lane factors at `cos` for the event (reflection or transmission).
+    fn lanes(&self, cos: f32, reflect: bool) -> Color;
+}
+
+/// The interface's own exact dielectric Fresnel term: the same in every lane.
+struct PlainFresnel(f32);
+
+impl FacetFresnel for PlainFresnel {
+    #[inline(always)]
+    fn select(&self, cos: f32) -> f32 {
+        fresnel_dielectric(cos, self.0)
+    }
+    #[inline(always)]
+    fn lanes(&self, _cos: f32, _reflect: bool) -> Color {
+        Color::ONE
+    }
+}
+
+/// What `eval_pdf_with` knows of one microfacet m between wo and wi.
 #[derive(Clone, Copy)]
 struct Facet {
     /// (wo·n, wi·n).
@@ -178,18 +214,40 @@ impl Facet {
 impl BxDF for RoughDielectric {
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
-        Color::splat(self.eval_pdf(wo, wi, mode).0)
+        self.eval_pdf_with(wo, wi, mode, &self.plain()).0
     }
 
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        self.eval_pdf(wo, wi, TransportMode::Radiance).1
+        self.eval_pdf_with(wo, wi, TransportMode::Radiance, &self.plain())
+            .1
+    }
+
+    #[inline]
+    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        self.sample_with(wo, uc, u2, mode, &self.plain())
+    }
+}
+
+impl RoughDielectric {
+    /// The interface's own Fresnel term.
+    #[inline(always)]
+    fn plain(&self) -> PlainFresnel {
+        PlainFresnel(self.eta)
     }
 
     /// Sample a visible normal m from the side of `wo` (u2), then reflect with probability
-    /// F(wo·m) or refract (uc) (Walter 2007 §5.3; Heitz & d'Eon 2014 for visible normals).
+    /// P(wo·m) of `fresnel` or refract (uc) (Walter 2007 §5.3; Heitz & d'Eon 2014 for
+    /// visible normals).
     #[inline]
-    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    pub(super) fn sample_with(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u2: Vec2,
+        mode: TransportMode,
+        fresnel: &impl FacetFresnel,
+    ) -> Option<BsdfSample> {
         if wo.z == 0.0 || !wo.is_finite() {
             return None;
         }
@@ -204,7 +262,13 @@ impl BxDF for RoughDielectric {
             return None;
         }
         let fr = fresnel_dielectric_terms(dot_o, self.eta);
-        let (wi, event, eta_rel) = if uc < fr.f {
+        // TIR (Snell's test, fr.f = 1) reflects whatever `fresnel` says.
+        let p = if fr.f >= 1.0 {
+            1.0
+        } else {
+            fresnel.select(dot_o)
+        };
+        let (wi, event, eta_rel) = if uc < p {
             // Microfacet mirror reflection (includes TIR where F = 1).
             (reflect(wo, m), Event::Reflect, 1.0)
         } else {
@@ -216,11 +280,10 @@ impl BxDF for RoughDielectric {
         if same_side != (event == Event::Reflect) || wi.z == 0.0 {
             return None;
         }
-        let (f, pdf) = self.eval_pdf(wo, wi, mode);
+        let (f, pdf) = self.eval_pdf_with(wo, wi, mode, fresnel);
         if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
             return None;
         }
-        let f = Color::splat(f);
         Some(BsdfSample::new(
             wi,
             f,

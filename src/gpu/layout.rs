@@ -174,6 +174,15 @@ gpu_struct! {
         /// Normal texture slot ([`NO_TEXTURE`] = none) and its `scale`.
         pub normal_tex: u32,
         pub normal_scale: f32,
+        /// Thin film (`scene::Material::iridescence`, the film kinds only): its index, the
+        /// thickness range (nm) and texture slot (green channel mixes min → max), the
+        /// factor and what it lies on ([`FILM_ON_DIELECTRIC`]…).
+        pub film_ior: f32,
+        pub film_min: f32,
+        pub film_max: f32,
+        pub film_factor: f32,
+        pub film_tex: u32,
+        pub film_base: u32,
     }
 }
 
@@ -429,6 +438,14 @@ pub const BSDF_METAL_ROUGH: u32 = 5;
 pub const BSDF_THIN_DIELECTRIC: u32 = 6;
 pub const BSDF_SMOOTH_CONDUCTOR: u32 = 7;
 pub const BSDF_ROUGH_FRESNEL_CONDUCTOR: u32 = 8;
+/// A thin film (`bsdf::Iridescent`) on a smooth base (delta lobes) and on a rough one.
+pub const BSDF_FILM_SMOOTH: u32 = 9;
+pub const BSDF_FILM_ROUGH: u32 = 10;
+/// What a film lies on (`bsdf::FilmBase`), in `Material::film_base` and the WGSL `Bsdf.film.w`.
+pub const FILM_ON_DIELECTRIC: u32 = 0;
+pub const FILM_ON_SHEET: u32 = 1;
+pub const FILM_ON_CONDUCTOR: u32 = 2;
+pub const FILM_ON_REFLECTANCE: u32 = 3;
 
 /// `Material.metal` of a material without a tabulated metal.
 pub const METAL_NONE: u32 = 0;

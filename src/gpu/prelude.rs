@@ -9,6 +9,8 @@
 
 use super::layout::*;
 use crate::bsdf::SMOOTH_ALPHA;
+use crate::bsdf::iridescent::MAX_F0;
+use crate::bsdf::thin_film::{MAX_R123_SQ, SENSITIVITY_FIT};
 use crate::math::sampling::{UNIFORM_HEMISPHERE_PDF, UNIFORM_SPHERE_PDF};
 use crate::math::spectrum::{
     ABBE_B_NM2, ABBE_C, CIE_CMF_INTEGRAL, HERO_COUNT, LAMBDA_MAX, LAMBDA_MIN, UPLIFT_BLUE_EDGE_NM,
@@ -35,6 +37,12 @@ wgsl_constants![
     BSDF_THIN_DIELECTRIC,
     BSDF_SMOOTH_CONDUCTOR,
     BSDF_ROUGH_FRESNEL_CONDUCTOR,
+    BSDF_FILM_SMOOTH,
+    BSDF_FILM_ROUGH,
+    FILM_ON_DIELECTRIC,
+    FILM_ON_SHEET,
+    FILM_ON_CONDUCTOR,
+    FILM_ON_REFLECTANCE,
     METAL_NONE,
     DIST_GGX,
     DIST_BECKMANN,
@@ -105,11 +113,20 @@ pub const WGSL_F32_CONSTANTS: &[(&str, f32)] = &[
     ("ABBE_C", ABBE_C),
     ("PHOTON_SAME_SURFACE_COS", PHOTON_SAME_SURFACE_COS),
     ("SPOT_MIN_RAMP_COS", SPOT_MIN_RAMP_COS),
+    ("FILM_MAX_F0", MAX_F0),
+    ("FILM_MAX_R123_SQ", MAX_R123_SQ),
 ];
 
 /// (WGSL name, value) of every generated `vec3<f32>` constant.
-pub const WGSL_VEC3_CONSTANTS: &[(&str, [f32; 3])] =
-    &[("CIE_CMF_INTEGRAL", CIE_CMF_INTEGRAL.to_array())];
+/// The film's sensitivity fit rows are (amplitude, centre frequency, variance) of x̄, ȳ, z̄ and
+/// x̄'s second lobe (`bsdf::thin_film::SENSITIVITY_FIT`).
+pub const WGSL_VEC3_CONSTANTS: &[(&str, [f32; 3])] = &[
+    ("CIE_CMF_INTEGRAL", CIE_CMF_INTEGRAL.to_array()),
+    ("FILM_FIT_X", SENSITIVITY_FIT[0]),
+    ("FILM_FIT_Y", SENSITIVITY_FIT[1]),
+    ("FILM_FIT_Z", SENSITIVITY_FIT[2]),
+    ("FILM_FIT_X2", SENSITIVITY_FIT[3]),
+];
 
 /// A WGSL literal that parses back to exactly `v` (Rust's shortest round-trip form, with a
 /// decimal point so that WGSL reads a float).

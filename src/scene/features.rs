@@ -54,6 +54,8 @@ bitflags::bitflags! {
         const ROUGH_FRESNEL_CONDUCTOR = 1 << 18;
         /// A material with a tangent-space normal map (`normalTexture`).
         const NORMAL_MAP = 1 << 19;
+        /// A dielectric or metal under a thin film (`KHR_materials_iridescence`).
+        const IRIDESCENCE = 1 << 20;
     }
 }
 
@@ -102,7 +104,11 @@ fn material_features(scene: &Scene, m: &Material) -> Features {
     if m.is_transmissive() && m.abbe.is_some() {
         f |= Features::DISPERSION;
     }
-    if m.base_color_texture.is_some() || (m.is_emissive() && m.emissive_texture.is_some()) {
+    let film_texture = m.iridescence.is_some_and(|i| i.thickness_texture.is_some());
+    if m.base_color_texture.is_some()
+        || (m.is_emissive() && m.emissive_texture.is_some())
+        || film_texture
+    {
         f |= Features::TEXTURES;
     }
     if m.normal_texture.is_some() && !scene.mesh.tangents.is_empty() {
@@ -131,6 +137,8 @@ pub(crate) fn bsdf_features(scene: &Scene, m: &Material) -> Features {
         Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
         Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
         Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
+        Bsdf::Iridescent(b) if b.is_smooth() => Features::IRIDESCENCE,
+        Bsdf::Iridescent(b) => Features::IRIDESCENCE | dist(b.dist),
         Bsdf::MetalRough(_) => {
             let mut k = Features::METAL_ROUGH | Features::GGX;
             k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());

@@ -108,6 +108,78 @@ pub struct Material {
     /// hemisphere instead of cosine-weighted. The same BRDF, so the same image in the mean,
     /// with more noise (`bsdf::Lambert::uniform`).
     pub uniform_sampling: bool,
+    /// glTF `KHR_materials_iridescence`: a thin dielectric film on a dielectric or metal
+    /// (`bsdf::Iridescent`; other kinds ignore it). `None`: no film.
+    pub iridescence: Option<Iridescence>,
+}
+
+/// A thin film on the surface (glTF `KHR_materials_iridescence`; Belcour & Barla 2017): its
+/// index, and its thickness in nm, `thickness_max` everywhere or, with a texture, mixed from
+/// `thickness_min` to `thickness_max` by the texture's green channel (the extension's rule).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iridescence {
+    /// `iridescenceFactor` ∈ [0, 1]: blends the base's Fresnel term into the film's.
+    pub factor: f32,
+    /// `iridescenceIor` (≥ 1; 1.3 by default).
+    pub ior: f32,
+    pub thickness_min: f32,
+    pub thickness_max: f32,
+    pub thickness_texture: Option<TextureRef>,
+}
+
+impl Default for Iridescence {
+    /// The extension's defaults, with the factor at 1 (a film that is there).
+    fn default() -> Self {
+        Iridescence {
+            factor: 1.0,
+            ior: 1.3,
+            thickness_min: 100.0,
+            thickness_max: 400.0,
+            thickness_texture: None,
+        }
+    }
+}
+
+impl Iridescence {
+    /// The film at `uv`: thickness = mix(min, max, texture.g), or max without a texture.
+    pub fn film_at(&self, textures: &[Texture], uv: Vec2) -> bsdf::ThinFilm {
+        let thickness_nm = match &self.thickness_texture {
+            Some(r) => {
+                let g = sample_texture(textures, r, uv).y.clamp(0.0, 1.0);
+                self.thickness_min + (self.thickness_max - self.thickness_min) * g
+            }
+            None => self.thickness_max,
+        };
+        bsdf::ThinFilm {
+            ior: self.ior,
+            thickness_nm,
+        }
+    }
+
+    /// Finite, factor in [0, 1], index ≥ 1, thicknesses in [0, `MAX_FILM_THICKNESS_NM`].
+    pub fn validate(&self, material: &str) -> anyhow::Result<()> {
+        let max = bsdf::thin_film::MAX_FILM_THICKNESS_NM;
+        anyhow::ensure!(
+            (0.0..=1.0).contains(&self.factor),
+            "material '{material}': iridescence factor {} must be in [0, 1]",
+            self.factor
+        );
+        anyhow::ensure!(
+            self.ior.is_finite() && self.ior >= 1.0,
+            "material '{material}': film IOR {} must be a finite number ≥ 1",
+            self.ior
+        );
+        for (what, d) in [
+            ("minimum", self.thickness_min),
+            ("maximum", self.thickness_max),
+        ] {
+            anyhow::ensure!(
+                (0.0..=max).contains(&d),
+                "material '{material}': film thickness {what} {d} nm must be in [0, {max}] nm"
+            );
+        }
+        Ok(())
+    }
 }
 
 impl Default for Material {
@@ -137,6 +209,7 @@ impl Default for Material {
             priority: 0,
             conductor: None,
             uniform_sampling: false,
+            iridescence: None,
         }
     }
 }
@@ -254,13 +327,27 @@ impl Material {
                 "material '{n}': Abbe number {v} must be finite and > 0"
             );
         }
+        if let Some(i) = &self.iridescence {
+            i.validate(n)?;
+        }
         Ok(())
     }
 
     /// The BSDF at a hit. `uv` is the interpolated TEXCOORD_0, `eta` the IOR to use (already
     /// evaluated at the path's wavelength for dispersive materials), `textures` the scene's.
-    /// `spectral` converts RGB parameters to the path's wavelengths when set.
+    /// A film (`iridescence`) replaces the Fresnel term of dielectrics and metals.
     pub fn bsdf(&self, textures: &[Texture], uv: Vec2, eta: f32) -> Bsdf {
+        let bare = self.bare_bsdf(textures, uv, eta);
+        match &self.iridescence {
+            Some(film) if film.factor > 0.0 => {
+                bsdf::Iridescent::over(bare, film.film_at(textures, uv), film.factor)
+            }
+            _ => bare,
+        }
+    }
+
+    /// The BSDF without the film.
+    fn bare_bsdf(&self, textures: &[Texture], uv: Vec2, eta: f32) -> Bsdf {
         let base = self.base_color_at(textures, uv);
         if self.transmission_texture.is_some() && !self.transmits_at(textures, uv) {
             // A texel masked out of a transmissive material: its opaque metal-rough base.

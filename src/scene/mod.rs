@@ -15,7 +15,7 @@ pub mod nesting;
 
 pub use camera::Camera;
 pub use features::Features;
-pub use material::{Material, MaterialKind, Texture, TextureRef, Wrap};
+pub use material::{Iridescence, Material, MaterialKind, Texture, TextureRef, Wrap};
 
 use glam::{Vec2, Vec3, Vec4};
 

@@ -1,6 +1,6 @@
 // bsdf.wgsl — the BSDF interface and its dispatch, twin of src/bsdf/mod.rs; one file per
 // variant follows it (fresnel, microfacet, diffuse, conductor, dielectric, thin, glossy,
-// rough_dielectric, metal_rough: the files of src/bsdf/), all in the local shading frame
+// rough_dielectric, metal_rough, thin_film, iridescent: the files of src/bsdf/), all in the local shading frame
 // (z = shading normal). Conventions as in src/bsdf/mod.rs: wo and wi point away from the
 // surface, eval excludes the cosine, delta lobes return 0 from eval/pdf and their weight from
 // sample.
@@ -20,6 +20,7 @@ override HAS_ROUGH_CONDUCTOR: bool = true;
 override HAS_METAL_ROUGH: bool = true;
 override HAS_THIN_DIELECTRIC: bool = true;
 override HAS_CONDUCTOR: bool = true;
+override HAS_IRIDESCENCE: bool = true;
 
 // Smooth threshold (bsdf::SMOOTH_ALPHA).
 
@@ -46,6 +47,8 @@ struct Bsdf {
     ior: f32,
     specular_factor: f32,
     specular_color: vec4<f32>,
+    // Thin film (BSDF_FILM_*; iridescent.wgsl): index, thickness nm, factor, FILM_ON_* base.
+    film: vec4<f32>,
 }
 
 // Tabulated metals (BSDF_SMOOTH_CONDUCTOR, BSDF_ROUGH_FRESNEL_CONDUCTOR; bsdf::ComplexIor) keep
@@ -71,7 +74,7 @@ fn bsdf_conductor_k(b: Bsdf) -> vec4<f32> {
 // A BSDF of `kind`; the metal-rough parameters (read only by BSDF_METAL_ROUGH, which sets
 // them in `material_bsdf`) start as metallic 0, IOR 1.5, specular factor 1, white.
 fn bsdf_new(kind: u32, color: vec4<f32>, eta: f32, alpha: f32, dist: u32) -> Bsdf {
-    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0));
+    return Bsdf(kind, color, eta, alpha, dist, 0.0, 1.5, 1.0, vec4<f32>(1.0, 1.0, 1.0, 0.0), vec4<f32>(0.0));
 }
 
 // One sampled scattering direction (bsdf::BsdfSample; `valid` = Some).
@@ -134,7 +137,7 @@ fn bsdf_is_delta(b: Bsdf) -> bool {
 // Whether every lobe of a BSDF of kind `kind` (a material's `bsdf`) is a delta distribution.
 fn bsdf_kind_is_delta(kind: u32) -> bool {
     switch kind {
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR, BSDF_FILM_SMOOTH: {
             return true;
         }
         default: {
@@ -149,6 +152,9 @@ fn bsdf_can_transmit(b: Bsdf) -> bool {
         case BSDF_SMOOTH_DIELECTRIC, BSDF_ROUGH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
             return true;
         }
+        case BSDF_FILM_SMOOTH, BSDF_FILM_ROUGH: {
+            return film_base(b) == FILM_ON_DIELECTRIC || film_base(b) == FILM_ON_SHEET;
+        }
         default: {
             return false;
         }
@@ -161,7 +167,7 @@ fn bsdf_class(b: Bsdf) -> u32 {
         case BSDF_LAMBERT: {
             return LOBE_D;
         }
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR: {
+        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR, BSDF_FILM_SMOOTH: {
             return LOBE_S;
         }
         default: {
@@ -197,6 +203,11 @@ fn bsdf_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
                 return rough_fresnel_conductor_eval(b, wo, wi);
             }
         }
+        case BSDF_FILM_ROUGH: {
+            if HAS_IRIDESCENCE {
+                return film_eval(b, wo, wi, mode);
+            }
+        }
         default: {}
     }
     // Delta lobes (mirror, smooth and thin dielectric) and compiled-out kinds.
@@ -228,6 +239,11 @@ fn bsdf_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
             if HAS_CONDUCTOR {
                 return rough_conductor_pdf(b, wo, wi);
+            }
+        }
+        case BSDF_FILM_ROUGH: {
+            if HAS_IRIDESCENCE {
+                return film_pdf(b, wo, wi);
             }
         }
         default: {}
@@ -292,6 +308,11 @@ fn bsdf_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> Bsd
         case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
             if HAS_CONDUCTOR {
                 return rough_fresnel_conductor_sample(b, wo, u2);
+            }
+        }
+        case BSDF_FILM_SMOOTH, BSDF_FILM_ROUGH: {
+            if HAS_IRIDESCENCE {
+                return film_sample(b, wo, uc, u2, mode);
             }
         }
         default: {}

@@ -67,7 +67,16 @@ fn material_bsdf(m: Material, uv: vec2<f32>, eta: f32, sp: Spectral) -> Bsdf {
         // Lambert does not read the metal-rough slots: `metallic` = 1 marks uniform sampling.
         b.metallic = 1.0;
     }
-    if HAS_CONDUCTOR && m.metal != METAL_NONE {
+    if HAS_IRIDESCENCE && (m.bsdf == BSDF_FILM_SMOOTH || m.bsdf == BSDF_FILM_ROUGH) {
+        // Twin of `Iridescence::film_at`: thickness = mix(min, max, texture.g), else max.
+        var thickness = m.film_max;
+        if HAS_TEXTURES && m.film_tex != NO_TEXTURE {
+            let g = clamp(sample_texture(m.film_tex, uv).y, 0.0, 1.0);
+            thickness = m.film_min + (m.film_max - m.film_min) * g;
+        }
+        b.film = vec4<f32>(m.film_ior, thickness, m.film_factor, f32(m.film_base));
+    }
+    if (HAS_CONDUCTOR || HAS_IRIDESCENCE) && m.metal != METAL_NONE {
         // RGB η, k (gpu::upload::check_supported keeps conductors out of spectral kernels).
         bsdf_set_conductor_ior(&b, v3(m.cond_eta), v3(m.cond_k));
     }

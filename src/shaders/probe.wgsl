@@ -65,6 +65,10 @@ const PROBE_COLOR: vec3<f32> = vec3<f32>(0.25, 0.5, 0.875);
 // Complex IOR of the probe conductors: η = eta × PROBE_COND_ETA, k = PROBE_COND_K.
 const PROBE_COND_ETA: vec3<f32> = vec3<f32>(0.15, 0.4, 1.2);
 const PROBE_COND_K: vec3<f32> = vec3<f32>(4.0, 2.4, 1.6);
+// The probe films (BSDF_FILM_*): index, thickness 250 + 400 uc nm, factor; the base is the
+// case's `metallic` slot (FILM_ON_*).
+const PROBE_FILM_IOR: f32 = 1.42;
+const PROBE_FILM_FACTOR: f32 = 0.85;
 
 fn a4(v: vec4<f32>) -> array<f32, 4> {
     return array<f32, 4>(v.x, v.y, v.z, v.w);
@@ -103,6 +107,12 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     b.specular_color = vec4<f32>(1.0);
     if c.kind == BSDF_SMOOTH_CONDUCTOR || c.kind == BSDF_ROUGH_FRESNEL_CONDUCTOR {
         bsdf_set_conductor_ior(&b, c.eta * PROBE_COND_ETA, PROBE_COND_K);
+    }
+    if c.kind == BSDF_FILM_SMOOTH || c.kind == BSDF_FILM_ROUGH {
+        b.film = vec4<f32>(PROBE_FILM_IOR, 250.0 + 400.0 * c.uc, PROBE_FILM_FACTOR, c.metallic);
+        if u32(c.metallic) == FILM_ON_CONDUCTOR {
+            bsdf_set_conductor_ior(&b, c.eta * PROBE_COND_ETA, PROBE_COND_K);
+        }
     }
     o.eval = a4(bsdf_eval(b, wo, wi, c.mode));
     o.pdf = bsdf_pdf(b, wo, wi);

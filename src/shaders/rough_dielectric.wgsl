@@ -2,9 +2,19 @@
 // Walter, Marschner, Li, Torrance 2007, "Microfacet Models for Refraction through Rough
 // Surfaces", EGSR.
 
-// f(wo, wi) (scalar, the same for every channel) and pdf(wo, wi), computed together so that
-// `eval`, `pdf` and `sample` agree exactly.
-fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> EvalPdf {
+// The reflection probability at the facet cosine `cos` (`FacetFresnel::select`): the exact
+// dielectric Fresnel term, or a film's mean reflectance (iridescent.wgsl).
+fn rough_dielectric_select(b: Bsdf, cos: f32) -> f32 {
+    if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
+        return film_mean(film_reflectance_signed(b, cos, b.eta));
+    }
+    return fresnel_dielectric(cos, b.eta);
+}
+
+// f(wo, wi) computed with the reflection probability P (scalar) and pdf(wo, wi), computed
+// together so that `eval`, `pdf` and `sample` agree exactly; `facet` receives the cosine
+// Fresnel was taken at and 1 for reflection (for a film's lane factors, `film_lanes`).
+fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32, facet: ptr<function, vec2<f32>>) -> EvalPdf {
     let none = EvalPdf(0.0, 0.0);
     let cos_o = wo.z;
     let cos_i = wi.z;
@@ -61,14 +71,16 @@ fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -
     let pdf_m = microfacet_pdf_visible(mf, wo_up, m);
     let g = microfacet_g2(mf, wo, wi);
     // Fresnel at the microfacet, from a symmetric argument (reciprocity).
-    var fr: f32;
+    var cos_f: f32;
     if is_reflect {
-        fr = fresnel_dielectric(0.5 * (dot_o + dot_i), eta);
+        cos_f = 0.5 * (dot_o + dot_i);
     } else if cos_o > 0.0 {
-        fr = fresnel_dielectric(dot_o, eta);
+        cos_f = dot_o;
     } else {
-        fr = fresnel_dielectric(dot_i, eta);
+        cos_f = dot_i;
     }
+    let fr = rough_dielectric_select(b, cos_f);
+    *facet = vec2<f32>(cos_f, select(0.0, 1.0, is_reflect));
     if is_reflect {
         // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
         let f = fr * g * d / (4.0 * abs(cos_o) * abs(cos_i));
@@ -98,16 +110,27 @@ fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -
     return EvalPdf(f, pdf);
 }
 
+// f per lane: the scalar f, times a film's lane factors.
+fn rough_dielectric_lanes(b: Bsdf, f: f32, facet: vec2<f32>) -> vec4<f32> {
+    if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
+        return vec4<f32>(f) * film_lanes(b, facet.x, facet.y > 0.5);
+    }
+    return vec4<f32>(f);
+}
+
 fn rough_dielectric_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
-    return vec4<f32>(rough_dielectric_eval_pdf(b, wo, wi, mode).f);
+    var facet = vec2<f32>(0.0);
+    let f = rough_dielectric_eval_pdf(b, wo, wi, mode, &facet).f;
+    return rough_dielectric_lanes(b, f, facet);
 }
 
 fn rough_dielectric_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    return rough_dielectric_eval_pdf(b, wo, wi, MODE_RADIANCE).pdf;
+    var facet = vec2<f32>(0.0);
+    return rough_dielectric_eval_pdf(b, wo, wi, MODE_RADIANCE, &facet).pdf;
 }
 
 // Sample a visible normal m from the side of `wo` (u2), then reflect with probability
-// F(wo·m) or refract (uc) (Walter 2007 §5.3; Heitz & d'Eon 2014 for visible normals).
+// F(wo·m) (a film: P(wo·m)) or refract (uc) (Walter 2007 §5.3; Heitz & d'Eon 2014 for visible normals).
 fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> BsdfSample {
     if wo.z == 0.0 || !is_finite_v3(wo) {
         return bsdf_sample_none();
@@ -126,10 +149,15 @@ fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode:
         return bsdf_sample_none();
     }
     let fr = fresnel_dielectric_terms(dot_o, b.eta);
+    // TIR (Snell's test, fr.f = 1) reflects whatever a film says.
+    var p = fr.f;
+    if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH && fr.f < 1.0 {
+        p = rough_dielectric_select(b, dot_o);
+    }
     var wi: vec3<f32>;
     var event: u32;
     var eta_rel: f32;
-    if uc < fr.f {
+    if uc < p {
         // Microfacet mirror reflection (includes TIR where F = 1).
         wi = reflect(wo, m);
         event = EVENT_REFLECT;
@@ -148,10 +176,11 @@ fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode:
     if same_side != (event == EVENT_REFLECT) || wi.z == 0.0 {
         return bsdf_sample_none();
     }
-    let ep = rough_dielectric_eval_pdf(b, wo, wi, mode);
-    if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
+    var facet = vec2<f32>(0.0);
+    let ep = rough_dielectric_eval_pdf(b, wo, wi, mode, &facet);
+    let f = rough_dielectric_lanes(b, ep.f, facet);
+    if !(ep.pdf > 0.0) || !is_finite_v4(f) || !is_finite_f32(ep.pdf) {
         return bsdf_sample_none();
     }
-    let f = vec4<f32>(ep.f);
     return bsdf_sample_new(wi, f, f * (abs(wi.z) / ep.pdf), ep.pdf, event, LOBE_G, eta_rel);
 }

@@ -76,6 +76,14 @@ struct Material {
     // Normal texture slot (NO_TEXTURE = none) and its scale (glTF normalTexture).
     normal_tex: u32,
     normal_scale: f32,
+    // Thin film (BSDF_FILM_* kinds): index, thickness range (nm) and texture slot (green
+    // mixes min → max), factor, FILM_ON_* base.
+    film_ior: f32,
+    film_min: f32,
+    film_max: f32,
+    film_factor: f32,
+    film_tex: u32,
+    film_base: u32,
 }
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.

@@ -1,5 +1,6 @@
 //! Scene materials as glTF materials: metallic-roughness factors, the KHR_materials_*
-//! extensions (emissive strength, transmission, IOR, volume, dispersion, specular) and `extras`.
+//! extensions (emissive strength, transmission, IOR, volume, dispersion, specular,
+//! iridescence) and `extras`.
 
 use super::split_color;
 use crate::bsdf::MicrofacetDistribution;
@@ -30,6 +31,7 @@ pub(super) fn material_json(m: &Material, used: &mut Vec<&'static str>) -> Value
         transmission_extensions(m, &mut ext, used);
     }
     specular_extension(m, &mut ext, used);
+    iridescence_extension(m, &mut ext, used);
     if !ext.is_empty() {
         j["extensions"] = Value::Object(ext);
     }
@@ -87,6 +89,22 @@ fn specular_extension(m: &Material, ext: &mut Map<String, Value>, used: &mut Vec
         );
         used.push("KHR_materials_specular");
     }
+}
+
+/// KHR_materials_iridescence of a material with a film, recorded in `used` (a thickness
+/// texture is not exported: the exporter writes no textures).
+fn iridescence_extension(m: &Material, ext: &mut Map<String, Value>, used: &mut Vec<&'static str>) {
+    let Some(i) = m.iridescence else { return };
+    ext.insert(
+        "KHR_materials_iridescence".into(),
+        json!({
+            "iridescenceFactor": i.factor,
+            "iridescenceIor": i.ior,
+            "iridescenceThicknessMinimum": i.thickness_min,
+            "iridescenceThicknessMaximum": i.thickness_max
+        }),
+    );
+    used.push("KHR_materials_iridescence");
 }
 
 /// The material's `extras` (the loader's contract): the microfacet distribution of glass and

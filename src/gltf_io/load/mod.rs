@@ -60,6 +60,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
+    materials::extensions::IRIDESCENCE,
     "KHR_lights_punctual",
     "KHR_texture_transform",
     "KHR_mesh_quantization",

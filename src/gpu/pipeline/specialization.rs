@@ -16,6 +16,8 @@ pub struct Specialization {
     pub metal_rough: bool,
     /// Tabulated metals with the conductor Fresnel term (smooth or rough).
     pub conductor: bool,
+    /// Thin films (iridescence) on dielectrics and metals.
+    pub iridescence: bool,
     /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
     pub ggx: bool,
     pub beckmann: bool,
@@ -76,12 +78,14 @@ impl Specialization {
             rough_conductor: f.contains(Features::GLOSSY_METAL),
             metal_rough: f.contains(Features::METAL_ROUGH),
             conductor: f.intersects(Features::SMOOTH_CONDUCTOR | Features::ROUGH_FRESNEL_CONDUCTOR),
+            iridescence: f.contains(Features::IRIDESCENCE),
             ggx: f.contains(Features::GGX),
             beckmann: f.contains(Features::BECKMANN),
             area_lights: f.contains(Features::AREA_LIGHTS),
             punctual_lights: f.contains(Features::PUNCTUAL_LIGHTS),
             env_image: f.contains(Features::ENV_IMAGE),
-            absorption: f.intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS),
+            absorption: f
+                .intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS | Features::IRIDESCENCE),
             textures: f.contains(Features::TEXTURES),
             normal_map: f.contains(Features::NORMAL_MAP),
             filter: false,
@@ -161,6 +165,7 @@ impl Specialization {
             rough_conductor: true,
             metal_rough: true,
             conductor: true,
+            iridescence: true,
             ggx: true,
             beckmann: true,
             area_lights: true,
@@ -226,6 +231,7 @@ impl Specialization {
             ("HAS_ROUGH_CONDUCTOR", b(self.rough_conductor)),
             ("HAS_METAL_ROUGH", b(self.metal_rough)),
             ("HAS_CONDUCTOR", b(self.conductor)),
+            ("HAS_IRIDESCENCE", b(self.iridescence)),
             ("HAS_GGX", b(self.ggx)),
             ("HAS_BECKMANN", b(self.beckmann)),
             ("HAS_LIGHTS", b(self.area_lights)),

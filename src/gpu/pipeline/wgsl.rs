@@ -18,6 +18,8 @@ const THIN: &str = include_str!("../../shaders/thin.wgsl");
 const GLOSSY: &str = include_str!("../../shaders/glossy.wgsl");
 const ROUGH_DIELECTRIC: &str = include_str!("../../shaders/rough_dielectric.wgsl");
 const METAL_ROUGH: &str = include_str!("../../shaders/metal_rough.wgsl");
+const THIN_FILM: &str = include_str!("../../shaders/thin_film.wgsl");
+const IRIDESCENT: &str = include_str!("../../shaders/iridescent.wgsl");
 const SCENE: &str = include_str!("../../shaders/scene.wgsl");
 const CWBVH: &str = include_str!("../../shaders/cwbvh.wgsl");
 const LIGHT: &str = include_str!("../../shaders/light.wgsl");
@@ -49,6 +51,8 @@ const MATHS: &[&str] = &[
     GLOSSY,
     ROUGH_DIELECTRIC,
     METAL_ROUGH,
+    THIN_FILM,
+    IRIDESCENT,
 ];
 
 /// Every kernel source file by name (tests check that none defines a prelude constant).
@@ -66,6 +70,8 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("glossy.wgsl", GLOSSY),
     ("rough_dielectric.wgsl", ROUGH_DIELECTRIC),
     ("metal_rough.wgsl", METAL_ROUGH),
+    ("thin_film.wgsl", THIN_FILM),
+    ("iridescent.wgsl", IRIDESCENT),
     ("scene.wgsl", SCENE),
     ("cwbvh.wgsl", CWBVH),
     ("light.wgsl", LIGHT),

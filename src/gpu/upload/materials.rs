@@ -1,7 +1,7 @@
 //! Materials in GPU form: the BSDF kind (by the CPU's own mapping), flags and parameters.
 
 use super::TexSlots;
-use crate::bsdf::{Bsdf, MicrofacetDistribution};
+use crate::bsdf::{Bsdf, FilmBase, MicrofacetDistribution};
 use crate::gpu::layout::{self, Material};
 use crate::scene::{MaterialKind, Scene};
 use glam::{Vec2, Vec3};
@@ -20,6 +20,18 @@ pub fn bsdf_kind(scene: &Scene, m: &crate::scene::Material) -> (u32, Vec3) {
         Bsdf::MetalRough(_) => (layout::BSDF_METAL_ROUGH, m.base_color),
         Bsdf::SmoothConductor(_) => (layout::BSDF_SMOOTH_CONDUCTOR, m.base_color),
         Bsdf::RoughFresnelConductor(_) => (layout::BSDF_ROUGH_FRESNEL_CONDUCTOR, m.base_color),
+        Bsdf::Iridescent(b) if b.is_smooth() => (layout::BSDF_FILM_SMOOTH, m.base_color),
+        Bsdf::Iridescent(_) => (layout::BSDF_FILM_ROUGH, m.base_color),
+    }
+}
+
+/// `FILM_ON_*` of what a film lies on.
+fn film_base_code(base: FilmBase) -> u32 {
+    match base {
+        FilmBase::Dielectric { .. } => layout::FILM_ON_DIELECTRIC,
+        FilmBase::Sheet { .. } => layout::FILM_ON_SHEET,
+        FilmBase::Conductor { .. } => layout::FILM_ON_CONDUCTOR,
+        FilmBase::Reflectance { .. } => layout::FILM_ON_REFLECTANCE,
     }
 }
 
@@ -59,6 +71,10 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: TexSlots) -
         flags |= layout::MAT_UNIFORM_SAMPLING;
     }
     let absorbs = m.has_absorption();
+    let film = match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
+        Bsdf::Iridescent(b) => m.iridescence.map(|i| (i, film_base_code(b.base))),
+        _ => None,
+    };
     let cond = m.conductor.map_or((Vec3::ZERO, Vec3::ZERO), |c| c.rgb());
     Material {
         base_color: color.to_array(),
@@ -87,6 +103,12 @@ pub fn pack_material(scene: &Scene, m: &crate::scene::Material, tex: TexSlots) -
         emit_tex: tex.emit,
         normal_tex: tex.normal,
         normal_scale: m.normal_scale,
+        film_ior: film.map_or(0.0, |(i, _)| i.ior),
+        film_min: film.map_or(0.0, |(i, _)| i.thickness_min),
+        film_max: film.map_or(0.0, |(i, _)| i.thickness_max),
+        film_factor: film.map_or(0.0, |(i, _)| i.factor),
+        film_tex: tex.film,
+        film_base: film.map_or(0, |(_, b)| b),
     }
 }
 

@@ -13,6 +13,10 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
         "the GPU renderer has no spectral (hero-wavelength) conductor yet: this scene has a tabulated metal (extras.conductor) and a dispersive material; render it on the CPU"
     );
     ensure!(
+        !(f.contains(Features::IRIDESCENCE) && f.contains(Features::DISPERSION)),
+        "the GPU renderer has no spectral (hero-wavelength) thin film yet (its films use Belcour & Barla's RGB integral): this scene has a film (KHR_materials_iridescence) and a dispersive material; render it on the CPU (--device cpu)"
+    );
+    ensure!(
         scene.settings.light_line_nm.is_none(),
         "the GPU renderer has no light line yet (light_line_nm = {} nm): render it on the CPU (--device cpu)",
         scene.settings.light_line_nm.unwrap_or_default()

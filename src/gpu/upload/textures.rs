@@ -66,11 +66,13 @@ fn texture_slots(scene: &Scene) -> (Vec<TextureRef>, Vec<TexSlots>) {
         } else {
             slot_of(&m.normal_texture)
         };
+        let film = slot_of(&m.iridescence.and_then(|i| i.thickness_texture));
         slots.push(TexSlots {
             base,
             mr,
             emit,
             normal,
+            film,
         });
     }
     (refs, slots)
@@ -124,4 +126,6 @@ pub struct TexSlots {
     pub emit: u32,
     /// Tangent-space normal map (when the mesh has tangents).
     pub normal: u32,
+    /// A thin film's thickness (green channel).
+    pub film: u32,
 }

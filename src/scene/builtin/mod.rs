@@ -25,6 +25,7 @@ mod presets;
 mod prism;
 pub(crate) mod shapes;
 mod showcase;
+pub mod thin_film;
 
 pub use caustic::{caustic, caustic_mirror};
 pub use cornell::{cornell_glass, furnace, glass_slab, rough_glass};
@@ -63,6 +64,7 @@ pub const NAMES: &[&str] = &[
     "snell-window",
     "convex-lens",
     "wine-glass",
+    "thin-film",
     "brewster",
 ];
 
@@ -89,6 +91,7 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "snell-window" => Ok(snell_window()),
         "convex-lens" => Ok(convex_lens()),
         "wine-glass" => Ok(wine_glass()),
+        "thin-film" => Ok(thin_film::thin_film()),
         "brewster" => Ok(brewster::brewster()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",

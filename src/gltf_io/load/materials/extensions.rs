@@ -1,8 +1,9 @@
 //! The KHR_materials_* extensions a material's factors come from: transmission, IOR,
-//! volume, specular and dispersion (each read and checked, with warnings).
+//! volume, specular, dispersion and iridescence (each read and checked, with warnings).
 
 use super::clamp01;
 use crate::gltf_io::load::Loader;
+use crate::scene::{Iridescence, TextureRef};
 use glam::Vec3;
 use gltf::json;
 
@@ -149,5 +150,68 @@ impl Loader<'_> {
             }
         }
         abbe
+    }
+}
+
+/// The `KHR_materials_iridescence` extension name.
+pub const IRIDESCENCE: &str = "KHR_materials_iridescence";
+
+impl Loader<'_> {
+    /// `KHR_materials_iridescence` from the raw extension JSON: the film (None without the
+    /// extension or with `iridescenceFactor` 0, the extension's default). Invalid numbers are
+    /// an error naming the material and the field; `iridescenceTexture` (a per-texel factor)
+    /// is ignored with a warning, `iridescenceThicknessTexture` is read (green channel).
+    pub(super) fn iridescence(
+        &mut self,
+        ext: Option<&json::extensions::material::Material>,
+        name: &str,
+        i: usize,
+    ) -> anyhow::Result<Option<Iridescence>> {
+        let Some(v) = ext.and_then(|e| e.others.get(IRIDESCENCE)) else {
+            return Ok(None);
+        };
+        let path = format!("/materials/{i}/extensions/{IRIDESCENCE}");
+        let d = Iridescence::default();
+        let num = |key: &str, default: f32| -> anyhow::Result<f32> {
+            match v.get(key) {
+                None => Ok(default),
+                Some(x) => x
+                    .as_f64()
+                    .map(|x| x as f32)
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| {
+                        anyhow::anyhow!("material '{name}': {path}/{key} is {x}, not a number")
+                    }),
+            }
+        };
+        let film = Iridescence {
+            factor: num("iridescenceFactor", 0.0)?,
+            ior: num("iridescenceIor", d.ior)?,
+            thickness_min: num("iridescenceThicknessMinimum", d.thickness_min)?,
+            thickness_max: num("iridescenceThicknessMaximum", d.thickness_max)?,
+            thickness_texture: self.texture_info(v.get("iridescenceThicknessTexture"), name)?,
+        };
+        film.validate(name)
+            .map_err(|e| anyhow::anyhow!("{e} ({path})"))?;
+        if v.get("iridescenceTexture").is_some() {
+            self.warnings.push(format!(
+                "material '{name}': {IRIDESCENCE}.iridescenceTexture is ignored (the factor is \
+                 uniform)"
+            ));
+        }
+        Ok((film.factor > 0.0).then_some(film))
+    }
+
+    /// A textureInfo given as raw JSON (an extension the typed glTF crate does not know).
+    fn texture_info(
+        &mut self,
+        v: Option<&serde_json::Value>,
+        name: &str,
+    ) -> anyhow::Result<Option<TextureRef>> {
+        let Some(v) = v else { return Ok(None) };
+        let info: json::texture::Info = serde_json::from_value(v.clone()).map_err(|e| {
+            anyhow::anyhow!("material '{name}': {IRIDESCENCE} texture reference: {e}")
+        })?;
+        self.texture_ref(&info, false, name)
     }
 }

@@ -1,7 +1,7 @@
 //! glTF materials → scene materials (the kind decision of the scene contract).
 
 mod contract;
-mod extensions;
+pub(super) mod extensions;
 mod extras;
 mod pbr;
 mod textures;
@@ -68,6 +68,7 @@ fn assemble(
         priority: f.priority,
         conductor: f.conductor,
         uniform_sampling: f.uniform_sampling,
+        iridescence: None,
     }
 }
 
@@ -115,6 +116,7 @@ impl Loader<'_> {
             tex.metallic_roughness.is_some(),
         );
         let mut mat = assemble(name, kind, m.double_sided, f, tex);
+        mat.iridescence = self.iridescence(m.extensions.as_ref(), &mat.name, i)?;
         enforce_contract(&mut mat)?;
         Ok(mat)
     }

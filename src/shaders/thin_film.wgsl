@@ -1,0 +1,125 @@
+// thin_film.wgsl — thin-film interference (twin of src/bsdf/thin_film.rs): the reflectance of
+// a dielectric film (index n₂, thickness d nm) between the outside (n₁ = 1) and a substrate of
+// complex index N₃ = η + iκ. Born & Wolf, "Principles of Optics", §7.6.1 (the Airy sum);
+// Belcour & Barla 2017, "A Practical Extension to Microfacet Theory for the Modeling of Varying
+// Iridescence", §4 (its Fourier series integrated against the colour-matching functions):
+// the kernels' films are RGB (the exact per-wavelength `ThinFilm::airy` has no twin here).
+// Complex numbers are vec2 (re, im); conventions as the Rust module's.
+
+fn cx_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
+}
+
+fn cx_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let d = b.x * b.x + b.y * b.y;
+    return vec2<f32>((a.x * b.x + a.y * b.y) / d, (a.y * b.x - a.x * b.y) / d);
+}
+
+fn cx_norm2(a: vec2<f32>) -> f32 {
+    return a.x * a.x + a.y * a.y;
+}
+
+// The principal square root (Re ≥ 0; Im ≥ 0 on the cut). Twin of `Cx::sqrt`.
+fn cx_sqrt(a: vec2<f32>) -> vec2<f32> {
+    let r = sqrt(cx_norm2(a));
+    let re = sqrt(max(0.5 * (r + a.x), 0.0));
+    var im = sqrt(max(0.5 * (r - a.x), 0.0));
+    if a.y < 0.0 {
+        im = -im;
+    }
+    return vec2<f32>(re, im);
+}
+
+fn cx_arg(a: vec2<f32>) -> f32 {
+    return atan2(a.y, a.x);
+}
+
+// (r⊥, r∥) at an interface a → b (complex indices and cosines), as one vec4 (r⊥.re, r⊥.im,
+// r∥.re, r∥.im). Twin of `interface`.
+fn film_interface(na: vec2<f32>, ca: vec2<f32>, nb: vec2<f32>, cb: vec2<f32>) -> vec4<f32> {
+    let a = cx_mul(na, ca);
+    let b = cx_mul(nb, cb);
+    let c = cx_mul(nb, ca);
+    let d = cx_mul(na, cb);
+    return vec4<f32>(cx_div(a - b, a + b), cx_div(c - d, c + d));
+}
+
+// The film at incidence cosine `cos1` over the substrate `n3`: cos θ₂ and the amplitude
+// coefficients r₁₂, r₂₃ for s (xy) and p (zw). Twin of `ThinFilm::stack`.
+struct FilmStack {
+    cos2: f32,
+    r12: vec4<f32>,
+    r23: vec4<f32>,
+}
+
+fn film_stack(ior: f32, cos1_in: f32, n3: vec2<f32>) -> FilmStack {
+    let n2 = max(ior, 1.0);
+    let cos1 = clamp(cos1_in, 0.0, 1.0);
+    let sin2_1 = 1.0 - cos1 * cos1;
+    let cos2 = sqrt(max(1.0 - sin2_1 / (n2 * n2), 0.0));
+    let cos3 = cx_sqrt(vec2<f32>(1.0, 0.0) - cx_div(vec2<f32>(sin2_1, 0.0), cx_mul(n3, n3)));
+    let one = vec2<f32>(1.0, 0.0);
+    let n2c = vec2<f32>(n2, 0.0);
+    let r12 = film_interface(one, vec2<f32>(cos1, 0.0), n2c, vec2<f32>(cos2, 0.0));
+    let r23 = film_interface(n2c, vec2<f32>(cos2, 0.0), n3, cos3);
+    return FilmStack(cos2, r12, r23);
+}
+
+// Optical path difference of one round trip, 2 n₂ d cos θ₂ (nm). Twin of `ThinFilm::opd`.
+fn film_opd(ior: f32, thickness_nm: f32, cos2: f32) -> f32 {
+    return 2.0 * max(ior, 1.0) * max(thickness_nm, 0.0) * cos2;
+}
+
+// The fitted XYZ sensitivity at optical path difference `opd_nm` and phase `shift`
+// (Belcour & Barla 2017 §4.3; FILM_FIT_* = bsdf::thin_film::SENSITIVITY_FIT). Twin of
+// `xyz_sensitivity`.
+fn film_fit_lobe(fit: vec3<f32>, phase: f32, shift: f32) -> f32 {
+    return fit.x * sqrt(2.0 * PI * fit.z) * cos(fit.y * phase + shift) * exp(-fit.z * phase * phase);
+}
+
+fn film_xyz_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
+    let phase = 2.0 * PI * opd_nm * 1e-9;
+    return vec3<f32>(
+        film_fit_lobe(FILM_FIT_X, phase, shift) + film_fit_lobe(FILM_FIT_X2, phase, shift),
+        film_fit_lobe(FILM_FIT_Y, phase, shift),
+        film_fit_lobe(FILM_FIT_Z, phase, shift)
+    );
+}
+
+// ∫ r̄(λ) cos(2π x/λ + φ) dλ in white-balanced linear sRGB. Twin of `rgb_sensitivity`.
+fn film_rgb_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
+    let white = xyz_to_linear_srgb(film_xyz_sensitivity(0.0, 0.0));
+    return xyz_to_linear_srgb(film_xyz_sensitivity(opd_nm, shift)) / white;
+}
+
+// Reflectance integrated against the matching functions, series truncated after m = 2
+// (Belcour & Barla 2017 eq. 12). Twin of `ThinFilm::rgb` and `ThinFilm::fourier`.
+fn film_rgb(ior: f32, thickness_nm: f32, cos1: f32, n3: vec2<f32>) -> vec3<f32> {
+    let s = film_stack(ior, cos1, n3);
+    let opd = film_opd(ior, thickness_nm, s.cos2);
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < 2u; k++) {
+        var r12 = s.r12.xy;
+        var r23 = s.r23.xy;
+        if k == 1u {
+            r12 = s.r12.zw;
+            r23 = s.r23.zw;
+        }
+        let r12_2 = cx_norm2(r12);
+        let t121 = 1.0 - r12_2;
+        let r23_2 = cx_norm2(r23);
+        let r123_2 = min(r12_2 * r23_2, FILM_MAX_R123_SQ);
+        let rs = t121 * t121 * r23_2 / (1.0 - r123_2);
+        let ratio = sqrt(r123_2);
+        let phi = cx_arg(-r12) + cx_arg(r23);
+        var r = vec3<f32>(r12_2 + rs);
+        var cm = rs - t121;
+        for (var m = 1u; m <= 2u; m++) {
+            cm *= ratio;
+            let mf = f32(m);
+            r += 2.0 * cm * film_rgb_sensitivity(mf * opd, mf * phi);
+        }
+        sum += r;
+    }
+    return clamp(0.5 * sum, vec3<f32>(0.0), vec3<f32>(1.0));
+}
