@@ -53,7 +53,7 @@ const fn demo(key: &'static str, title: &'static str, scene: &'static str) -> De
 }
 
 /// The demonstrations, in lecture order.
-pub const DEMOS: [Demo; 14] = [
+pub const DEMOS: [Demo; 15] = [
     Demo {
         concept: "Energy conservation",
         caption: "Energy conservation: in a white furnace (light of radiance 1 from everywhere) a \
@@ -156,6 +156,16 @@ pub const DEMOS: [Demo; 14] = [
                   more than red and white light fans out into a spectrum.",
         select: Some("dispersive-glass"),
         ..demo("prism", "Prism dispersion", "builtin:prism")
+    },
+    Demo {
+        concept: "Thin-film interference",
+        caption: "Wave optics where it matters: thin-film interference. Light reflected at the \
+                  top and at the bottom of a film a few hundred nm thick travels 2·n·d·cos θ \
+                  further; wavelengths that fit a whole number of times add up, the others \
+                  cancel — the bubble's bands, the oil slick, anodised metal. Drag the film \
+                  thickness.",
+        select: Some("soap-bubble"),
+        ..demo("thin-film", "Thin-film interference", "builtin:thin-film")
     },
     Demo {
         concept: "Heckbert notation",

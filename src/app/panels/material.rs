@@ -153,6 +153,7 @@ fn edit_material(ui: &mut egui::Ui, m: &mut Material) {
     if m.kind == MaterialKind::Glass {
         absorption_controls(ui, m);
     }
+    super::film::film_controls(ui, m);
 }
 
 /// The material type: the four kinds a user picks from, plus thin glass and the glTF

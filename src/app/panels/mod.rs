@@ -3,6 +3,7 @@
 pub mod camera;
 pub mod dispersion;
 pub mod environment;
+pub mod film;
 pub mod fresnel;
 pub mod inspect;
 pub mod lecture;

@@ -85,6 +85,7 @@ fn materials() -> Vec<Material> {
             iridescence: film(1.5, 0.0, 260.0, None),
             ..Material::mirror("coated-gold", Vec3::ONE)
         },
+        Material::diffuse("pond-bed", Vec3::splat(0.01)),
     ]
 }
 
@@ -101,6 +102,8 @@ pub fn thin_film() -> Scene {
     });
     let mut m = crate::scene::Mesh::default();
     rect(&mut m, Vec3::ZERO, Vec3::Y, 30.0, 30.0, 0);
+    // The pond's bed: dark, as a pond's is (a bright bed's light would wash out the slick).
+    rect(&mut m, Vec3::new(0.0, 0.0005, 0.9), Vec3::Y, 3.6, 1.6, 6);
     cuboid(
         &mut m,
         Vec3::new(-1.8, 0.001, 0.1),
