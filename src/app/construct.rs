@@ -51,6 +51,7 @@ impl ViewerApp {
             paused: false,
             inspector: inspect::Inspector::default(),
             view: layer_view::ViewMode::Beauty,
+            polarizer: None,
             lecture: lecture::Lecture::default(),
             denoise: Default::default(),
             viewport_pending: None,

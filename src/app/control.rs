@@ -29,6 +29,18 @@ impl ViewerApp {
         }
     }
 
+    /// Put a polarising filter at `degrees` in front of the sensor (None: take it away); a
+    /// backend that cannot (the GPU) keeps the unpolarised image and says so.
+    pub fn set_polarizer(&mut self, degrees: Option<f32>) {
+        if self.backend.set_polarizer(degrees.map(f32::to_radians)) {
+            self.polarizer = degrees;
+        } else {
+            self.polarizer = None;
+            self.messages.info =
+                Some("the polarising filter is CPU only: switch the device to CPU".to_owned());
+        }
+    }
+
     /// Apply a material edit now (headless callers; the panels push [`Edit::Material`]).
     pub fn set_material(&mut self, index: usize, material: Material) {
         self.apply(Edit::Material {

@@ -103,6 +103,9 @@ pub struct ViewerApp {
     pub inspector: inspect::Inspector,
     /// What the viewport shows: the image or a layer view (`layer_view`, CPU only).
     pub view: layer_view::ViewMode,
+    /// The polarising filter in front of the sensor, in degrees (None: unpolarised; CPU
+    /// only, `cpu::polarized`).
+    pub polarizer: Option<f32>,
     /// Lecture mode: the demo on screen and large type.
     pub lecture: lecture::Lecture,
     /// The live view's denoiser: toggle, split-screen compare and badge (off by default).

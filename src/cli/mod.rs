@@ -18,6 +18,7 @@ mod layers;
 mod lecture;
 mod load;
 mod merge;
+mod polarization;
 mod progress;
 mod race;
 mod render;
@@ -267,7 +268,9 @@ struct RenderArgs {
     decompose: Option<String>,
     /// Event heatmaps, comma-separated: tir (fraction of paths with a total internal
     /// reflection), refraction (fraction with a refraction), depth (mean surface vertices per
-    /// path), or all; written as OUT.tir.exr etc. CPU path tracing only.
+    /// path), or all; written as OUT.tir.exr etc. CPU path tracing only. With polarised
+    /// transport: dop, aop (degree and angle of polarisation, OUT.dop.png, OUT.aop.png) and
+    /// stokes (OUT.s0.exr … OUT.s3.exr); these imply --polarized.
     #[arg(long, value_name = "LIST")]
     aov: Option<String>,
     /// Estimator: path (path tracing, NEE + MIS), bdpt (bidirectional, MIS over all
@@ -292,6 +295,16 @@ struct RenderArgs {
     /// (docs/denoise.md): it blurs caustics seen through glass.
     #[arg(long)]
     denoise: bool,
+    /// A linear polarising filter in front of the sensor, its axis at DEG degrees from the
+    /// image's horizontal, counter-clockwise (0 passes horizontally polarised light, 90
+    /// vertically): implies --polarized. CPU path tracing only (docs/polarization.md).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    polarizer: Option<f32>,
+    /// Trace polarised light (a Stokes vector per path, Mueller matrices at every surface);
+    /// without --polarizer the image is the total intensity. --aov dop,aop,stokes then writes
+    /// the degree and angle of polarisation (false colour) and the Stokes components.
+    #[arg(long)]
+    polarized: bool,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,

@@ -18,7 +18,11 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
     // Before any work: a render whose image cannot be written is an error now, not after.
     film::check_output_path(&args.out).context("--out")?;
     super::denoise::check(args)?;
-    let layers = Layers::parse(args.decompose.as_deref(), args.aov.as_deref())?;
+    let (polarized, aov) = super::polarization::parse(args)?;
+    if let Some(p) = &polarized {
+        return super::polarization::render(args, p);
+    }
+    let layers = Layers::parse(args.decompose.as_deref(), aov.as_deref())?;
     if let Some(l) = &layers {
         l.check_outputs(&args.out)?;
     }

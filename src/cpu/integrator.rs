@@ -101,7 +101,7 @@ impl<'a> Integrator<'a> {
 
     /// Emitted radiance reaching the path at `hit` along `d`, MIS-weighted against NEE.
     #[inline]
-    fn hit_emission(
+    pub(crate) fn hit_emission(
         &self,
         hit: &SurfaceHit,
         d: Vec3,

@@ -15,6 +15,7 @@ pub mod layers;
 pub mod medium;
 pub mod observer;
 pub mod path_state;
+pub mod polarized;
 pub mod render;
 pub mod spectral;
 mod splat_buffer;

@@ -351,7 +351,7 @@ impl Renderer {
 
     /// Run `pass(first_spp, count)` in passes of `opts.pass_spp()` until `spp` samples or
     /// the time budget (at least one pass), from sample index `opts.first_sample` on.
-    fn render_passes(
+    pub(crate) fn render_passes(
         &self,
         opts: &RenderOptions,
         (spp, budget): (u32, Option<Duration>),

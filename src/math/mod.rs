@@ -2,9 +2,11 @@
 //! colour (sRGB, luminance, black body) and spectral helpers. Knows nothing about scenes, renderers or the UI.
 
 pub mod color;
+pub mod complex;
 pub mod distribution;
 pub mod fnv;
 pub mod frame;
+pub mod mueller;
 pub mod prism;
 pub mod rng;
 pub mod sampling;

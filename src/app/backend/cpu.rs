@@ -39,6 +39,8 @@ struct State {
     /// What the published image shows: with a layer view the passes also accumulate the
     /// layers (`app::layer_view`), otherwise they pay nothing for them.
     view: ViewMode,
+    /// A polarising filter in front of the sensor (radians; None: unpolarised transport).
+    polarizer: Option<f32>,
 }
 
 struct Shared {
@@ -80,6 +82,7 @@ impl CpuBackend {
                 materials: Vec::new(),
                 idle: true,
                 view: ViewMode::Beauty,
+                polarizer: None,
             }),
             wake: Condvar::new(),
             generation: AtomicU64::new(0),
@@ -255,6 +258,13 @@ impl Backend for CpuBackend {
     fn set_view(&mut self, mode: ViewMode) -> bool {
         if self.shared.lock().view != mode {
             self.edit(|st| st.view = mode);
+        }
+        true
+    }
+
+    fn set_polarizer(&mut self, angle: Option<f32>) -> bool {
+        if self.shared.lock().polarizer != angle {
+            self.edit(|st| st.polarizer = angle);
         }
         true
     }

@@ -126,4 +126,10 @@ pub trait Backend {
     fn set_view(&mut self, _mode: crate::app::layer_view::ViewMode) -> bool {
         false
     }
+    /// Trace polarised light and show the image behind a linear polariser at `angle`
+    /// (radians from the image's horizontal; None: no filter, unpolarised transport,
+    /// `cpu::polarized`); false when this backend cannot (the GPU).
+    fn set_polarizer(&mut self, _angle: Option<f32>) -> bool {
+        false
+    }
 }

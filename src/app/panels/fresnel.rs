@@ -8,6 +8,7 @@ use crate::bsdf::Metal;
 use crate::bsdf::fresnel::{
     FresnelTerms, fresnel_conductor, fresnel_dielectric_terms, fresnel_schlick,
 };
+use crate::cpu::inspect::PixelTrace;
 use eframe::egui::{self, Color32};
 use egui_plot::{Line, LineStyle, Plot, PlotPoints, PlotUi, VLine};
 
@@ -60,8 +61,39 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .on_hover_text(
             "Fresnel equations: the fraction of light reflected depends on angle and polarisation.",
         );
-    fresnel_plot(ui, eta);
+    let cursor = app
+        .inspector
+        .traced
+        .as_ref()
+        .and_then(|t| inspected_angle(&t.trace, app.inspector.highlight, name));
+    fresnel_plot(ui, eta, cursor);
+    if let Some((deg, leaving)) = cursor {
+        let side = if leaving { "leaving" } else { "entering" };
+        ui.label(format!("inspected point: θ = {deg:.2}° ({side})"))
+            .on_hover_text(
+                "The angle of incidence at the first vertex on this glass of the inspected \
+                 path (Alt+click a pixel): the white line on the plot.",
+            );
+    }
     angle_notes(ui, eta);
+}
+
+/// The angle of incidence (degrees) at the first vertex on material `name` of the inspected
+/// path (the highlighted one, else the first), and whether the light there leaves the glass
+/// (arrives from the denser side).
+pub fn inspected_angle(
+    trace: &PixelTrace,
+    highlight: Option<usize>,
+    name: &str,
+) -> Option<(f64, bool)> {
+    let path = trace.paths.get(highlight.unwrap_or(0))?;
+    let v = path
+        .vertices
+        .iter()
+        .skip(1)
+        .find(|v| v.material == name && v.cos_i.is_some())?;
+    let deg = v.cos_i?.clamp(0.0, 1.0).acos().to_degrees() as f64;
+    Some((deg, v.eta_i > v.eta_t))
 }
 
 /// Blue for light entering the glass, orange for light leaving it.
@@ -69,8 +101,8 @@ const BLUE: Color32 = Color32::from_rgb(90, 160, 255);
 const ORANGE: Color32 = Color32::from_rgb(255, 150, 60);
 
 /// F, r_p² and r_s² against the angle of incidence, entering and leaving glass of index `eta`,
-/// with the Brewster and critical angles marked.
-fn fresnel_plot(ui: &mut egui::Ui, eta: f32) {
+/// with the Brewster and critical angles marked, and the inspected point's angle (`cursor`).
+fn fresnel_plot(ui: &mut egui::Ui, eta: f32, cursor: Option<(f64, bool)>) {
     Plot::new("fresnel")
         .height(190.0)
         .include_x(0.0)
@@ -85,6 +117,13 @@ fn fresnel_plot(ui: &mut egui::Ui, eta: f32) {
         .show(ui, |p| {
             reflectance_lines(p, eta);
             angle_lines(p, eta);
+            if let Some((deg, _)) = cursor {
+                p.vline(
+                    VLine::new("inspected point", deg)
+                        .color(Color32::WHITE)
+                        .width(1.5),
+                );
+            }
         });
 }
 

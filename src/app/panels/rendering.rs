@@ -140,6 +140,7 @@ fn layer_views(app: &mut ViewerApp, ui: &mut egui::Ui) {
     if view != app.view {
         app.set_view(view);
     }
+    polarizer(app, ui);
     if app.view == ViewMode::Classes {
         let names = DECOMPOSITION
             .classes
@@ -301,5 +302,26 @@ fn accumulation(app: &mut ViewerApp, ui: &mut egui::Ui, r: &mut RenderEdit) {
         }
         ui.add(egui::DragValue::new(&mut r.seed).prefix("seed "))
             .on_hover_text("Seed of the random numbers: another seed gives independent noise with the same mean.");
+    }
+}
+
+/// The polarising filter in front of the sensor (CPU only, the beauty view): on/off and its
+/// angle from the image's horizontal (docs/polarization.md).
+fn polarizer(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let mut on = app.polarizer.is_some();
+    let mut deg = app.polarizer.unwrap_or(90.0);
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut on, "Polarizer").on_hover_text(
+            "Trace polarised light and look through a linear polarising filter (CPU, image \
+             view). 0° passes horizontally polarised light, 90° vertically: at Brewster's \
+             angle (builtin:brewster) 90° removes the reflection off glass.",
+        );
+        if on {
+            ui.add(egui::Slider::new(&mut deg, 0.0..=180.0).suffix("°"));
+        }
+    });
+    let want = on.then_some(deg);
+    if want != app.polarizer {
+        app.set_polarizer(want);
     }
 }

@@ -7,12 +7,13 @@
 
 //!
 //! Files: `shapes` (mesh helpers), `presets` (material presets), one file per family of
-//! scenes (`cornell`, `prism`, `caustic`, `showcase`, `glass_of_water`, `khronos`, and the
+//! scenes (`brewster`, `cornell`, `prism`, `caustic`, `showcase`, `glass_of_water`, `khronos`, and the
 //! lecture's `lecture` and `optics`), `lathe` (surfaces of revolution).
 
 use super::{Camera, Material, Mesh, RenderSettings, Scene};
 use glam::Vec3;
 
+pub mod brewster;
 mod caustic;
 mod cornell;
 pub mod glass_of_water;
@@ -64,6 +65,7 @@ pub const NAMES: &[&str] = &[
     "convex-lens",
     "wine-glass",
     "thin-film",
+    "brewster",
 ];
 
 pub fn load(name: &str) -> anyhow::Result<Scene> {
@@ -90,6 +92,7 @@ pub fn load(name: &str) -> anyhow::Result<Scene> {
         "convex-lens" => Ok(convex_lens()),
         "wine-glass" => Ok(wine_glass()),
         "thin-film" => Ok(thin_film::thin_film()),
+        "brewster" => Ok(brewster::brewster()),
         _ => anyhow::bail!(
             "unknown built-in scene '{name}' (available: {})",
             NAMES.join(", ")

@@ -7,6 +7,7 @@ use crate::app::backend::Accumulated;
 use crate::app::layer_view::{self, ViewMode};
 use crate::cpu::Renderer;
 use crate::cpu::layers::LayerFilm;
+use crate::cpu::polarized::{Polarization, STOKES_LAYERS};
 use crate::film::Film;
 use crate::render::RenderOptions;
 use std::sync::Arc;
@@ -21,6 +22,7 @@ struct Pending {
     paused: bool,
     target: u64,
     view: ViewMode,
+    polarizer: Option<f32>,
 }
 
 /// The render thread's own state: the renderer and the film (and layers) it accumulates.
@@ -29,6 +31,8 @@ struct RenderLoop {
     film: Option<Film>,
     /// The layer views' layers, alongside `film` (None in the beauty view).
     layers: Option<LayerFilm>,
+    /// The Stokes layers of a polarised beauty view (None without a polariser).
+    stokes: Option<LayerFilm>,
     /// The generation `film` accumulates (`u64::MAX`: none, or a discarded partial pass).
     film_gen: u64,
     /// Render time of the film's samples.
@@ -43,6 +47,7 @@ pub(super) fn render_thread(shared: &Shared, repaint: Option<eframe::egui::Conte
         renderer: None,
         film: None,
         layers: None,
+        stokes: None,
         film_gen: u64::MAX,
         elapsed: Duration::ZERO,
         last_pass: None,
@@ -91,6 +96,7 @@ impl RenderLoop {
                 paused: st.paused,
                 target: st.spp_target,
                 view: st.view,
+                polarizer: st.polarizer,
             };
             (std::mem::take(&mut st.commands), p)
         };
@@ -115,7 +121,7 @@ impl RenderLoop {
             opts.width = (opts.width / 4).max(1);
             opts.height = (opts.height / 4).max(1);
         }
-        if p.view != ViewMode::Beauty {
+        if p.view != ViewMode::Beauty || p.polarizer.is_some() {
             // The layers come from the path tracer's walk over every path.
             opts.estimator = crate::render::Estimator::Path;
             opts.set_filter(None);
@@ -135,6 +141,8 @@ impl RenderLoop {
             self.film = Some(Film::new(w, h));
             self.layers = (p.view != ViewMode::Beauty)
                 .then(|| LayerFilm::new(w, h, layer_view::layer_count()));
+            self.stokes = (p.view == ViewMode::Beauty && p.polarizer.is_some())
+                .then(|| LayerFilm::new(w, h, STOKES_LAYERS));
             self.film_gen = p.generation;
             self.elapsed = Duration::ZERO;
         }
@@ -162,12 +170,18 @@ impl RenderLoop {
         let start = Instant::now();
         let cancelled = || shared.generation.load(Ordering::Relaxed) != p.generation;
         let first = f.spp.min(u32::MAX as u64) as u32;
-        let complete = match self.layers.as_mut() {
-            Some(l) => {
+        let complete = match (self.layers.as_mut(), self.stokes.as_mut()) {
+            (Some(l), _) => {
                 let proto = layer_view::proto();
                 r.render_pass_layered(opts, f, l, &proto, (first, n), &cancelled)
             }
-            None => r.render_pass_cancellable(opts, f, first, n, &cancelled),
+            (None, Some(s)) => {
+                let pol = Polarization {
+                    filter: p.polarizer,
+                };
+                r.polarized_pass(opts, pol, (f, s), (first, n), &cancelled)
+            }
+            (None, None) => r.render_pass_cancellable(opts, f, first, n, &cancelled),
         };
         if !complete {
             self.film_gen = u64::MAX; // partial pass: discard
