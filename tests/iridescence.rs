@@ -6,13 +6,14 @@ mod common_scenes;
 use common_scenes::*;
 use glam::{Vec2, Vec3};
 use refract::bsdf::chi2::{self, Chi2Config};
-use refract::bsdf::thin_film::{Cx, ThinFilm};
+use refract::bsdf::thin_film::ThinFilm;
 use refract::bsdf::{
     Bsdf, BxDF, ComplexIor, Event, Iridescent, Metal, MicrofacetDistribution as Dist,
     RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric, ThinDielectric,
     TransportMode,
 };
 use refract::cpu::Renderer;
+use refract::math::complex::Complex;
 use refract::math::rng::Sampler;
 use refract::math::spectrum::rgb_matching;
 use refract::math::{Color, rgb, sampling};
@@ -26,7 +27,7 @@ const FILM: ThinFilm = ThinFilm {
 
 /// ∫ r̄(λ) R(λ) dλ over [360, 830] nm (midpoint rule, 0.1 nm): what a spectral render of a
 /// reflectance spectrum R under a flat white illuminant converges to.
-fn integrated_airy(film: ThinFilm, cos1: f32, n3: impl Fn(f32) -> Cx) -> Vec3 {
+fn integrated_airy(film: ThinFilm, cos1: f32, n3: impl Fn(f32) -> Complex) -> Vec3 {
     let n = 4700;
     let dl = (830.0 - 360.0) / n as f32;
     let mut sum = glam::DVec3::ZERO;
@@ -88,7 +89,7 @@ fn with_film(m: Material, film: ThinFilm) -> Material {
 }
 
 /// A substrate's name, material and index as a function of λ (nm).
-type Substrate = (&'static str, Material, Box<dyn Fn(f32) -> Cx>);
+type Substrate = (&'static str, Material, Box<dyn Fn(f32) -> Complex>);
 
 /// The substrates of the check: glass, gold (tabulated η, k) and a grey metal of the scene
 /// contract (F₀ = 0.6 → η = (1 + √F₀)/(1 − √F₀)), each with its index as a function of λ.
@@ -99,7 +100,7 @@ fn substrates() -> Vec<Substrate> {
         (
             "glass",
             Material::glass("glass", 1.5),
-            Box::new(|_| Cx::real(1.5)),
+            Box::new(|_| Complex::real(1.5)),
         ),
         (
             "gold",
@@ -109,13 +110,13 @@ fn substrates() -> Vec<Substrate> {
             },
             Box::new(|l| {
                 let (eta, k) = Metal::Au.ior_at(l);
-                Cx::new(eta, k)
+                Complex::new(eta, k)
             }),
         ),
         (
             "grey",
             Material::mirror("grey", Vec3::splat(f0)),
-            Box::new(move |_| Cx::real(grey_eta)),
+            Box::new(move |_| Complex::real(grey_eta)),
         ),
     ]
 }

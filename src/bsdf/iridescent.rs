@@ -17,12 +17,13 @@
 
 use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms, reflect};
 use super::rough_dielectric::FacetFresnel;
-use super::thin_film::{Cx, ThinFilm};
+use super::thin_film::ThinFilm;
 use super::{
     Bsdf, BsdfSample, BxDF, ComplexIor, Event, Lobe, MicrofacetDistribution, RoughConductor,
     RoughDielectric, TransportMode, effectively_smooth,
 };
 use crate::math::Color;
+use crate::math::complex::Complex;
 use glam::{Vec2, Vec3};
 
 /// What the film lies on.
@@ -151,13 +152,13 @@ impl Iridescent {
 
     /// The substrate's complex index in lane `i`.
     #[inline]
-    fn substrate(&self, i: usize) -> Cx {
+    fn substrate(&self, i: usize) -> Complex {
         match self.base {
-            FilmBase::Dielectric { eta } | FilmBase::Sheet { eta } => Cx::real(eta),
-            FilmBase::Conductor { ior, .. } => Cx::new(ior.eta[i], ior.k[i]),
+            FilmBase::Dielectric { eta } | FilmBase::Sheet { eta } => Complex::real(eta),
+            FilmBase::Conductor { ior, .. } => Complex::new(ior.eta[i], ior.k[i]),
             FilmBase::Reflectance { f0 } => {
                 let s = f0[i].clamp(0.0, MAX_F0).sqrt();
-                Cx::real((1.0 + s) / (1.0 - s))
+                Complex::real((1.0 + s) / (1.0 - s))
             }
         }
     }

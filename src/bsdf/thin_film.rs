@@ -19,110 +19,14 @@
 //! §1.6 and §7.6). Amplitude coefficients as in `fresnel::fresnel_dielectric_terms`:
 //! r⊥ = (nₐ cₐ − n_b c_b)/(nₐ cₐ + n_b c_b), r∥ = (n_b cₐ − nₐ c_b)/(n_b cₐ + nₐ c_b).
 
+use crate::math::complex::Complex;
 use crate::math::spectrum::xyz_to_linear_srgb;
 use glam::Vec3;
 use std::f32::consts::PI;
-use std::ops::{Add, Div, Mul, Neg, Sub};
-
-/// A complex number in f32 (the film optics only; Born & Wolf §1.6 convention η + iκ).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cx {
-    pub re: f32,
-    pub im: f32,
-}
-
-impl Cx {
-    pub const ONE: Cx = Cx { re: 1.0, im: 0.0 };
-
-    #[inline]
-    pub const fn new(re: f32, im: f32) -> Cx {
-        Cx { re, im }
-    }
-
-    #[inline]
-    pub const fn real(re: f32) -> Cx {
-        Cx { re, im: 0.0 }
-    }
-
-    /// |z|².
-    #[inline]
-    pub fn norm2(self) -> f32 {
-        self.re * self.re + self.im * self.im
-    }
-
-    /// The argument in (−π, π].
-    #[inline]
-    pub fn arg(self) -> f32 {
-        self.im.atan2(self.re)
-    }
-
-    /// The principal square root (Re ≥ 0; Im ≥ 0 on the cut, so an evanescent wave decays).
-    #[inline]
-    pub fn sqrt(self) -> Cx {
-        let r = self.norm2().sqrt();
-        let re = (0.5 * (r + self.re)).max(0.0).sqrt();
-        let im = (0.5 * (r - self.re)).max(0.0).sqrt();
-        Cx::new(re, if self.im < 0.0 { -im } else { im })
-    }
-
-    /// e^{iφ}.
-    #[inline]
-    pub fn cis(phi: f32) -> Cx {
-        let (s, c) = phi.sin_cos();
-        Cx::new(c, s)
-    }
-}
-
-impl Add for Cx {
-    type Output = Cx;
-    #[inline]
-    fn add(self, o: Cx) -> Cx {
-        Cx::new(self.re + o.re, self.im + o.im)
-    }
-}
-
-impl Sub for Cx {
-    type Output = Cx;
-    #[inline]
-    fn sub(self, o: Cx) -> Cx {
-        Cx::new(self.re - o.re, self.im - o.im)
-    }
-}
-
-impl Neg for Cx {
-    type Output = Cx;
-    #[inline]
-    fn neg(self) -> Cx {
-        Cx::new(-self.re, -self.im)
-    }
-}
-
-impl Mul for Cx {
-    type Output = Cx;
-    #[inline]
-    fn mul(self, o: Cx) -> Cx {
-        Cx::new(
-            self.re * o.re - self.im * o.im,
-            self.re * o.im + self.im * o.re,
-        )
-    }
-}
-
-impl Div for Cx {
-    type Output = Cx;
-    #[inline]
-    fn div(self, o: Cx) -> Cx {
-        let d = o.norm2();
-        Cx::new(
-            (self.re * o.re + self.im * o.im) / d,
-            (self.im * o.re - self.re * o.im) / d,
-        )
-    }
-}
 
 /// (r⊥, r∥) at an interface a → b with complex indices and complex cosines (module docs).
 #[inline]
-fn interface(na: Cx, ca: Cx, nb: Cx, cb: Cx) -> [Cx; 2] {
+fn interface(na: Complex, ca: Complex, nb: Complex, cb: Complex) -> [Complex; 2] {
     let (a, b) = (na * ca, nb * cb);
     let (c, d) = (nb * ca, na * cb);
     [(a - b) / (a + b), (c - d) / (c + d)]
@@ -145,25 +49,25 @@ pub struct ThinFilm {
 /// coefficients r₁₂ and r₂₃ for s and p.
 struct Stack {
     cos2: f32,
-    r12: [Cx; 2],
-    r23: [Cx; 2],
+    r12: [Complex; 2],
+    r23: [Complex; 2],
 }
 
 impl ThinFilm {
     /// The film at incidence cosine `cos1` (outside, [0, 1]) over the substrate `n3`.
     #[inline]
-    fn stack(&self, cos1: f32, n3: Cx) -> Stack {
+    fn stack(&self, cos1: f32, n3: Complex) -> Stack {
         let n2 = self.ior.max(1.0);
         let cos1 = cos1.clamp(0.0, 1.0);
         let sin2_1 = 1.0 - cos1 * cos1;
         // Snell: sin θ₂ = sin θ₁ / n₂ (real, n₂ ≥ 1); sin θ₃ = sin θ₁ / N₃ (complex).
         let cos2 = (1.0 - sin2_1 / (n2 * n2)).max(0.0).sqrt();
-        let cos3 = (Cx::ONE - Cx::real(sin2_1) / (n3 * n3)).sqrt();
-        let (n1, n2c) = (Cx::ONE, Cx::real(n2));
+        let cos3 = (Complex::ONE - Complex::real(sin2_1) / (n3 * n3)).sqrt();
+        let (n1, n2c) = (Complex::ONE, Complex::real(n2));
         Stack {
             cos2,
-            r12: interface(n1, Cx::real(cos1), n2c, Cx::real(cos2)),
-            r23: interface(n2c, Cx::real(cos2), n3, cos3),
+            r12: interface(n1, Complex::real(cos1), n2c, Complex::real(cos2)),
+            r23: interface(n2c, Complex::real(cos2), n3, cos3),
         }
     }
 
@@ -177,12 +81,13 @@ impl ThinFilm {
     /// (outside): R = ½ Σ_{s,p} |(r₁₂ + r₂₃ e^{iδ}) / (1 + r₁₂ r₂₃ e^{iδ})|², the Airy sum
     /// (Born & Wolf §7.6.1, eq. 7.6(58) with r₂₁ = −r₁₂). d = 0 gives the substrate's Fresnel
     /// reflectance; a lossless stack keeps R ∈ [0, 1].
-    pub fn airy(&self, cos1: f32, n3: Cx, lambda_nm: f32) -> f32 {
+    pub fn airy(&self, cos1: f32, n3: Complex, lambda_nm: f32) -> f32 {
         let s = self.stack(cos1, n3);
-        let e = Cx::cis(2.0 * PI * self.opd(s.cos2) / lambda_nm);
+        let (sin, cos) = (2.0 * PI * self.opd(s.cos2) / lambda_nm).sin_cos();
+        let e = Complex::new(cos, sin);
         let mut sum = 0.0;
         for (r12, r23) in s.r12.into_iter().zip(s.r23) {
-            let r = (r12 + r23 * e) / (Cx::ONE + r12 * r23 * e);
+            let r = (r12 + r23 * e) / (Complex::ONE + r12 * r23 * e);
             sum += r.norm2();
         }
         (0.5 * sum).clamp(0.0, 1.0)
@@ -192,7 +97,7 @@ impl ThinFilm {
     /// §4.2; derived from the Airy sum with a = r₂₁ r₂₃ e^{iδ} and the Poisson kernel):
     /// R(δ) = C₀ + 2 Σ_{m≥1} C_m cos(m(δ + φ)), C₀ = R₁₂ + R_s, C_m = (R_s − T₁₂₁) r₁₂₃^m,
     /// R_s = T₁₂₁² R₂₃ / (1 − R₁₂ R₂₃), r₁₂₃ = √(R₁₂ R₂₃), φ = arg r₂₁ + arg r₂₃.
-    fn fourier(r12: Cx, r23: Cx) -> FourierTerms {
+    fn fourier(r12: Complex, r23: Complex) -> FourierTerms {
         let r12_2 = r12.norm2();
         let t121 = 1.0 - r12_2;
         let r23_2 = r23.norm2();
@@ -208,7 +113,7 @@ impl ThinFilm {
 
     /// Unpolarised reflectance at one wavelength from the Fourier series truncated after
     /// `terms` harmonics (the check of [`Self::fourier`] against [`Self::airy`]).
-    pub fn airy_series(&self, cos1: f32, n3: Cx, lambda_nm: f32, terms: u32) -> f32 {
+    pub fn airy_series(&self, cos1: f32, n3: Complex, lambda_nm: f32, terms: u32) -> f32 {
         let s = self.stack(cos1, n3);
         let delta = 2.0 * PI * self.opd(s.cos2) / lambda_nm;
         let mut sum = 0.0;
@@ -229,7 +134,7 @@ impl ThinFilm {
     /// incidence cosine `cos1` over the substrate `n3`: Belcour & Barla 2017 eq. 12 with the
     /// series truncated after m = 2, each harmonic weighted by [`rgb_sensitivity`]. Clamped to
     /// [0, 1] (the truncated series and the fit can leave the gamut slightly).
-    pub fn rgb(&self, cos1: f32, n3: Cx) -> Vec3 {
+    pub fn rgb(&self, cos1: f32, n3: Complex) -> Vec3 {
         let s = self.stack(cos1, n3);
         let opd = self.opd(s.cos2);
         let mut sum = Vec3::ZERO;
@@ -312,9 +217,9 @@ mod tests {
             thickness_nm: 0.0,
         };
         for c in cosines() {
-            let glass = film.airy(c, Cx::real(1.5), 550.0);
+            let glass = film.airy(c, Complex::real(1.5), 550.0);
             assert!((glass - fresnel_dielectric(c, 1.5)).abs() < 2e-5, "cos {c}");
-            let gold = film.airy(c, Cx::new(0.2, 2.45), 550.0);
+            let gold = film.airy(c, Complex::new(0.2, 2.45), 550.0);
             assert!(
                 (gold - fresnel_conductor(c, 0.2, 2.45)).abs() < 2e-5,
                 "cos {c}"
@@ -330,7 +235,7 @@ mod tests {
             thickness_nm: 500.0,
         };
         for c in cosines() {
-            let r = film.airy(c, Cx::real(1.5), 480.0);
+            let r = film.airy(c, Complex::real(1.5), 480.0);
             assert!((r - fresnel_dielectric(c, 1.5)).abs() < 2e-5, "cos {c}");
         }
     }
@@ -345,14 +250,14 @@ mod tests {
             ior: n2,
             thickness_nm: 550.0 / (4.0 * n2),
         };
-        assert!(film.airy(1.0, Cx::real(n3), 550.0) < 1e-6);
+        assert!(film.airy(1.0, Complex::real(n3), 550.0) < 1e-6);
         // A half-wave layer is absent at normal incidence.
         let half = ThinFilm {
             thickness_nm: 550.0 / (2.0 * n2),
             ..film
         };
         let bare = fresnel_dielectric(1.0, n3);
-        assert!((half.airy(1.0, Cx::real(n3), 550.0) - bare).abs() < 1e-5);
+        assert!((half.airy(1.0, Complex::real(n3), 550.0) - bare).abs() < 1e-5);
     }
 
     /// Free-standing film at normal incidence: R = 4R₁ sin²(δ/2)/((1 − R₁)² + 4R₁ sin²(δ/2))
@@ -364,7 +269,7 @@ mod tests {
             let delta = 4.0 * PI * SOAP.ior * SOAP.thickness_nm / lambda;
             let s2 = (0.5 * delta).sin().powi(2);
             let want = 4.0 * r1 * s2 / ((1.0 - r1).powi(2) + 4.0 * r1 * s2);
-            let got = SOAP.airy(1.0, Cx::ONE, lambda);
+            let got = SOAP.airy(1.0, Complex::ONE, lambda);
             assert!((got - want).abs() < 1e-5, "λ {lambda}: {got} vs {want}");
         }
     }
@@ -373,7 +278,12 @@ mod tests {
     /// more terms (60 do not reach 2e-4 at cos θ = 0.001), so the check stops at cos θ = 0.1.
     #[test]
     fn fourier_series_converges_to_the_airy_sum() {
-        let substrates = [Cx::ONE, Cx::real(1.5), Cx::real(1.2), Cx::new(0.2, 2.45)];
+        let substrates = [
+            Complex::ONE,
+            Complex::real(1.5),
+            Complex::real(1.2),
+            Complex::new(0.2, 2.45),
+        ];
         for n3 in substrates {
             for c in cosines().filter(|&c| c >= 0.1) {
                 for lambda in [420.0f32, 530.0, 650.0] {
@@ -393,7 +303,12 @@ mod tests {
     #[test]
     fn reflectance_stays_in_the_unit_interval() {
         for d in [0.0f32, 50.0, 200.0, 700.0, 3000.0] {
-            for n3 in [Cx::ONE, Cx::real(1.5), Cx::real(0.7), Cx::new(0.14, 3.98)] {
+            for n3 in [
+                Complex::ONE,
+                Complex::real(1.5),
+                Complex::real(0.7),
+                Complex::new(0.14, 3.98),
+            ] {
                 let film = ThinFilm {
                     ior: 1.45,
                     thickness_nm: d,
@@ -412,7 +327,7 @@ mod tests {
 
     /// ∫ r̄(λ) R(λ) dλ over [360, 830] nm by the midpoint rule (the spectral renderer's RGB
     /// of a reflectance spectrum under a flat illuminant).
-    fn integrated(film: ThinFilm, c: f32, n3: Cx) -> Vec3 {
+    fn integrated(film: ThinFilm, c: f32, n3: Complex) -> Vec3 {
         let n = 2000;
         let dl = (830.0 - 360.0) / n as f32;
         (0..n)
@@ -430,7 +345,7 @@ mod tests {
     #[test]
     fn analytic_rgb_follows_the_integrated_spectrum() {
         for d in [100.0f32, 250.0, 400.0, 600.0] {
-            for n3 in [Cx::ONE, Cx::real(1.5), Cx::new(0.2, 2.45)] {
+            for n3 in [Complex::ONE, Complex::real(1.5), Complex::new(0.2, 2.45)] {
                 let film = ThinFilm {
                     ior: 1.33,
                     thickness_nm: d,

@@ -19,7 +19,8 @@ fn cx_norm2(a: vec2<f32>) -> f32 {
     return a.x * a.x + a.y * a.y;
 }
 
-// The principal square root (Re ≥ 0; Im ≥ 0 on the cut). Twin of `Cx::sqrt`.
+// The principal square root (Re ≥ 0; Im ≥ 0 on the cut). Twin of `math::Complex::sqrt`
+// (which takes the modulus in f64; the same root to f32 rounding).
 fn cx_sqrt(a: vec2<f32>) -> vec2<f32> {
     let r = sqrt(cx_norm2(a));
     let re = sqrt(max(0.5 * (r + a.x), 0.0));
