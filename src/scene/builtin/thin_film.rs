@@ -85,7 +85,7 @@ fn materials() -> Vec<Material> {
             iridescence: film(1.5, 0.0, 260.0, None),
             ..Material::mirror("coated-gold", Vec3::ONE)
         },
-        Material::diffuse("pond-bed", Vec3::splat(0.01)),
+        Material::diffuse("pond-bed", Vec3::ZERO),
     ]
 }
 
@@ -102,12 +102,13 @@ pub fn thin_film() -> Scene {
     });
     let mut m = crate::scene::Mesh::default();
     rect(&mut m, Vec3::ZERO, Vec3::Y, 30.0, 30.0, 0);
-    // The pond's bed: dark, as a pond's is (a bright bed's light would wash out the slick).
-    rect(&mut m, Vec3::new(0.0, 0.0005, 0.9), Vec3::Y, 3.6, 1.6, 6);
+    // The pond's bed: black, as a deep pond is (a lit bed would wash out the slick, and its
+    // sunlight, found only through the water's delta refraction, is all fireflies).
+    rect(&mut m, Vec3::new(0.0, 0.003, 0.9), Vec3::Y, 3.6, 1.6, 6);
     cuboid(
         &mut m,
-        Vec3::new(-1.8, 0.001, 0.1),
-        Vec3::new(1.8, 0.04, 1.7),
+        Vec3::new(-1.8, 0.006, 0.1),
+        Vec3::new(1.8, 0.045, 1.7),
         1,
     );
     sphere(&mut m, Vec3::new(-1.2, 0.6, -0.5), 0.36, 64, 128, 2);
