@@ -2,7 +2,7 @@
 //! conductor Fresnel term: a smooth one (delta reflection, [`Lobe::S`]) and a rough one (the
 //! microfacet lobe of [`RoughConductor`] with F at the microfacet normal, [`Lobe::G`]).
 
-use super::fresnel::{fresnel_conductor_color, reflect};
+use super::fresnel::fresnel_conductor_color;
 use super::metal_ior::Metal;
 use super::{BsdfSample, BxDF, Event, Lobe, RoughConductor, TransportMode};
 use crate::math::Color;
@@ -120,21 +120,7 @@ impl BxDF for RoughFresnelConductor {
     /// [`RoughConductor`]; the weight is T F(wo·m) G2/G1(wo), computed as f·cos/pdf.
     #[inline]
     fn sample(&self, wo: Vec3, _uc: f32, u2: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z <= 0.0 || !wo.is_finite() {
-            return None;
-        }
-        let m = self.lobe.mf().sample_visible(wo, u2);
-        if wo.dot(m) <= 0.0 {
-            return None;
-        }
-        let wi = reflect(wo, m);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let (f, pdf) = self.lobe.eval_pdf(wo, wi);
-        if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
-            return None;
-        }
+        let (wi, f, pdf) = self.lobe.sample_reflection(wo, u2)?;
         // F at the half vector rebuilt from (wo, wi), as `eval` computes it (equal to m up to
         // rounding), so that sample and eval agree to the last bit.
         let f = self.lobe.reflectance * self.fresnel_half(wo, wi) * f;

@@ -1,6 +1,6 @@
 //! Smooth dielectric interface: exact Fresnel, Snell refraction, total internal reflection.
 
-use super::fresnel::fresnel_dielectric_terms;
+use super::fresnel::{FresnelTerms, fresnel_dielectric_terms};
 use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -44,22 +44,30 @@ impl BxDF for SmoothDielectric {
                 1.0,
             ));
         }
-        // Refraction: Snell's law with the normal flipped to the side of wo.
-        // wt = −wo/η' + (cosθi/η' − cosθt) n, PBR 4th ed. eq. (9.19).
-        let eta_rel = fr.eta_rel;
-        let sign = wo.z.signum();
-        let wi = Vec3::new(-wo.x / eta_rel, -wo.y / eta_rel, -sign * fr.cos_t).normalize();
-        // Radiance compresses by 1/η'² when entering a denser medium. Veach 1997, §5.2.
-        let scale = match mode {
-            TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
-            TransportMode::Importance => 1.0,
-        };
+        let (wi, scale) = refraction(wo, &fr, mode);
         Some(BsdfSample::delta(
             wi,
             Color::splat(scale),
             1.0 - fr.f,
             Event::Transmit,
-            eta_rel,
+            fr.eta_rel,
         ))
     }
+}
+
+/// The refracted direction of `wo` through a smooth interface whose Fresnel terms at wo's
+/// cosine are `fr` (no TIR), and the crossing's radiance scale. Snell's law with the normal
+/// flipped to the side of wo: wt = −wo/η' + (cosθi/η' − cosθt) n, PBR 4th ed. eq. (9.19);
+/// radiance compresses by 1/η'² entering a denser medium, importance does not (Veach 1997,
+/// §5.2). Shared with the filmed dielectric (`iridescent`).
+#[inline]
+pub(super) fn refraction(wo: Vec3, fr: &FresnelTerms, mode: TransportMode) -> (Vec3, f32) {
+    let eta_rel = fr.eta_rel;
+    let sign = wo.z.signum();
+    let wi = Vec3::new(-wo.x / eta_rel, -wo.y / eta_rel, -sign * fr.cos_t).normalize();
+    let scale = match mode {
+        TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
+        TransportMode::Importance => 1.0,
+    };
+    (wi, scale)
 }

@@ -51,21 +51,13 @@ impl RoughConductor {
     }
 }
 
-impl BxDF for RoughConductor {
+impl RoughConductor {
+    /// The lobe's sample: a visible normal m (Heitz 2018), wo reflected about it, and the
+    /// scalar D G2/(4 cos cos) and pdf there; None where wi leaves the upper hemisphere or
+    /// the numbers are not finite. Shared by every reflecting microfacet lobe (this one, the
+    /// tabulated metal's, a filmed metal's), which multiply their own F.
     #[inline]
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
-        self.reflectance * self.eval_pdf(wo, wi).0
-    }
-
-    #[inline]
-    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        self.eval_pdf(wo, wi).1
-    }
-
-    /// Visible-normal sampling + mirror reflection about m (Heitz 2018); the weight is
-    /// R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
-    #[inline]
-    fn sample(&self, wo: Vec3, _uc: f32, u2: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
+    pub(super) fn sample_reflection(&self, wo: Vec3, u2: Vec2) -> Option<(Vec3, f32, f32)> {
         if wo.z <= 0.0 || !wo.is_finite() {
             return None;
         }
@@ -81,6 +73,26 @@ impl BxDF for RoughConductor {
         if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
             return None;
         }
+        Some((wi, f, pdf))
+    }
+}
+
+impl BxDF for RoughConductor {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
+        self.reflectance * self.eval_pdf(wo, wi).0
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.eval_pdf(wo, wi).1
+    }
+
+    /// Visible-normal sampling + mirror reflection about m (Heitz 2018); the weight is
+    /// R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
+    #[inline]
+    fn sample(&self, wo: Vec3, _uc: f32, u2: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
+        let (wi, f, pdf) = self.sample_reflection(wo, u2)?;
         let f = self.reflectance * f;
         Some(BsdfSample::new(
             wi,

@@ -34,26 +34,45 @@ fn rough_conductor_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     return rough_conductor_eval_pdf(b, wo, wi).pdf;
 }
 
-// Visible-normal sampling + mirror reflection about m (Heitz 2018); the weight is
-// R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
-fn rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
+// The lobe's sample (`RoughConductor::sample_reflection`): a visible normal m (Heitz 2018),
+// wo reflected about it, and the scalar D G2/(4 cos cos) and pdf there; `ok` false where wi
+// leaves the upper hemisphere or the numbers are not finite. Shared by every reflecting
+// microfacet lobe, which multiply their own F.
+struct ReflectionSample {
+    ok: bool,
+    wi: vec3<f32>,
+    f: f32,
+    pdf: f32,
+}
+
+fn rough_conductor_sample_reflection(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> ReflectionSample {
+    let none = ReflectionSample(false, vec3<f32>(0.0), 0.0, 0.0);
     if wo.z <= 0.0 || !is_finite_v3(wo) {
-        return bsdf_sample_none();
+        return none;
     }
     let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
     if dot3(wo, m) <= 0.0 {
-        return bsdf_sample_none();
+        return none;
     }
     let wi = reflect(wo, m);
     if wi.z <= 0.0 {
-        return bsdf_sample_none();
+        return none;
     }
     let ep = rough_conductor_eval_pdf(b, wo, wi);
     if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
+        return none;
+    }
+    return ReflectionSample(true, wi, ep.f, ep.pdf);
+}
+
+// The weight R G2/G1(wo) analytically, computed here as f·cos/pdf from the same numbers.
+fn rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
+    let s = rough_conductor_sample_reflection(b, wo, u2);
+    if !s.ok {
         return bsdf_sample_none();
     }
-    let f = b.color * ep.f;
-    return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
+    let f = b.color * s.f;
+    return bsdf_sample_new(s.wi, f, f * (s.wi.z / s.pdf), s.pdf, EVENT_REFLECT, LOBE_G, 1.0);
 }
 
 // Rough conductor with a complex IOR (twin of `RoughFresnelConductor`,
@@ -78,21 +97,10 @@ fn rough_fresnel_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f
 
 // Visible-normal sampling as `rough_conductor_sample`, weight T F(wo·m) G2/G1(wo) = f·cos/pdf.
 fn rough_fresnel_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
-    if wo.z <= 0.0 || !is_finite_v3(wo) {
+    let s = rough_conductor_sample_reflection(b, wo, u2);
+    if !s.ok {
         return bsdf_sample_none();
     }
-    let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
-    if dot3(wo, m) <= 0.0 {
-        return bsdf_sample_none();
-    }
-    let wi = reflect(wo, m);
-    if wi.z <= 0.0 {
-        return bsdf_sample_none();
-    }
-    let ep = rough_conductor_eval_pdf(b, wo, wi);
-    if !(ep.pdf > 0.0) || !is_finite_f32(ep.f) || !is_finite_f32(ep.pdf) {
-        return bsdf_sample_none();
-    }
-    let f = b.color * rough_fresnel_conductor_f_half(b, wo, wi) * ep.f;
-    return bsdf_sample_new(wi, f, f * (wi.z / ep.pdf), ep.pdf, EVENT_REFLECT, LOBE_G, 1.0);
+    let f = b.color * rough_fresnel_conductor_f_half(b, wo, s.wi) * s.f;
+    return bsdf_sample_new(s.wi, f, f * (s.wi.z / s.pdf), s.pdf, EVENT_REFLECT, LOBE_G, 1.0);
 }

@@ -15,7 +15,7 @@
 //! substrate of real index η = (1 + √F₀)/(1 − √F₀) under the film, as the glTF extension's
 //! reference implementation does; `factor` blends the base's own Fresnel term and the film's.
 
-use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms, reflect};
+use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms};
 use super::rough_dielectric::FacetFresnel;
 use super::thin_film::ThinFilm;
 use super::{
@@ -360,20 +360,14 @@ impl Iridescent {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             return Some(BsdfSample::delta(wi, r / p, p, Event::Reflect, 1.0));
         }
-        let eta_rel = fr.eta_rel;
-        let sign = wo.z.signum();
-        let wi = Vec3::new(-wo.x / eta_rel, -wo.y / eta_rel, -sign * fr.cos_t).normalize();
-        let scale = match mode {
-            TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
-            TransportMode::Importance => 1.0,
-        };
+        let (wi, scale) = super::dielectric::refraction(wo, &fr, mode);
         let weight = (Color::ONE - r) / (1.0 - p) * scale;
         Some(BsdfSample::delta(
             wi,
             weight,
             1.0 - p,
             Event::Transmit,
-            eta_rel,
+            fr.eta_rel,
         ))
     }
 
@@ -410,21 +404,12 @@ impl Iridescent {
         (self.tint() * self.reflectance(cos) * f, pdf)
     }
 
-    /// Visible-normal sampling + reflection about m (Heitz 2018), weight f·cos/pdf.
+    /// The lobe's sample (`RoughConductor::sample_reflection`) with the film's F at the half
+    /// vector, weight f·cos/pdf.
     fn sample_rough_conductor(&self, wo: Vec3, u2: Vec2) -> Option<BsdfSample> {
-        if wo.z <= 0.0 || !wo.is_finite() {
-            return None;
-        }
-        let m = self.rough_lobe().mf().sample_visible(wo, u2);
-        if wo.dot(m) <= 0.0 {
-            return None;
-        }
-        let wi = reflect(wo, m);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let (f, pdf) = self.rough_conductor(wo, wi);
-        if pdf.is_nan() || pdf <= 0.0 || !f.is_finite() || !pdf.is_finite() {
+        let (wi, _, pdf) = self.rough_lobe().sample_reflection(wo, u2)?;
+        let f = self.rough_conductor(wo, wi).0;
+        if !f.is_finite() {
             return None;
         }
         let weight = f * (wi.z / pdf);

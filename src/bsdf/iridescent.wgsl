@@ -132,18 +132,9 @@ fn film_smooth_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, mode: u32) -> 
     if uc < p || fr.f >= 1.0 {
         return bsdf_sample_delta(vec3<f32>(-wo.x, -wo.y, wo.z), r / p, p, EVENT_REFLECT, 1.0);
     }
-    let eta_rel = fr.eta_rel;
-    var sign = 1.0;
-    if wo.z < 0.0 {
-        sign = -1.0;
-    }
-    let wi = normalize3(vec3<f32>(-wo.x / eta_rel, -wo.y / eta_rel, -sign * fr.cos_t));
-    var scale = 1.0;
-    if mode == MODE_RADIANCE {
-        scale = 1.0 / (eta_rel * eta_rel);
-    }
-    let weight = (vec4<f32>(1.0) - r) / (1.0 - p) * scale;
-    return bsdf_sample_delta(wi, weight, 1.0 - p, EVENT_TRANSMIT, eta_rel);
+    let t = smooth_refraction(wo, fr, mode);
+    let weight = (vec4<f32>(1.0) - r) / (1.0 - p) * t.w;
+    return bsdf_sample_delta(t.xyz, weight, 1.0 - p, EVENT_TRANSMIT, fr.eta_rel);
 }
 
 // Filmed sheet. Twin of `Iridescent::sample_sheet`.
@@ -172,25 +163,18 @@ fn film_rough_conductor_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32>
     return film_tint(b) * film_reflectance(b, c) * f;
 }
 
-// Twin of `Iridescent::sample_rough_conductor`.
+// The lobe's sample with the film's F at the half vector. Twin of
+// `Iridescent::sample_rough_conductor`.
 fn film_rough_conductor_sample(b: Bsdf, wo: vec3<f32>, u2: vec2<f32>) -> BsdfSample {
-    if wo.z <= 0.0 || !is_finite_v3(wo) {
+    let s = rough_conductor_sample_reflection(b, wo, u2);
+    if !s.ok {
         return bsdf_sample_none();
     }
-    let m = microfacet_sample_visible(microfacet_new(b.dist, b.alpha), wo, u2);
-    if dot3(wo, m) <= 0.0 {
+    let f = film_rough_conductor_eval(b, wo, s.wi);
+    if !is_finite_v4(f) {
         return bsdf_sample_none();
     }
-    let wi = reflect(wo, m);
-    if wi.z <= 0.0 {
-        return bsdf_sample_none();
-    }
-    let pdf = rough_conductor_eval_pdf(b, wo, wi).pdf;
-    let f = film_rough_conductor_eval(b, wo, wi);
-    if !(pdf > 0.0) || !is_finite_v4(f) || !is_finite_f32(pdf) {
-        return bsdf_sample_none();
-    }
-    return bsdf_sample_new(wi, f, f * (wi.z / pdf), pdf, EVENT_REFLECT, LOBE_G, 1.0);
+    return bsdf_sample_new(s.wi, f, f * (s.wi.z / s.pdf), s.pdf, EVENT_REFLECT, LOBE_G, 1.0);
 }
 
 // The switch's entries (bsdf.wgsl): BSDF_FILM_SMOOTH samples only; BSDF_FILM_ROUGH on a
