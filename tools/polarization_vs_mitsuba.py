@@ -32,8 +32,8 @@ ap.add_argument("--block", type=int, default=16)
 ap.add_argument("--prefix", default="llvm_ad", help="Mitsuba variant prefix: scalar or llvm_ad")
 ap.add_argument("--work", default="/tmp/polmi")
 ap.add_argument("--threads", type=int, default=2)
-ap.add_argument("--reuse-refract", action="store_true",
-                help="read refract's EXRs from an earlier run in --work instead of rendering")
+ap.add_argument("--reuse", action="store_true",
+                help="read the EXRs an earlier run left in --work instead of rendering them again")
 a = ap.parse_args()
 os.makedirs(a.work, exist_ok=True)
 
@@ -155,7 +155,7 @@ def render_refract(pol, seed):
            "--seed", str(seed), "--threads", str(a.threads), "--out", out]
     if pol:
         cmd.append("--polarized")
-    if a.reuse_refract and os.path.exists(out):
+    if a.reuse and os.path.exists(out):
         return read_exr(out)
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     return read_exr(out)
@@ -164,6 +164,8 @@ def render_refract(pol, seed):
 def render_mitsuba(pol, seed):
     variant = f"{a.prefix}_spectral" + ("_polarized" if pol else "")
     out = os.path.join(a.work, f"mitsuba_{variant}_{seed}.exr")
+    if a.reuse and os.path.exists(out):
+        return read_exr(out)
     subprocess.run([sys.executable, os.path.join(here, "mitsuba_ref.py"), "--variant", variant,
                     dump, out, str(a.spp), str(W), str(H), str(seed)], check=True,
                    stdout=subprocess.DEVNULL)
