@@ -2,12 +2,19 @@
 """Render a scene dumped by `examples/dump_scene.rs` with Mitsuba 3's `path` integrator, as an
 independent reference (development only; not used in CI).
 
-usage: python3 tools/mitsuba_ref.py DUMP_DIR OUT.exr SPP [WIDTH HEIGHT [SEED]]
+usage: python3 tools/mitsuba_ref.py [--variant VARIANT] DUMP_DIR OUT.exr SPP [WIDTH HEIGHT [SEED]]
+
+VARIANT defaults to $MI_VARIANT, else scalar_rgb (e.g. scalar_spectral_polarized,
+llvm_ad_spectral_polarized: `tools/polarization_vs_mitsuba.py`).
 """
 import json, math, os, sys
 import mitsuba as mi
 
-mi.set_variant(os.environ.get("MI_VARIANT", "scalar_rgb"))
+variant = os.environ.get("MI_VARIANT", "scalar_rgb")
+if len(sys.argv) > 2 and sys.argv[1] == "--variant":
+    variant = sys.argv[2]
+    del sys.argv[1:3]
+mi.set_variant(variant)
 d, out, spp = sys.argv[1], sys.argv[2], int(sys.argv[3])
 s = json.load(open(os.path.join(d, "scene.json")))
 st = s["settings"]
@@ -71,6 +78,13 @@ for i, m in enumerate(s["materials"]):
         b = {"type": "diffuse", "reflectance": rgb(m["base_color"])}
     elif k == "mirror":
         b = {"type": "conductor", "material": metal, "specular_reflectance": rgb(m["base_color"])}
+        if metal == "none" and "polarized" in variant:
+            # refract's mirror is the ideal conductor r_s = -1, r_p = 1, which keeps linear
+            # polarization; Mitsuba's "none" (eta 0 + 1i) has |r_s| = |r_p| = 1 but a
+            # retardance other than 180 degrees off normal incidence. A real eta of 1e6 is
+            # the ideal conductor to 1e-6 in both amplitude and phase.
+            del b["material"]
+            b["eta"], b["k"] = 1e6, 0.0
     elif k == "glossy":
         b = {"type": "roughconductor", "material": metal, "alpha": m["roughness"] ** 2,
              "distribution": m["distribution"], "specular_reflectance": rgb(m["base_color"])}
