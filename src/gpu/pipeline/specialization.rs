@@ -165,7 +165,8 @@ impl Specialization {
             rough_conductor: true,
             metal_rough: true,
             conductor: true,
-            iridescence: true,
+            // Films are refused by `upload::check_supported` until they fit the budget.
+            iridescence: false,
             ggx: true,
             beckmann: true,
             area_lights: true,
