@@ -160,3 +160,54 @@ fn the_next_scene_prepared_ahead_renders_at_once() {
     assert_eq!(img.spp, 1);
     assert!(img.mean.iter().all(|p| p.is_finite()));
 }
+
+/// A burst of edits, each asking for another specialisation, compiles at most the adapter's
+/// limit of them at once (one on software drivers) and then the latest asked for: the ones
+/// in between are superseded, never compiled. Unbounded, a soak's burst started 59 workers at
+/// once and was killed for memory on lavapipe (tests/viewer_soak.rs).
+#[test]
+fn a_burst_of_edits_compiles_the_first_and_the_latest_only() {
+    use refract::gpu::pipeline::{MAX_WORKERS, MAX_WORKERS_SOFTWARE, Pipelines};
+    let Some(ctx) = gpu_context("edit_burst") else {
+        return;
+    };
+    let cap = if ctx.is_software() {
+        MAX_WORKERS_SOFTWARE
+    } else {
+        MAX_WORKERS
+    };
+    let base = refract::gpu::pipeline::Specialization::for_scene(&small("furnace", 16, 16))
+        .expect("specialisation");
+    // Distinct specialisations of one scene family: an edit burst's worth.
+    let burst: Vec<_> = [(false, false), (true, false), (false, true), (true, true)]
+        .into_iter()
+        .map(
+            |(mirror, beckmann)| refract::gpu::pipeline::Specialization {
+                mirror,
+                beckmann,
+                wavefront: false,
+                ..base
+            },
+        )
+        .collect();
+    let mut p = Pipelines::new(&ctx).expect("pipelines");
+    for &spec in &burst {
+        p.compile_in_background(spec).expect("start");
+        assert!(p.workers() <= cap, "{} workers, limit {cap}", p.workers());
+    }
+    let latest = *burst.last().expect("burst");
+    if cap < burst.len() {
+        assert_eq!(p.waiting(), Some(latest), "the latest request waits");
+    }
+    let start = std::time::Instant::now();
+    while p.is_compiling() {
+        assert!(start.elapsed().as_secs() < 600, "not compiled in 600 s");
+        p.poll().expect("compile");
+        assert!(p.workers() <= cap, "{} workers, limit {cap}", p.workers());
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(p.is_ready(burst[0]) && p.is_ready(latest));
+    for &spec in &burst[cap..burst.len() - 1] {
+        assert!(!p.is_ready(spec), "a superseded request was compiled");
+    }
+}

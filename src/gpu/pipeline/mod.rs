@@ -47,6 +47,16 @@ pub const STORAGE_BUFFERS: u32 = 15;
 /// random edits after a warm-up through every scene (tests/viewer_soak.rs).
 pub const MAX_CACHED_SPECIALIZATIONS: usize = 12;
 
+/// Worker threads compiling at once on a software driver (lavapipe): each LLVM compilation
+/// holds hundreds of MB and shares the CPU the batches execute on. Unbounded, a burst of edits
+/// started one worker per edit — 59 at once after a soak's warm-up, 16 GB resident and
+/// killed for memory (tests/viewer_soak.rs).
+pub const MAX_WORKERS_SOFTWARE: usize = 1;
+
+/// Worker threads compiling at once on a hardware driver: the specialisation an edit asked
+/// for can start while the previous one (or one compiled ahead of need) still compiles.
+pub const MAX_WORKERS: usize = 2;
+
 /// The integrator's bind group layout, shader module and specialised pipelines.
 pub struct Pipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
@@ -63,8 +73,16 @@ pub struct Pipelines {
     /// The cached specialisations, least recently used first: at most
     /// [`MAX_CACHED_SPECIALIZATIONS`].
     order: std::collections::VecDeque<Specialization>,
-    /// Specialisations being compiled on worker threads.
+    /// Specialisations being compiled on worker threads: at most `max_workers`.
     pending: Vec<Pending>,
+    /// The most worker threads compiling at once ([`MAX_WORKERS_SOFTWARE`],
+    /// [`MAX_WORKERS`]).
+    max_workers: usize,
+    /// The latest specialisation asked for while every worker was busy: it starts first when
+    /// one finishes. A newer request replaces it (an edit supersedes the one before), so a
+    /// slider dragged across many kernels compiles the one it rests on, not every one it
+    /// passed.
+    next: Option<Specialization>,
     /// Specialisations to compile ahead of need, one at a time once nothing else compiles
     /// (`compile_ahead`): compilations running side by side share the CPU the driver
     /// compiles and, on software drivers, executes on.
@@ -160,6 +178,12 @@ impl Pipelines {
             cache: HashMap::new(),
             order: std::collections::VecDeque::new(),
             pending: Vec::new(),
+            max_workers: if ctx.is_software() {
+                MAX_WORKERS_SOFTWARE
+            } else {
+                MAX_WORKERS
+            },
+            next: None,
             ahead: std::collections::VecDeque::new(),
             ahead_enabled: !ctx.is_software(),
             compiled: 0,
@@ -198,6 +222,9 @@ impl Pipelines {
     /// Compile the pipelines `spec` dispatches now, on this thread (waiting for a worker
     /// already compiling them).
     pub fn compile(&mut self, spec: Specialization) -> Result<()> {
+        if self.next == Some(spec) {
+            self.next = None;
+        }
         if let Some(i) = self.pending.iter().position(|p| p.spec == spec) {
             let p = self.pending.swap_remove(i);
             return self.finish(p);
@@ -211,12 +238,35 @@ impl Pipelines {
     }
 
     /// Start compiling the pipelines `spec` dispatches on a worker thread (nothing to do when
-    /// they are compiled or being compiled); [`Pipelines::poll`] collects them.
+    /// they are compiled or being compiled); [`Pipelines::poll`] collects them. With every
+    /// worker busy, `spec` waits as the next to start, replacing the one that waited before.
     pub fn compile_in_background(&mut self, spec: Specialization) -> Result<()> {
-        let missing = self.missing(spec);
-        if missing.is_empty() || self.pending.iter().any(|p| p.spec == spec) {
+        if self.missing(spec).is_empty() || self.pending.iter().any(|p| p.spec == spec) {
+            // The latest request is satisfied: whatever waited before it is superseded.
+            self.next = None;
             return Ok(());
         }
+        if self.pending.len() >= self.max_workers {
+            self.next = Some(spec);
+            return Ok(());
+        }
+        self.next = None;
+        self.spawn(spec)
+    }
+
+    /// The number of worker threads compiling now (at most the adapter's limit).
+    pub fn workers(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// The specialisation waiting for a worker (the latest one asked for while all were busy).
+    pub fn waiting(&self) -> Option<Specialization> {
+        self.next
+    }
+
+    /// Compile `spec`'s missing kernels on a new worker thread.
+    fn spawn(&mut self, spec: Specialization) -> Result<()> {
+        let missing = self.missing(spec);
         let compiler = self.compiler();
         let thread = std::thread::Builder::new()
             .name("refract-gpu-compile".into())
@@ -246,12 +296,20 @@ impl Pipelines {
         }
     }
 
-    /// Start the next queued compilation ahead of need if no worker is compiling.
+    /// Start the specialisation waiting for a worker if one is free, then the next queued
+    /// compilation ahead of need if no worker is compiling.
     fn start_ahead(&mut self) -> Result<()> {
+        if self.pending.len() < self.max_workers
+            && let Some(spec) = self.next.take()
+        {
+            self.compile_in_background(spec)?;
+        }
         while self.pending.is_empty()
             && let Some(spec) = self.ahead.pop_front()
         {
-            self.compile_in_background(spec)?;
+            if !self.missing(spec).is_empty() {
+                self.spawn(spec)?;
+            }
         }
         Ok(())
     }
@@ -259,7 +317,7 @@ impl Pipelines {
     /// True while some specialisation is being compiled on a worker thread (or waits to be,
     /// ahead of need).
     pub fn is_compiling(&self) -> bool {
-        !self.pending.is_empty() || !self.ahead.is_empty()
+        !self.pending.is_empty() || self.next.is_some() || !self.ahead.is_empty()
     }
 
     /// Collect the pipelines of finished worker threads (never waits), and start the next
