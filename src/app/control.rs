@@ -23,7 +23,7 @@ impl ViewerApp {
         } else {
             self.view = layer_view::ViewMode::Beauty;
             self.messages.info = Some(
-                "the path-class and heatmap views are CPU only: switch the device to CPU"
+                "the path-class, heatmap and polarisation views are CPU only: switch the device to CPU"
                     .to_owned(),
             );
         }

@@ -1,5 +1,6 @@
 //! The viewer's layer views (CPU backend): the dominant path class of each pixel in false
-//! colour, and the event heatmaps (`cpu::decompose`, `cpu::aov`). The backend accumulates
+//! colour, the event heatmaps (`cpu::decompose`, `cpu::aov`), and the degree and angle of
+//! polarisation (`cpu::polarized::view`, from the polarised walk's Stokes layers). The backend accumulates
 //! the layers only while such a view is on; the views path-trace every path (the estimator
 //! and the path filter are set aside while one is shown).
 
@@ -23,16 +24,35 @@ pub enum ViewMode {
     Refraction,
     /// Mean surface vertices per path (scaled to the image's maximum).
     Depth,
+    /// Degree of polarisation in false colour (the polarised walk, `cpu::polarized::view`).
+    Dop,
+    /// Angle of polarisation as hue, brightness by degree (the polarised walk).
+    Aop,
 }
 
 impl ViewMode {
-    pub const ALL: [ViewMode; 5] = [
+    pub const ALL: [ViewMode; 7] = [
         ViewMode::Beauty,
         ViewMode::Classes,
         ViewMode::Tir,
         ViewMode::Refraction,
         ViewMode::Depth,
+        ViewMode::Dop,
+        ViewMode::Aop,
     ];
+
+    /// Whether the view comes from the path-class and event layers ([`proto`]).
+    pub fn uses_layers(self) -> bool {
+        matches!(
+            self,
+            ViewMode::Classes | ViewMode::Tir | ViewMode::Refraction | ViewMode::Depth
+        )
+    }
+
+    /// Whether the view comes from the polarised walk's Stokes layers ([`polarized_image`]).
+    pub fn is_polarized(self) -> bool {
+        matches!(self, ViewMode::Dop | ViewMode::Aop)
+    }
 
     /// The selector's label.
     pub fn label(self) -> &'static str {
@@ -42,6 +62,8 @@ impl ViewMode {
             ViewMode::Tir => "TIR heat",
             ViewMode::Refraction => "refraction heat",
             ViewMode::Depth => "depth heat",
+            ViewMode::Dop => "polarisation degree",
+            ViewMode::Aop => "polarisation angle",
         }
     }
 
@@ -63,6 +85,16 @@ impl ViewMode {
             ViewMode::Depth => {
                 "Mean number of surfaces a path from this pixel meets, scaled to the image's \
                  largest (white). CPU only; path-traces every path."
+            }
+            ViewMode::Dop => {
+                "Degree of polarisation of the light reaching each pixel, before any filter: \
+                 black unpolarised, through purple and orange to pale yellow fully polarised \
+                 (legend below). CPU only; traces polarised light (Stokes vectors)."
+            }
+            ViewMode::Aop => {
+                "Angle of polarisation from the image's horizontal as hue (red 0°, green 60°, \
+                 blue 120°, red again at 180°), brighter the more polarised (legend below). \
+                 CPU only; traces polarised light (Stokes vectors)."
             }
         }
     }
@@ -110,12 +142,31 @@ fn heat(t: f32) -> Vec3 {
     )
 }
 
-/// The image `mode` shows from the layers of [`proto`] over `spp` samples (None: beauty).
+/// The image a polarised `mode` shows from the Stokes layers (`cpu::polarized`) over `spp`
+/// samples (None: not a polarised view).
+pub fn polarized_image(mode: ViewMode, stokes: &LayerFilm, spp: u64) -> Option<Vec<Vec3>> {
+    use crate::cpu::polarized::view::{aop_image, dop_image};
+    if !mode.is_polarized() {
+        return None;
+    }
+    let layers: Vec<Vec<Vec3>> = (0..4).map(|k| stokes.image(k, spp)).collect();
+    let px: Vec<[Vec3; 4]> = (0..layers[0].len())
+        .map(|i| [layers[0][i], layers[1][i], layers[2][i], layers[3][i]])
+        .collect();
+    Some(if mode == ViewMode::Dop {
+        dop_image(&px)
+    } else {
+        aop_image(&px)
+    })
+}
+
+/// The image `mode` shows from the layers of [`proto`] over `spp` samples (None: a view that
+/// does not use them).
 pub fn view_image(mode: ViewMode, layers: &LayerFilm, spp: u64) -> Option<Vec<Vec3>> {
     let event_layer = layer_count() - 1;
     let events = |ch| layers.channel_image(event_layer, ch, spp);
     Some(match mode {
-        ViewMode::Beauty => return None,
+        ViewMode::Beauty | ViewMode::Dop | ViewMode::Aop => return None,
         ViewMode::Tir => events(0).iter().map(|v| heat(v.x)).collect(),
         ViewMode::Refraction => events(1).iter().map(|v| heat(v.x)).collect(),
         ViewMode::Depth => {

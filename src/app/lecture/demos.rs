@@ -27,6 +27,9 @@ pub struct Demo {
     pub view: ViewMode,
     /// A teaching switch shown in the Lecture panel while the demo is open.
     pub toggle: Option<Toggle>,
+    /// A polarising filter in front of the sensor at this angle (degrees from the image's
+    /// horizontal; CPU backend only, `cpu::polarized`).
+    pub polarizer: Option<f32>,
 }
 
 /// A switch that breaks a law on purpose: material `material`'s albedo becomes `albedo`.
@@ -48,12 +51,13 @@ const fn demo(key: &'static str, title: &'static str, scene: &'static str) -> De
         inspect: None,
         select: None,
         view: ViewMode::Beauty,
+        polarizer: None,
         toggle: None,
     }
 }
 
 /// The demonstrations, in lecture order.
-pub const DEMOS: [Demo; 15] = [
+pub const DEMOS: [Demo; 16] = [
     Demo {
         concept: "Energy conservation",
         caption: "Energy conservation: in a white furnace (light of radiance 1 from everywhere) a \
@@ -156,6 +160,17 @@ pub const DEMOS: [Demo; 15] = [
                   more than red and white light fans out into a spectrum.",
         select: Some("dispersive-glass"),
         ..demo("prism", "Prism dispersion", "builtin:prism")
+    },
+    Demo {
+        concept: "Brewster's angle",
+        caption: "Brewster's angle tan θB = n₂/n₁ (56.3° for glass): the reflected light has no \
+                  component in the plane of incidence (r_p = 0, the Fresnel plot's dip), so it \
+                  is polarised along the surface. The polarising filter at 90° blocks it and \
+                  the panel's reflection vanishes; turn the filter towards 0° and it returns.",
+        inspect: Some([0.0, 0.045, 0.0]), // the plate's centre, seen at θB
+        select: Some("glass-plate"),
+        polarizer: Some(90.0),
+        ..demo("brewster", "Brewster's angle", "builtin:brewster")
     },
     Demo {
         concept: "Thin-film interference",

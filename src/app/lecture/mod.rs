@@ -79,6 +79,9 @@ impl ViewerApp {
         if demo.view != self.view {
             self.set_view(demo.view);
         }
+        if demo.polarizer != self.polarizer {
+            self.set_polarizer(demo.polarizer);
+        }
         self.lecture.active = Some(index);
         self.lecture.ahead.start(index, &self.settings);
         self.lecture_follow();

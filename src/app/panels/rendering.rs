@@ -157,9 +157,55 @@ fn layer_views(app: &mut ViewerApp, ui: &mut egui::Ui) {
             });
         }
     }
+    if app.view.is_polarized() {
+        polarization_legend(ui, app.view);
+    }
     if app.view != ViewMode::Beauty {
         ui.small("Layer views path-trace every path (estimator and path filter set aside).");
     }
+}
+
+/// The colour scale of a polarisation view: degree 0 → 1 through the sequential map, or the
+/// angle's hue 0° → 180° (at full brightness), labelled at both ends and the middle.
+fn polarization_legend(ui: &mut egui::Ui, view: crate::app::layer_view::ViewMode) {
+    use crate::cpu::polarized::view::{aop_colour, dop_colour};
+    use std::f32::consts::PI;
+    let dop = view == crate::app::layer_view::ViewMode::Dop;
+    let colour = |t: f32| {
+        let c = if dop {
+            dop_colour(t)
+        } else {
+            aop_colour(t * PI, 1.0)
+        };
+        let [r, g, b] = c.to_array().map(|v| (v.clamp(0.0, 1.0) * 255.0) as u8);
+        Color32::from_rgb(r, g, b)
+    };
+    let (bar, _) = ui.allocate_exact_size(egui::vec2(180.0, 12.0), egui::Sense::hover());
+    const STEPS: usize = 36;
+    for i in 0..STEPS {
+        let x0 = bar.left() + bar.width() * i as f32 / STEPS as f32;
+        let x1 = bar.left() + bar.width() * (i + 1) as f32 / STEPS as f32;
+        let cell = egui::Rect::from_x_y_ranges(x0..=x1, bar.y_range());
+        ui.painter()
+            .rect_filled(cell, 0.0, colour((i as f32 + 0.5) / STEPS as f32));
+    }
+    let ends = if dop {
+        ["0 unpolarised", "0.5", "1 polarised"]
+    } else {
+        ["0° (horizontal)", "90°", "180°"]
+    };
+    ui.horizontal(|ui| {
+        for e in ends {
+            ui.small(e);
+        }
+    })
+    .response
+    .on_hover_text(if dop {
+        "Degree of polarisation sqrt(Q² + U² + V²) / I of the light reaching the pixel."
+    } else {
+        "Angle of polarisation ½ atan2(U, Q), counter-clockwise from the image's horizontal; \
+         darker where the light is less polarised (full brightness from degree 0.5)."
+    });
 }
 
 /// The Heckbert path filter: an invalid expression is highlighted and the last valid one keeps

@@ -139,10 +139,13 @@ impl RenderLoop {
                 .is_none_or(|f| (f.width, f.height) != (w, h));
         if fresh {
             self.film = Some(Film::new(w, h));
-            self.layers = (p.view != ViewMode::Beauty)
+            self.layers = p
+                .view
+                .uses_layers()
                 .then(|| LayerFilm::new(w, h, layer_view::layer_count()));
-            self.stokes = (p.view == ViewMode::Beauty && p.polarizer.is_some())
-                .then(|| LayerFilm::new(w, h, STOKES_LAYERS));
+            let polarized = p.view.is_polarized() || p.polarizer.is_some();
+            self.stokes =
+                (polarized && !p.view.uses_layers()).then(|| LayerFilm::new(w, h, STOKES_LAYERS));
             self.film_gen = p.generation;
             self.elapsed = Duration::ZERO;
         }
@@ -191,6 +194,10 @@ impl RenderLoop {
             .layers
             .as_ref()
             .and_then(|l| layer_view::view_image(p.view, l, f.spp))
+            .or_else(|| {
+                let s = self.stokes.as_ref()?;
+                layer_view::polarized_image(p.view, s, f.spp)
+            })
             .unwrap_or_else(|| f.image());
         let t = start.elapsed();
         self.elapsed += t;
