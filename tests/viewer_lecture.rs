@@ -54,6 +54,7 @@ fn every_demo_button_opens_its_scene_set_up() {
         let selected = app.selected.map(|i| app.scene.materials[i].name.as_str());
         assert_eq!(selected, demo.select, "{}: selection", demo.key);
         assert_eq!(app.view, demo.view, "{}: view", demo.key);
+        assert_eq!(app.polarizer, demo.polarizer, "{}: polarizer", demo.key);
         // The demo renders: a sample of the demo's own scene arrives.
         assert!(
             app.messages.error.is_none(),
@@ -263,5 +264,61 @@ fn the_thin_film_demo_shows_the_film_controls_of_the_bubble() {
         h.state().messages.error.is_none(),
         "{:?}",
         h.state().messages.error
+    );
+}
+
+/// The mean of the 2×2 pixels at the image's centre once `spp` samples of a generation
+/// other than `not` have landed, and that generation.
+fn centre_after(h: &mut Harness<'static, ViewerApp>, spp: u64, not: u64) -> (glam::Vec3, u64) {
+    let start = Instant::now();
+    while !h
+        .state()
+        .backend()
+        .read_image()
+        .is_some_and(|p| p.spp >= spp && p.generation != not)
+    {
+        assert!(start.elapsed() < Duration::from_secs(60), "no {spp} spp");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    let img = h.state().backend().read_image().expect("image");
+    let (w, hgt) = (img.width as usize, img.height as usize);
+    let at = |x: usize, y: usize| img.pixels[y * w + x];
+    let (x, y) = (w / 2 - 1, hgt / 2 - 1);
+    let c = (at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1)) / 4.0;
+    (c, img.generation)
+}
+
+/// The Brewster demo (issue 38): it inspects the plate's centre, which the Fresnel plot's
+/// cursor shows at Brewster's angle, and looks through a vertical polariser, which removes
+/// the panel's reflection there; turned to horizontal, the filter passes it (r⊥² ≈ 0.148 of
+/// the panel's radiance 6).
+#[test]
+fn the_brewster_demo_removes_the_reflection_until_the_filter_turns() {
+    let mut h = harness(app_on("builtin:furnace"));
+    let demo = DEMOS.iter().position(|d| d.key == "brewster").unwrap();
+    h.state_mut().start_demo(demo);
+    until_traced(&mut h);
+    let traced = h.state().inspector.traced.clone().unwrap();
+    let (deg, leaving) = refract::app::panels::fresnel::inspected_angle(
+        &traced.trace,
+        h.state().inspector.highlight,
+        "glass-plate",
+    )
+    .expect("the inspected path meets the plate");
+    let brewster = 1.5f64.atan().to_degrees();
+    assert!(
+        !leaving && (deg - brewster).abs() < 1.0,
+        "inspected θ = {deg:.2}°, Brewster {brewster:.2}°"
+    );
+    assert_eq!(h.state().polarizer, Some(90.0));
+    let (blocked, generation) = centre_after(&mut h, 16, u64::MAX);
+    h.state_mut().set_polarizer(Some(0.0));
+    h.step();
+    let (passed, _) = centre_after(&mut h, 16, generation);
+    let lum = |c: glam::Vec3| c.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722));
+    assert!(
+        lum(passed) > 0.5 && lum(blocked) < 0.02 * lum(passed),
+        "reflection through the filter at 90° {blocked}, at 0° {passed}"
     );
 }
