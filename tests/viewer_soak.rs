@@ -114,13 +114,24 @@ fn thousands_of_random_edits_neither_poison_nor_leak() {
     let mut b = GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("backend");
     let mut rng = Rng(0x5eed_50a6);
     // Warm-up: every scene once with every estimator, so caches (pipelines, BVHs) are full.
+    // Each waits for its kernels: background compiles run one at a time on lavapipe, and a
+    // request made while one runs supersedes the one waiting before it, so a burst without
+    // waits compiles only its first and last specialisations, and the cache would fill during
+    // the measured edits instead (1.2 → 2.0 GiB over 300 edits when tried). Waiting on only
+    // the first eight scenes was not enough either (1.79 → 2.0 GiB: the edits' material kinds
+    // bring specialisations of their own). About 9 min on 2 cores.
     let mut st = load(&mut b, builtin::NAMES[0], (48, 32));
     for name in builtin::NAMES {
         st = load(&mut b, name, (48, 32));
         for est in ESTIMATORS {
             st.opts.estimator = est;
             b.set_options(&st.opts);
+            let start = std::time::Instant::now();
             b.step(Duration::from_millis(8));
+            while b.is_compiling() && start.elapsed() < Duration::from_secs(60) {
+                std::thread::sleep(Duration::from_millis(20));
+                b.step(Duration::from_millis(8));
+            }
         }
     }
     let mut rss = Vec::with_capacity(edits);
