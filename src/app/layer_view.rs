@@ -145,14 +145,11 @@ fn heat(t: f32) -> Vec3 {
 /// The image a polarised `mode` shows from the Stokes layers (`cpu::polarized`) over `spp`
 /// samples (None: not a polarised view).
 pub fn polarized_image(mode: ViewMode, stokes: &LayerFilm, spp: u64) -> Option<Vec<Vec3>> {
-    use crate::cpu::polarized::view::{aop_image, dop_image};
+    use crate::cpu::polarized::view::{aop_image, dop_image, stokes_pixels};
     if !mode.is_polarized() {
         return None;
     }
-    let layers: Vec<Vec<Vec3>> = (0..4).map(|k| stokes.image(k, spp)).collect();
-    let px: Vec<[Vec3; 4]> = (0..layers[0].len())
-        .map(|i| [layers[0][i], layers[1][i], layers[2][i], layers[3][i]])
-        .collect();
+    let px = stokes_pixels(stokes, spp);
     Some(if mode == ViewMode::Dop {
         dop_image(&px)
     } else {

@@ -66,6 +66,15 @@ fn linear(c: Vec3) -> Vec3 {
     )
 }
 
+/// Each pixel's mean Stokes vector (I, Q, U, V, linear RGB each) from a four-layer Stokes
+/// film (`polarized::render`) over `spp` samples.
+pub fn stokes_pixels(stokes: &crate::cpu::layers::LayerFilm, spp: u64) -> Vec<[Vec3; 4]> {
+    let layers: Vec<Vec<Vec3>> = (0..4).map(|k| stokes.image(k, spp)).collect();
+    (0..layers[0].len())
+        .map(|i| std::array::from_fn(|k| layers[k][i]))
+        .collect()
+}
+
 /// Degree of polarisation per pixel (0 without light).
 pub fn dop_values(stokes: &[[Vec3; 4]]) -> Vec<f32> {
     stokes
