@@ -361,3 +361,22 @@ pub fn rss_bytes() -> Option<u64> {
     let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
     Some(pages * 4096)
 }
+
+/// Whether the soak tests edit `spec`'s scene: no dispersion and no nested media, so that
+/// their edits stay within few kernel families (estimator × path filter). Every general
+/// kernel takes tens of seconds to compile on lavapipe; the kinds left out have tests of
+/// their own (tests/nested.rs, tests/spectrum.rs, tests/gpu.rs).
+pub fn soak_scene(spec: &str) -> bool {
+    use refract::scene::Features;
+    Scene::load(spec)
+        .is_ok_and(|s| !s.features().intersects(Features::DISPERSION | Features::NESTED))
+}
+
+/// The built-ins [`soak_scene`] keeps.
+pub fn soak_scenes() -> Vec<&'static str> {
+    refract::scene::builtin::NAMES
+        .iter()
+        .copied()
+        .filter(|n| soak_scene(&format!("builtin:{n}")))
+        .collect()
+}

@@ -211,3 +211,45 @@ fn a_burst_of_edits_compiles_the_first_and_the_latest_only() {
         assert!(!p.is_ready(spec), "a superseded request was compiled");
     }
 }
+
+/// The pipeline cache keeps at most its capacity of specialisations: the least recently used
+/// specialised one goes first, the family's general kernel stays (it renders while the others
+/// compile), and what was dropped compiles again when asked for. Unbounded, a viewer session
+/// kept every pipeline it compiled (on lavapipe 50–250 MB each once executed).
+#[test]
+fn the_pipeline_cache_keeps_at_most_its_capacity() {
+    use refract::gpu::pipeline::{Pipelines, Specialization};
+    let Some(ctx) = gpu_context("pipeline_capacity") else {
+        return;
+    };
+    let base = Specialization::for_scene(&small("furnace", 16, 16)).expect("specialisation");
+    let [a, b, c, d] = [(false, false), (true, false), (false, true), (true, true)].map(
+        |(mirror, beckmann)| Specialization {
+            mirror,
+            beckmann,
+            wavefront: false,
+            ..base
+        },
+    );
+    let general = a.general();
+    let mut p = Pipelines::new(&ctx).expect("pipelines");
+    p.set_capacity(2);
+    for spec in [a, b, c] {
+        p.compile(spec).expect("compile");
+        assert!(p.cached_specializations() <= 2);
+    }
+    assert!(!p.is_ready(a) && p.is_ready(b) && p.is_ready(c), "a, the oldest, dropped");
+    p.compile(general).expect("general");
+    assert!(!p.is_ready(b) && p.is_ready(c) && p.is_ready(general));
+    p.compile(d).expect("compile");
+    assert!(
+        !p.is_ready(c) && p.is_ready(general) && p.is_ready(d),
+        "the older specialised kernel goes, not the general one"
+    );
+    let compiled = p.compiled;
+    p.compile(a).expect("again");
+    assert!(p.is_ready(a) && p.compiled > compiled, "a dropped kernel compiles again");
+    assert_eq!(p.cached_specializations(), 2);
+    p.set_capacity(1);
+    assert_eq!(p.cached_specializations(), 1, "shrinking drops the excess now");
+}

@@ -1,16 +1,19 @@
 //! Soak test of the viewer's GPU renderer (issue 37, item 5): the backend the viewer draws
 //! from (`app::backend::GpuBackend`, headless on lavapipe) driven through random edits —
-//! scenes, materials (IOR, roughness, roughness type, dispersion, colour, emission), the
+//! scenes (the built-ins without dispersion or nested media: `common_scenes::soak_scene`),
+//! materials (IOR, roughness, roughness type, colour, emission), the
 //! camera, the estimator, path filters, depth and image size — with a few frames of rendering
 //! between them. After every edit batch the accumulation is read back: no pixel may be NaN or
-//! infinite, and nothing may panic. Resident memory must stay flat once every scene and
-//! estimator has been seen: the mean over the last fifth of the edits at most 5 % above the
-//! mean over the first fifth after warm-up.
+//! infinite, and nothing may panic. The same edits run three times: the first pass waits
+//! after each edit until its kernel has compiled and rendered, then the mean resident memory
+//! over the third pass must be at most 5 % above that over the second — a leak per edit grows
+//! the third by a pass's worth. The backend runs the general kernels only, so passes 2 and 3
+//! compile nothing (asserted) and memory does not depend on which pipelines a cache holds.
 //!
-//! `REFRACT_SOAK_EDITS` sets the number of edits (CI: 300; docs/testing.md has a longer run).
+//! `REFRACT_SOAK_EDITS` sets the edits per pass (CI: 100; docs/testing.md has a longer run).
 
 mod common_scenes;
-use common_scenes::{Rng, gpu_context, rss_bytes};
+use common_scenes::{Rng, gpu_context, rss_bytes, soak_scenes};
 
 use eframe::egui::mutex::RwLock;
 use eframe::{egui_wgpu, wgpu};
@@ -36,6 +39,23 @@ const FILTERS: [Option<&str>; 5] = [
     None,
 ];
 
+/// Specialisations the soak keeps compiled: more than the kernel families its edits reach
+/// (3 estimators × filter, and the tree layouts of the scenes; 31 when every built-in and
+/// dispersion were in the edits).
+const FAMILIES_KEPT: usize = 48;
+
+/// Step until no kernel compiles and the current one has rendered (at most 60 s): its
+/// pipelines exist and lavapipe has compiled their machine code, which it does at the first
+/// dispatch.
+fn settle(b: &mut GpuBackend) {
+    let start = std::time::Instant::now();
+    b.step(Duration::from_millis(8));
+    while (b.is_compiling() || b.spp() == 0) && start.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(5));
+        b.step(Duration::from_millis(8));
+    }
+}
+
 /// The viewer's state the edits change.
 struct State {
     scene: Scene,
@@ -55,7 +75,8 @@ fn load(b: &mut GpuBackend, name: &str, size: (u32, u32)) -> State {
 fn edit(b: &mut GpuBackend, st: &mut State, rng: &mut Rng, i: usize) {
     match rng.below(6) {
         0 if i.is_multiple_of(4) => {
-            let name = builtin::NAMES[rng.below(builtin::NAMES.len())];
+            let names = soak_scenes();
+            let name = names[rng.below(names.len())];
             *st = load(b, name, (st.opts.width, st.opts.height));
         }
         0 | 1 => {
@@ -63,7 +84,6 @@ fn edit(b: &mut GpuBackend, st: &mut State, rng: &mut Rng, i: usize) {
             let m = &mut st.scene.materials[k];
             m.ior = 1.0 + 1.42 * rng.unit();
             m.roughness = rng.unit();
-            m.abbe = (rng.below(2) == 0).then(|| 20.0 + 60.0 * rng.unit());
             m.base_color = Vec3::new(rng.unit(), rng.unit(), rng.unit());
             if m.emission.max_element() > 0.0 {
                 m.emission *= 0.5 + rng.unit();
@@ -97,49 +117,29 @@ fn edit(b: &mut GpuBackend, st: &mut State, rng: &mut Rng, i: usize) {
     }
 }
 
-#[test]
-fn thousands_of_random_edits_neither_poison_nor_leak() {
-    let Some(ctx) = gpu_context("thousands_of_random_edits_neither_poison_nor_leak") else {
-        return;
-    };
-    let edits: usize = std::env::var("REFRACT_SOAK_EDITS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(300);
-    let renderer = egui_wgpu::Renderer::new(
-        &ctx.device,
-        wgpu::TextureFormat::Rgba8Unorm,
-        egui_wgpu::RendererOptions::default(),
-    );
-    let mut b = GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("backend");
+/// One pass of `edits` random edits from `NAMES[0]` with the seed every pass uses: the
+/// resident memory after each, and the accumulations read back. With `settle`, each edit
+/// waits until its kernel has compiled and rendered.
+fn pass(b: &mut GpuBackend, edits: usize, settle_each: bool) -> (Vec<u64>, usize) {
     let mut rng = Rng(0x5eed_50a6);
-    // Warm-up: every scene once with every estimator, so caches (pipelines, BVHs) are full.
-    // Each waits for its kernels: background compiles run one at a time on lavapipe, and a
-    // request made while one runs supersedes the one waiting before it, so a burst without
-    // waits compiles only its first and last specialisations, and the cache would fill during
-    // the measured edits instead (1.2 → 2.0 GiB over 300 edits when tried). Waiting on only
-    // the first eight scenes was not enough either (1.79 → 2.0 GiB: the edits' material kinds
-    // bring specialisations of their own). About 9 min on 2 cores.
-    let mut st = load(&mut b, builtin::NAMES[0], (48, 32));
-    for name in builtin::NAMES {
-        st = load(&mut b, name, (48, 32));
-        for est in ESTIMATORS {
-            st.opts.estimator = est;
-            b.set_options(&st.opts);
-            let start = std::time::Instant::now();
-            b.step(Duration::from_millis(8));
-            while b.is_compiling() && start.elapsed() < Duration::from_secs(60) {
-                std::thread::sleep(Duration::from_millis(20));
-                b.step(Duration::from_millis(8));
+    let mut st = load(b, builtin::NAMES[0], (48, 32));
+    let (mut rss, mut checked) = (Vec::with_capacity(edits), 0);
+    for i in 0..edits {
+        edit(b, &mut st, &mut rng, i);
+        b.step(Duration::from_millis(4));
+        b.step(Duration::from_millis(4));
+        if settle_each {
+            let t = std::time::Instant::now();
+            settle(b);
+            if t.elapsed() > Duration::from_secs(1) {
+                eprintln!(
+                    "edit {i}: its kernel compiled and rendered in {:.1} s, (pipelines \
+                     compiled, specialisations cached) {:?}",
+                    t.elapsed().as_secs_f64(),
+                    b.pipeline_stats()
+                );
             }
         }
-    }
-    let mut rss = Vec::with_capacity(edits);
-    let mut checked = 0;
-    for i in 0..edits {
-        edit(&mut b, &mut st, &mut rng, i);
-        b.step(Duration::from_millis(4));
-        b.step(Duration::from_millis(4));
         while b.take_message().is_some() {}
         if i % 10 == 9 {
             // Let the edit's first samples land (a new kernel may be compiling) before reading.
@@ -160,22 +160,69 @@ fn thousands_of_random_edits_neither_poison_nor_leak() {
         }
         rss.extend(rss_bytes());
     }
+    (rss, checked)
+}
+
+#[test]
+fn thousands_of_random_edits_neither_poison_nor_leak() {
+    let Some(ctx) = gpu_context("thousands_of_random_edits_neither_poison_nor_leak") else {
+        return;
+    };
+    let edits: usize = std::env::var("REFRACT_SOAK_EDITS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
+    let renderer = egui_wgpu::Renderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8Unorm,
+        egui_wgpu::RendererOptions::default(),
+    );
+    let mut b = GpuBackend::new(ctx, Arc::new(RwLock::new(renderer)), None).expect("backend");
+    // The general kernels only, all kept: after the first pass the edits compile nothing, so
+    // resident memory measures the buffers, trees and textures the edits allocate, not which
+    // of lavapipe's pipelines (50–250 MB each once executed) the cache happens to hold. With
+    // the specialised kernels the edits kept compiling and evicting and the mean moved by
+    // ±5–15 % with the cache's contents; the cache's bound is tested on its own
+    // (`gpu_general_kernel::the_pipeline_cache_keeps_at_most_its_capacity`).
+    b.set_general_kernel(true);
+    b.set_pipeline_capacity(FAMILIES_KEPT);
+    // Pass 1 compiles and runs every kernel the edits reach (waiting after each edit); passes
+    // 2 and 3 repeat the same edits at full speed. A leak grows pass 3 over pass 2.
+    let start = std::time::Instant::now();
+    let (_, mut checked) = pass(&mut b, edits, true);
+    let warm = b.pipeline_stats();
+    eprintln!(
+        "pass 1: {:.0} s, (pipelines compiled, specialisations cached) {warm:?}",
+        start.elapsed().as_secs_f64()
+    );
+    let (second, c2) = pass(&mut b, edits, false);
+    let (third, c3) = pass(&mut b, edits, false);
+    checked += c2 + c3;
+    let after = b.pipeline_stats();
+    eprintln!(
+        "passes 2 and 3: {:.0} s in all, {after:?}",
+        start.elapsed().as_secs_f64()
+    );
+    assert_eq!(
+        after.map(|s| s.0),
+        warm.map(|s| s.0),
+        "passes 2 and 3 compiled kernels pass 1 did not"
+    );
     assert!(
-        checked > edits / 20,
+        checked > 3 * edits / 20,
         "only {checked} accumulations read back"
     );
-    if rss.len() >= 10 {
-        let fifth = rss.len() / 5;
+    if second.len() >= 10 && third.len() == second.len() {
         let mean = |s: &[u64]| s.iter().sum::<u64>() as f64 / s.len() as f64;
-        let (first, last) = (mean(&rss[..fifth]), mean(&rss[rss.len() - fifth..]));
+        let (first, last) = (mean(&second), mean(&third));
         eprintln!(
-            "{edits} edits: resident {:.1} MiB in the first fifth, {:.1} MiB in the last",
+            "3 × {edits} edits: resident {:.1} MiB over pass 2, {:.1} MiB over pass 3",
             first / 1048576.0,
             last / 1048576.0
         );
         assert!(
             last <= first * 1.05,
-            "resident memory grew {:.1} % over {edits} edits",
+            "resident memory grew {:.1} % from pass 2 to pass 3 ({edits} edits each)",
             (last / first - 1.0) * 100.0
         );
     }

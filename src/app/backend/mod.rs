@@ -112,6 +112,11 @@ pub trait Backend {
     fn general_kernel(&self) -> bool {
         false
     }
+    /// (kernel pipelines compiled so far, specialisations cached now): the GPU's; None
+    /// where there are none (the CPU).
+    fn pipeline_stats(&self) -> Option<(u32, usize)> {
+        None
+    }
     /// Prepare, in the background, to render `scene` with `options` next (a lecture's next
     /// demo): the GPU compiles the general kernel of its family ahead of need. The CPU has
     /// nothing to prepare.

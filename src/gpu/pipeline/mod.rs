@@ -70,9 +70,10 @@ pub struct Pipelines {
     /// The driver's pipeline cache, kept on disk (None: the device has none).
     disk_cache: Option<Arc<DiskPipelineCache>>,
     cache: HashMap<(Specialization, Kernel), wgpu::ComputePipeline>,
-    /// The cached specialisations, least recently used first: at most
-    /// [`MAX_CACHED_SPECIALIZATIONS`].
+    /// The cached specialisations, least recently used first: at most `capacity`.
     order: std::collections::VecDeque<Specialization>,
+    /// The most specialisations kept ([`MAX_CACHED_SPECIALIZATIONS`] unless set).
+    capacity: usize,
     /// Specialisations being compiled on worker threads: at most `max_workers`.
     pending: Vec<Pending>,
     /// The most worker threads compiling at once ([`MAX_WORKERS_SOFTWARE`],
@@ -177,6 +178,7 @@ impl Pipelines {
             disk_cache,
             cache: HashMap::new(),
             order: std::collections::VecDeque::new(),
+            capacity: MAX_CACHED_SPECIALIZATIONS,
             pending: Vec::new(),
             max_workers: if ctx.is_software() {
                 MAX_WORKERS_SOFTWARE
@@ -365,12 +367,30 @@ impl Pipelines {
         self.last_compile = Some(took);
         self.order.retain(|s| *s != spec);
         self.order.push_back(spec);
-        while self.order.len() > MAX_CACHED_SPECIALIZATIONS {
+        self.evict();
+        Ok(())
+    }
+
+    /// Drop specialisations beyond the capacity ([`eviction_victim`] first).
+    fn evict(&mut self) {
+        while self.order.len() > self.capacity {
             if let Some(old) = self.order.remove(eviction_victim(&self.order)) {
                 self.cache.retain(|(s, _), _| *s != old);
             }
         }
-        Ok(())
+    }
+
+    /// Keep at most `n` (at least 1) specialisations compiled, dropping the excess now. More
+    /// than [`MAX_CACHED_SPECIALIZATIONS`] is for measurements that must see no recompiles
+    /// (the soak tests); on lavapipe each executed specialisation holds 50–250 MB.
+    pub fn set_capacity(&mut self, n: usize) {
+        self.capacity = n.max(1);
+        self.evict();
+    }
+
+    /// The specialisations whose pipelines are compiled now.
+    pub fn cached_specializations(&self) -> usize {
+        self.order.len()
     }
 
     /// Mark `spec` as just used (the renderer switched to it): eviction drops the least

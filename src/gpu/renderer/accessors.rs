@@ -34,6 +34,14 @@ impl GpuRenderer {
     pub fn pipelines_compiled(&self) -> u32 {
         self.pipelines.compiled
     }
+    /// Specialisations whose pipelines are compiled now (at most the cache's capacity).
+    pub fn cached_specializations(&self) -> usize {
+        self.pipelines.cached_specializations()
+    }
+    /// Keep at most `n` specialisations compiled (`Pipelines::set_capacity`).
+    pub fn set_pipeline_capacity(&mut self, n: usize) {
+        self.pipelines.set_capacity(n);
+    }
     /// Wall time of the last specialisation's pipeline creation.
     pub fn last_compile_time(&self) -> Option<Duration> {
         self.pipelines.last_compile

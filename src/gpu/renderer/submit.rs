@@ -30,9 +30,20 @@ impl GpuRenderer {
         Ok(self.kernel_spec().is_some())
     }
 
-    /// True while the current specialisation's pipelines are not compiled yet.
+    /// True while the current specialisation's pipelines are not compiled yet (its family's
+    /// general kernel's, with [`GpuRenderer::set_general_kernel`]).
     pub fn is_compiling(&self) -> bool {
-        !self.pipelines.is_ready(self.spec)
+        !self.pipelines.is_ready(self.wanted_spec())
+    }
+
+    /// The specialisation this renderer compiles for the current scene and options: its own,
+    /// or its family's general kernel with [`GpuRenderer::set_general_kernel`].
+    fn wanted_spec(&self) -> crate::gpu::pipeline::Specialization {
+        if self.general_only {
+            self.spec.general()
+        } else {
+            self.spec
+        }
     }
 
     /// True while some specialisation compiles on a worker thread.
@@ -75,6 +86,7 @@ impl GpuRenderer {
     /// render the same image) and to measure what specialising buys. Accumulation goes on.
     pub fn set_general_kernel(&mut self, on: bool) {
         self.general_only = on;
+        self.request_pipelines();
     }
 
     /// Submissions [`GpuRenderer::render_with`] keeps queued (at least 1; default
@@ -267,12 +279,7 @@ impl GpuRenderer {
         if self.kernel_spec().is_some() {
             return true;
         }
-        let want = if self.general_only {
-            self.spec.general()
-        } else {
-            self.spec
-        };
-        match self.pipelines.compile(want) {
+        match self.pipelines.compile(self.wanted_spec()) {
             Ok(()) => true,
             Err(e) => {
                 super::super::context::record(&self.ctx.errors, format!("{e:#}"));
@@ -286,13 +293,15 @@ impl GpuRenderer {
     ///
     /// [`GpuContext::check_errors`]: crate::gpu::GpuContext::check_errors
     pub(super) fn request_pipelines(&mut self) {
-        // In use again: least recently used is what the cache drops first.
+        // In use again: least recently used is what the cache drops first. With the general
+        // kernel only, the specialised one is never asked for.
+        let want = self.wanted_spec();
         self.pipelines.touch(self.spec.general());
-        self.pipelines.touch(self.spec);
+        self.pipelines.touch(want);
         let r = if self.background_compile {
-            compile_family_in_background(&mut self.pipelines, self.spec)
+            compile_family_in_background(&mut self.pipelines, want)
         } else {
-            self.pipelines.compile(self.spec)
+            self.pipelines.compile(want)
         };
         if let Err(e) = r {
             super::super::context::record(&self.ctx.errors, format!("{e:#}"));

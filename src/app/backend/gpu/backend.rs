@@ -311,6 +311,10 @@ impl Backend for GpuBackend {
         self.runs_general_kernel()
     }
 
+    fn pipeline_stats(&self) -> Option<(u32, usize)> {
+        GpuBackend::pipeline_stats(self)
+    }
+
     fn prepare_for(&mut self, scene: &Scene, options: &RenderOptions) {
         if self.fallback.is_some() {
             return;

@@ -121,6 +121,11 @@ pub struct GpuBackend {
     /// Compile general kernels ahead of need regardless of the adapter (None: the
     /// renderer's default, off on software drivers).
     compile_ahead: Option<bool>,
+    /// Run only the general kernels (`GpuRenderer::set_general_kernel`): nothing compiles
+    /// once each family's is, whatever the edits (soak tests, comparisons).
+    general_kernel: bool,
+    /// The pipeline cache's capacity in specialisations (None: the renderer's default).
+    pipeline_capacity: Option<usize>,
     poller: Poller,
     message: Option<String>,
 }
@@ -204,6 +209,8 @@ impl GpuBackend {
             display: None,
             readback,
             compile_ahead: None,
+            general_kernel: false,
+            pipeline_capacity: None,
             poller,
             message: None,
         })
@@ -254,6 +261,32 @@ impl GpuBackend {
         if let Some(r) = self.renderer.as_mut() {
             r.set_compile_ahead(on);
         }
+    }
+
+    /// Run the general kernel of each family only (`on`), never the specialised ones: edits
+    /// compile nothing once the families they visit have theirs. Applies to the renderer
+    /// now and to later ones.
+    pub fn set_general_kernel(&mut self, on: bool) {
+        self.general_kernel = on;
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_general_kernel(on);
+        }
+    }
+
+    /// Keep at most `n` specialisations' pipelines compiled (`Pipelines::set_capacity`), in
+    /// the renderer now and in later ones.
+    pub fn set_pipeline_capacity(&mut self, n: usize) {
+        self.pipeline_capacity = Some(n);
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_pipeline_capacity(n);
+        }
+    }
+
+    /// (pipelines compiled so far, specialisations cached now); None before the renderer
+    /// exists.
+    pub fn pipeline_stats(&self) -> Option<(u32, usize)> {
+        let r = self.renderer.as_ref()?;
+        Some((r.pipelines_compiled(), r.cached_specializations()))
     }
 
     /// True while any kernel compiles on a worker thread (the current one, or a general
@@ -342,6 +375,12 @@ impl GpuBackend {
             r.set_filter_table(o.filter);
             if let Some(on) = self.compile_ahead {
                 r.set_compile_ahead(on);
+            }
+            if let Some(n) = self.pipeline_capacity {
+                r.set_pipeline_capacity(n);
+            }
+            if self.general_kernel {
+                r.set_general_kernel(true);
             }
         }
         self.sync_estimator();
