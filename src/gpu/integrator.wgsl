@@ -63,7 +63,13 @@ struct Stats {
     debug: array<vec4<f32>>,
 }
 
-@group(0) @binding(0) var<uniform> params: Params;
+// A read-only storage buffer, not a uniform one: lavapipe inlines the values of uniforms that
+// decide branches and loop bounds (max_depth, width, batch, ...) into a new JIT-compiled
+// variant for every combination it meets and keeps them all — every edit and batch size
+// recompiled the kernel (≈ 10 s of LLVM each) and resident memory grew by hundreds of MB a
+// variant. Storage loads are never inlined; on GPUs a read-only buffer read at a uniform
+// address is a scalar load like a uniform one.
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 @group(0) @binding(7) var<storage, read_write> stats: Stats;
 

@@ -42,7 +42,8 @@ pub(super) fn check_storage_buffer_limit(ctx: &GpuContext) -> Result<()> {
 
 /// The integrator bind group's layout entries, bindings 0..=16 in order.
 fn integrator_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-    let mut entries = vec![uniform_entry(0)];
+    // The parameters are read-only storage (integrator.wgsl says why).
+    let mut entries = vec![storage_entry(0, true)];
     for b in 1..=5 {
         entries.push(storage_entry(b, true));
     }

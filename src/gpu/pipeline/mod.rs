@@ -35,9 +35,9 @@ pub use wgsl::{
     probe_source,
 };
 
-/// Storage buffers the integrator binds (group 0: bindings 1–8, 10–13, 15 and 16; and
-/// `wf_advance`'s group 1).
-pub const STORAGE_BUFFERS: u32 = 15;
+/// Storage buffers the integrator binds (group 0: bindings 0–8, 10–13, 15 and 16; and
+/// `wf_advance`'s group 1). Sixteen is also what wgpu's GL backend offers on llvmpipe.
+pub const STORAGE_BUFFERS: u32 = 16;
 
 /// The most specialisations whose pipelines stay compiled: beyond, the least recently used
 /// specialised one is dropped (and compiled again if it is needed again), a family's general

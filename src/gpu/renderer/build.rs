@@ -176,7 +176,7 @@ impl GpuRenderer {
             params: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("params"),
                 size: Params::size() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             nodes: checked_storage(ctx, "bvh nodes", "BVH", bvh.node_bytes())?,
