@@ -368,8 +368,10 @@ pub fn rss_bytes() -> Option<u64> {
 /// their own (tests/nested.rs, tests/spectrum.rs, tests/gpu.rs).
 pub fn soak_scene(spec: &str) -> bool {
     use refract::scene::Features;
-    Scene::load(spec)
-        .is_ok_and(|s| !s.features().intersects(Features::DISPERSION | Features::NESTED))
+    Scene::load(spec).is_ok_and(|s| {
+        !s.features()
+            .intersects(Features::DISPERSION | Features::NESTED)
+    })
 }
 
 /// The built-ins [`soak_scene`] keeps.

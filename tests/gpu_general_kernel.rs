@@ -223,14 +223,15 @@ fn the_pipeline_cache_keeps_at_most_its_capacity() {
         return;
     };
     let base = Specialization::for_scene(&small("furnace", 16, 16)).expect("specialisation");
-    let [a, b, c, d] = [(false, false), (true, false), (false, true), (true, true)].map(
-        |(mirror, beckmann)| Specialization {
-            mirror,
-            beckmann,
-            wavefront: false,
-            ..base
-        },
-    );
+    let [a, b, c, d] =
+        [(false, false), (true, false), (false, true), (true, true)].map(|(mirror, beckmann)| {
+            Specialization {
+                mirror,
+                beckmann,
+                wavefront: false,
+                ..base
+            }
+        });
     let general = a.general();
     let mut p = Pipelines::new(&ctx).expect("pipelines");
     p.set_capacity(2);
@@ -238,7 +239,10 @@ fn the_pipeline_cache_keeps_at_most_its_capacity() {
         p.compile(spec).expect("compile");
         assert!(p.cached_specializations() <= 2);
     }
-    assert!(!p.is_ready(a) && p.is_ready(b) && p.is_ready(c), "a, the oldest, dropped");
+    assert!(
+        !p.is_ready(a) && p.is_ready(b) && p.is_ready(c),
+        "a, the oldest, dropped"
+    );
     p.compile(general).expect("general");
     assert!(!p.is_ready(b) && p.is_ready(c) && p.is_ready(general));
     p.compile(d).expect("compile");
@@ -248,8 +252,15 @@ fn the_pipeline_cache_keeps_at_most_its_capacity() {
     );
     let compiled = p.compiled;
     p.compile(a).expect("again");
-    assert!(p.is_ready(a) && p.compiled > compiled, "a dropped kernel compiles again");
+    assert!(
+        p.is_ready(a) && p.compiled > compiled,
+        "a dropped kernel compiles again"
+    );
     assert_eq!(p.cached_specializations(), 2);
     p.set_capacity(1);
-    assert_eq!(p.cached_specializations(), 1, "shrinking drops the excess now");
+    assert_eq!(
+        p.cached_specializations(),
+        1,
+        "shrinking drops the excess now"
+    );
 }

@@ -26,8 +26,8 @@ use refract::app::lecture::DEMOS;
 use refract::app::{Edit, ViewerApp};
 use refract::render::Estimator;
 use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
-use refract::scene::edits::Orbit;
 use refract::scene::Scene;
+use refract::scene::edits::Orbit;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
