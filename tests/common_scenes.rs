@@ -374,11 +374,47 @@ pub fn soak_scene(spec: &str) -> bool {
     })
 }
 
-/// The built-ins [`soak_scene`] keeps.
-pub fn soak_scenes() -> Vec<&'static str> {
-    refract::scene::builtin::NAMES
-        .iter()
-        .copied()
-        .filter(|n| soak_scene(&format!("builtin:{n}")))
-        .collect()
+/// The built-ins [`soak_scene`] keeps (loaded once per process).
+pub fn soak_scenes() -> &'static [&'static str] {
+    static NAMES: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+    NAMES.get_or_init(|| {
+        refract::scene::builtin::NAMES
+            .iter()
+            .copied()
+            .filter(|n| soak_scene(&format!("builtin:{n}")))
+            .collect()
+    })
+}
+
+/// The soak tests' verdict on passes 2 and 3 of the same seeded edits: neither compiled a
+/// kernel pass 1 had not (`warm`, `after`: `Backend::pipeline_stats` after pass 1 and 3), and
+/// the mean resident memory over pass 3 is at most 5 % above that over pass 2.
+pub fn assert_passes_flat(
+    warm: Option<(u32, usize)>,
+    after: Option<(u32, usize)>,
+    second: &[u64],
+    third: &[u64],
+    edits: usize,
+) {
+    assert_eq!(
+        after.map(|s| s.0),
+        warm.map(|s| s.0),
+        "passes 2 and 3 compiled kernels pass 1 did not"
+    );
+    assert!(
+        !second.is_empty() && !third.is_empty(),
+        "no resident memory readings"
+    );
+    let mean = |s: &[u64]| s.iter().sum::<u64>() as f64 / s.len() as f64;
+    let (before, last) = (mean(second), mean(third));
+    eprintln!(
+        "3 × {edits} edits: resident {:.1} MiB over pass 2, {:.1} MiB over pass 3",
+        before / 1048576.0,
+        last / 1048576.0
+    );
+    assert!(
+        last <= before * 1.05,
+        "resident memory grew {:.1} % from pass 2 to pass 3 ({edits} edits each)",
+        (last / before - 1.0) * 100.0
+    );
 }
