@@ -2,7 +2,12 @@
 //! on RADV's null device (no AMD GPU needed):
 //!
 //! `VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/radeon_icd.x86_64.json RADV_FORCE_FAMILY=navi21
-//!  cargo run --release --example kernel_registers -- [builtin:NAME | --all-features] [--lt | --sppm]`
+//!  cargo run --release --example kernel_registers -- [builtin:NAME | --all-features] [--lt | --sppm]
+//!  [--kernel ENTRY] [--off PART]…`
+//!
+//! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or `textures`,
+//! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`) leaves a part out, to see
+//! what it costs.
 
 #[path = "../tests/radv/mod.rs"]
 mod radv;
@@ -11,16 +16,51 @@ use refract::gpu::kernels;
 use refract::gpu::pipeline::Specialization;
 use refract::scene::Scene;
 
+/// The value after each `name` in `args`.
+fn flag_values<'a>(args: &'a [String], name: &'a str) -> impl Iterator<Item = &'a str> {
+    args.windows(2)
+        .filter(move |w| w[0] == name)
+        .map(|w| w[1].as_str())
+}
+
+fn flag_value<'a>(args: &'a [String], name: &'a str) -> Option<&'a str> {
+    flag_values(args, name).next()
+}
+
+/// `spec` with every `--off PART` left out (the wavefront form kept as chosen).
+fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specialization> {
+    for part in flag_values(args, "--off") {
+        let field = match part {
+            "iridescence" => &mut spec.iridescence,
+            "textures" => &mut spec.textures,
+            "env_image" => &mut spec.env_image,
+            "conductor" => &mut spec.conductor,
+            "rough_dielectric" => &mut spec.rough_dielectric,
+            "smooth_dielectric" => &mut spec.smooth_dielectric,
+            "spectral" => &mut spec.spectral,
+            "nested" => &mut spec.nested,
+            "filter" => &mut spec.filter,
+            other => anyhow::bail!("--off {other}: not a part this example knows"),
+        };
+        *field = false;
+    }
+    Ok(spec)
+}
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let lt = args.iter().any(|a| a == "--lt");
     let sppm = args.iter().any(|a| a == "--sppm");
     let spec = if args.iter().any(|a| a == "--all-features") {
-        Specialization::all()
+        Specialization {
+            light_tracing: !sppm,
+            sppm,
+            ..Specialization::all()
+        }
     } else {
         let name = args
             .iter()
-            .find(|a| !a.starts_with("--"))
+            .find(|a| a.starts_with("builtin:") || a.ends_with(".glb") || a.ends_with(".gltf"))
             .map_or("builtin:cornell-glass", |s| s);
         Specialization {
             light_tracing: lt,
@@ -29,8 +69,14 @@ fn main() -> anyhow::Result<()> {
         }
         .with_wavefront_rule()
     };
+    let spec = parts_off(spec, &args)?;
+    let only = flag_value(&args, "--kernel");
+    eprintln!("{spec:?}");
     let bindings = kernels::buffer_bindings()?;
     for k in kernels::kernels_of(&spec) {
+        if only.is_some_and(|e| e != k.entry()) {
+            continue;
+        }
         let spirv = kernels::spirv(&spec, k)?;
         let stats =
             radv::compile_stats(&spirv, k.entry(), &bindings).map_err(anyhow::Error::msg)?;

@@ -45,18 +45,24 @@ fn film_base_fresnel(b: Bsdf, cos1: f32) -> vec4<f32> {
 }
 
 // The film's reflectance per RGB lane at the outside cosine `cos1` ∈ [0, 1], blended with the
-// base's by the factor (w = 0 for the film). Twin of `Iridescent::reflectance` (RGB).
+// base's by the factor (w = 0 for the film). Twin of `Iridescent::reflectance` (RGB). A metal's
+// substrate index differs per lane, so its film is integrated once per lane; a dielectric's
+// once for all three. One loop with a data-dependent trip count (not unrolled): the
+// integral's code exists once per call site, and its temporaries once.
 fn film_reflectance(b: Bsdf, cos1: f32) -> vec4<f32> {
-    var r: vec3<f32>;
     let base = film_base(b);
+    var lanes = 3u;
     if base == FILM_ON_DIELECTRIC || base == FILM_ON_SHEET {
-        r = film_rgb(b.film.x, b.film.y, cos1, film_substrate(b, 0u));
-    } else {
-        r = vec3<f32>(
-            film_rgb(b.film.x, b.film.y, cos1, film_substrate(b, 0u)).x,
-            film_rgb(b.film.x, b.film.y, cos1, film_substrate(b, 1u)).y,
-            film_rgb(b.film.x, b.film.y, cos1, film_substrate(b, 2u)).z
-        );
+        lanes = 1u;
+    }
+    var r = vec3<f32>(0.0);
+    for (var i = 0u; i < lanes; i++) {
+        let c = film_rgb(b.film.x, b.film.y, cos1, film_substrate(b, i));
+        if lanes == 1u {
+            r = c;
+        } else {
+            r[i] = c[i];
+        }
     }
     let film = vec4<f32>(r, 0.0);
     let bf = film_base_fresnel(b, cos1);
@@ -71,14 +77,16 @@ fn film_mean(c: vec4<f32>) -> f32 {
 // From the side of the signed cosine `cos` of a dielectric base: the outside cosine of the
 // Snell pair, 1 under total internal reflection. Twin of `Iridescent::reflectance_signed`.
 fn film_reflectance_signed(b: Bsdf, cos: f32, eta: f32) -> vec4<f32> {
-    if cos >= 0.0 {
-        return film_reflectance(b, min(cos, 1.0));
+    // One call below, not one per side: each call inlines the film's integral.
+    var cos1 = min(cos, 1.0);
+    if cos < 0.0 {
+        let sin2_out = max(1.0 - cos * cos, 0.0) * eta * eta;
+        if sin2_out >= 1.0 {
+            return vec4<f32>(1.0);
+        }
+        cos1 = sqrt(1.0 - sin2_out);
     }
-    let sin2_out = max(1.0 - cos * cos, 0.0) * eta * eta;
-    if sin2_out >= 1.0 {
-        return vec4<f32>(1.0);
-    }
-    return film_reflectance(b, sqrt(1.0 - sin2_out));
+    return film_reflectance(b, cos1);
 }
 
 // A sheet's reflectance (both faces filmed, every inter-reflection; index 1: the free-standing
@@ -102,9 +110,8 @@ fn film_tint(b: Bsdf) -> vec4<f32> {
 }
 
 // The lane factors of the rough dielectric's f (computed with P): F/P for reflection,
-// (1 − F)/(1 − P) for transmission. Twin of `FilmFresnel::lanes`.
-fn film_lanes(b: Bsdf, cos: f32, is_reflect: bool) -> vec4<f32> {
-    let r = film_reflectance_signed(b, cos, b.eta);
+// (1 − F)/(1 − P) for transmission, from the film's reflectance F. Twin of `FilmFresnel::lanes`.
+fn film_lane_factors(r: vec4<f32>, is_reflect: bool) -> vec4<f32> {
     let p = film_mean(r);
     if is_reflect {
         if p > 0.0 {

@@ -11,10 +11,22 @@ fn rough_dielectric_select(b: Bsdf, cos: f32) -> f32 {
     return fresnel_dielectric(cos, b.eta);
 }
 
+// The reflection probability at the facet cosine of an (wo, wi) pair, and into `lanes` a film's
+// lane factors at that cosine (F/P or (1 − F)/(1 − P), `film_lane_factors`; left as they are for
+// plain glass): the film's reflectance is integrated once for both.
+fn rough_dielectric_facet(b: Bsdf, cos: f32, is_reflect: bool, lanes: ptr<function, vec4<f32>>) -> f32 {
+    if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
+        let r = film_reflectance_signed(b, cos, b.eta);
+        *lanes = film_lane_factors(r, is_reflect);
+        return film_mean(r);
+    }
+    return fresnel_dielectric(cos, b.eta);
+}
+
 // f(wo, wi) computed with the reflection probability P (scalar) and pdf(wo, wi), computed
-// together so that `eval`, `pdf` and `sample` agree exactly; `facet` receives the cosine
-// Fresnel was taken at and 1 for reflection (for a film's lane factors, `film_lanes`).
-fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32, facet: ptr<function, vec2<f32>>) -> EvalPdf {
+// together so that `eval`, `pdf` and `sample` agree exactly; `lanes` receives a film's lane
+// factors at the facet (`rough_dielectric_facet`).
+fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32, lanes: ptr<function, vec4<f32>>) -> EvalPdf {
     let none = EvalPdf(0.0, 0.0);
     let cos_o = wo.z;
     let cos_i = wi.z;
@@ -79,8 +91,7 @@ fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32, f
     } else {
         cos_f = dot_i;
     }
-    let fr = rough_dielectric_select(b, cos_f);
-    *facet = vec2<f32>(cos_f, select(0.0, 1.0, is_reflect));
+    let fr = rough_dielectric_facet(b, cos_f, is_reflect, lanes);
     if is_reflect {
         // f_r = F G D / (4 |wo·n| |wi·n|), Walter 2007 eq. 20.
         let f = fr * g * d / (4.0 * abs(cos_o) * abs(cos_i));
@@ -111,22 +122,22 @@ fn rough_dielectric_eval_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32, f
 }
 
 // f per lane: the scalar f, times a film's lane factors.
-fn rough_dielectric_lanes(b: Bsdf, f: f32, facet: vec2<f32>) -> vec4<f32> {
+fn rough_dielectric_lanes(b: Bsdf, f: f32, lanes: vec4<f32>) -> vec4<f32> {
     if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
-        return vec4<f32>(f) * film_lanes(b, facet.x, facet.y > 0.5);
+        return vec4<f32>(f) * lanes;
     }
     return vec4<f32>(f);
 }
 
 fn rough_dielectric_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
-    var facet = vec2<f32>(0.0);
-    let f = rough_dielectric_eval_pdf(b, wo, wi, mode, &facet).f;
-    return rough_dielectric_lanes(b, f, facet);
+    var lanes = vec4<f32>(1.0);
+    let f = rough_dielectric_eval_pdf(b, wo, wi, mode, &lanes).f;
+    return rough_dielectric_lanes(b, f, lanes);
 }
 
 fn rough_dielectric_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    var facet = vec2<f32>(0.0);
-    return rough_dielectric_eval_pdf(b, wo, wi, MODE_RADIANCE, &facet).pdf;
+    var lanes = vec4<f32>(1.0);
+    return rough_dielectric_eval_pdf(b, wo, wi, MODE_RADIANCE, &lanes).pdf;
 }
 
 // Sample a visible normal m from the side of `wo` (u2), then reflect with probability
@@ -176,9 +187,9 @@ fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode:
     if same_side != (event == EVENT_REFLECT) || wi.z == 0.0 {
         return bsdf_sample_none();
     }
-    var facet = vec2<f32>(0.0);
-    let ep = rough_dielectric_eval_pdf(b, wo, wi, mode, &facet);
-    let f = rough_dielectric_lanes(b, ep.f, facet);
+    var lanes = vec4<f32>(1.0);
+    let ep = rough_dielectric_eval_pdf(b, wo, wi, mode, &lanes);
+    let f = rough_dielectric_lanes(b, ep.f, lanes);
     if !(ep.pdf > 0.0) || !is_finite_v4(f) || !is_finite_f32(ep.pdf) {
         return bsdf_sample_none();
     }

@@ -71,34 +71,35 @@ fn film_opd(ior: f32, thickness_nm: f32, cos2: f32) -> f32 {
     return 2.0 * max(ior, 1.0) * max(thickness_nm, 0.0) * cos2;
 }
 
-// The fitted XYZ sensitivity at optical path difference `opd_nm` and phase `shift`
-// (Belcour & Barla 2017 §4.3; FILM_FIT_* = bsdf::thin_film::SENSITIVITY_FIT). Twin of
-// `xyz_sensitivity`.
-fn film_fit_lobe(fit: vec3<f32>, phase: f32, shift: f32) -> f32 {
-    return fit.x * sqrt(2.0 * PI * fit.z) * cos(fit.y * phase + shift) * exp(-fit.z * phase * phase);
+// One Gaussian of the fitted XYZ sensitivity at phase 2π·opd, against the harmonic's phasor
+// h = Σ 2 C_m (cos mφ, sin mφ) over the polarisations: a √(2π v) e^{−v phase²} Re(e^{iμ phase} h)
+// (Belcour & Barla 2017 §4.3; FILM_FIT_* = bsdf::thin_film::SENSITIVITY_FIT). Twin of `lobe`.
+fn film_fit_lobe(fit: vec3<f32>, phase: f32, h: vec2<f32>) -> f32 {
+    let a = fit.y * phase;
+    return fit.x * sqrt(2.0 * PI * fit.z) * exp(-fit.z * phase * phase) * (cos(a) * h.x - sin(a) * h.y);
 }
 
-fn film_xyz_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
+// The fitted XYZ sensitivity of one harmonic at optical path difference `opd_nm`. Twin of
+// `xyz_harmonic`.
+fn film_xyz_harmonic(opd_nm: f32, h: vec2<f32>) -> vec3<f32> {
     let phase = 2.0 * PI * opd_nm * 1e-9;
     return vec3<f32>(
-        film_fit_lobe(FILM_FIT_X, phase, shift) + film_fit_lobe(FILM_FIT_X2, phase, shift),
-        film_fit_lobe(FILM_FIT_Y, phase, shift),
-        film_fit_lobe(FILM_FIT_Z, phase, shift)
+        film_fit_lobe(FILM_FIT_X, phase, h) + film_fit_lobe(FILM_FIT_X2, phase, h),
+        film_fit_lobe(FILM_FIT_Y, phase, h),
+        film_fit_lobe(FILM_FIT_Z, phase, h)
     );
 }
 
-// ∫ r̄(λ) cos(2π x/λ + φ) dλ in white-balanced linear sRGB. Twin of `rgb_sensitivity`.
-fn film_rgb_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
-    let white = xyz_to_linear_srgb(film_xyz_sensitivity(0.0, 0.0));
-    return xyz_to_linear_srgb(film_xyz_sensitivity(opd_nm, shift)) / white;
-}
-
 // Reflectance integrated against the matching functions, series truncated after m = 2
-// (Belcour & Barla 2017 eq. 12). Twin of `ThinFilm::rgb` and `ThinFilm::fourier`.
+// (Belcour & Barla 2017 eq. 12). The sensitivity is linear in cos(μ·phase + mφ), so each
+// harmonic's Gaussians are evaluated once for both polarisations, against the sum of their
+// phasors. Twin of `ThinFilm::rgb` and `ThinFilm::fourier`.
 fn film_rgb(ior: f32, thickness_nm: f32, cos1: f32, n3: vec2<f32>) -> vec3<f32> {
     let s = film_stack(ior, cos1, n3);
     let opd = film_opd(ior, thickness_nm, s.cos2);
-    var sum = vec3<f32>(0.0);
+    var c0 = 0.0;
+    var h1 = vec2<f32>(0.0);
+    var h2 = vec2<f32>(0.0);
     for (var k = 0u; k < 2u; k++) {
         var r12 = s.r12.xy;
         var r23 = s.r23.xy;
@@ -113,14 +114,14 @@ fn film_rgb(ior: f32, thickness_nm: f32, cos1: f32, n3: vec2<f32>) -> vec3<f32> 
         let rs = t121 * t121 * r23_2 / (1.0 - r123_2);
         let ratio = sqrt(r123_2);
         let phi = cx_arg(-r12) + cx_arg(r23);
-        var r = vec3<f32>(r12_2 + rs);
-        var cm = rs - t121;
-        for (var m = 1u; m <= 2u; m++) {
-            cm *= ratio;
-            let mf = f32(m);
-            r += 2.0 * cm * film_rgb_sensitivity(mf * opd, mf * phi);
-        }
-        sum += r;
+        c0 += r12_2 + rs;
+        let c1 = (rs - t121) * ratio;
+        let c2 = c1 * ratio;
+        h1 += 2.0 * c1 * vec2<f32>(cos(phi), sin(phi));
+        h2 += 2.0 * c2 * vec2<f32>(cos(2.0 * phi), sin(2.0 * phi));
     }
-    return clamp(0.5 * sum, vec3<f32>(0.0), vec3<f32>(1.0));
+    let white = xyz_to_linear_srgb(film_xyz_harmonic(0.0, vec2<f32>(1.0, 0.0)));
+    let xyz = film_xyz_harmonic(opd, h1) + film_xyz_harmonic(2.0 * opd, h2);
+    let r = vec3<f32>(c0) + xyz_to_linear_srgb(xyz) / white;
+    return clamp(0.5 * r, vec3<f32>(0.0), vec3<f32>(1.0));
 }
