@@ -36,6 +36,7 @@ fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
 }
 
 /// One kernel to compile on RADV and the budget it must meet.
+#[derive(Clone)]
 struct Job {
     what: String,
     spec: Specialization,
@@ -49,15 +50,57 @@ struct Job {
 /// The budgets' kernels, then every built-in scene's with each GPU estimator, its walks in
 /// the form `Specialization::wants_wavefront` picks: every kernel within 128 VGPRs. A kernel
 /// of a specialisation already listed is compiled once, under the first (strictest) budget:
-/// many built-ins share their specialisation, and each RADV compile takes seconds.
+/// many built-ins share their specialisation, and each RADV compile takes seconds. A
+/// built-in's kernel is left out where another listed kernel of the same entry point has
+/// every part it has and more ([`dominated`]): the larger kernel bounds it (a part only adds
+/// code behind a branch; `REFRACT_REGISTERS_ALL=1` compiles them all).
 fn jobs() -> Vec<Job> {
     let mut seen = std::collections::HashSet::new();
-    let jobs: Vec<Job> = all_jobs()
+    let distinct: Vec<Job> = all_jobs()
         .into_iter()
         .filter(|j| seen.insert((j.spec, j.kernel)))
         .collect();
-    eprintln!("{} distinct kernels to compile", jobs.len());
+    let every = std::env::var_os("REFRACT_REGISTERS_ALL").is_some();
+    let keep = |j: &Job| {
+        every
+            || j.report
+            || !distinct
+                .iter()
+                .any(|k| k.kernel == j.kernel && dominated(&j.spec, &k.spec))
+    };
+    let jobs: Vec<Job> = distinct.iter().filter(|j| keep(j)).cloned().collect();
+    eprintln!(
+        "{} distinct kernels, {} to compile ({} bounded by a larger one)",
+        distinct.len(),
+        jobs.len(),
+        distinct.len() - jobs.len()
+    );
     jobs
+}
+
+/// Whether `a`'s kernel is `b`'s with parts left out: the same estimator, colour
+/// representation, camera-walk form and tree layout, every part of `a` in `b`, no deeper
+/// stack, and `a` ≠ `b`.
+fn dominated(a: &Specialization, b: &Specialization) -> bool {
+    const SAME: [&str; 5] = [
+        "HAS_LT",
+        "HAS_SPPM",
+        "HAS_SPECTRAL",
+        "BVH_WIDE",
+        "BVH_CHILDREN_X4",
+    ];
+    a != b
+        && a.wavefront == b.wavefront
+        && a.constants()
+            .iter()
+            .zip(b.constants())
+            .all(|((name, x), (_, y))| {
+                if SAME.contains(name) {
+                    *x == y
+                } else {
+                    *x <= y
+                }
+            })
 }
 
 /// [`jobs`] before duplicates are dropped. The built-ins' wavefront kernels only with

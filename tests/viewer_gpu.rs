@@ -588,3 +588,70 @@ fn a_kernel_changing_edit_renders_at_once_with_the_general_kernel() {
         "the specialised kernel takes over"
     );
 }
+
+/// The live view's denoiser on the GPU backend (issue 36, item 3): the WGSL filter runs on
+/// the backend's own device (on GL, whose one context the renderer's thread holds, the CPU
+/// twin), and its image is the CPU twin's on the same accumulation and guides (f32 on two
+/// devices: 1e-3 relative, as `denoise::wgsl_filter_matches_the_cpu_twin`). The accumulation is
+/// untouched.
+#[test]
+fn the_live_denoiser_filters_on_the_backends_device() {
+    use refract::app::denoise_view::{FilterDevice, GUIDE_SPP};
+    use refract::app::{Edit, ViewerApp};
+    use refract::denoise::{DenoiseParams, denoise, render_guides};
+    let Some(ctx) = context("the_live_denoiser_filters_on_the_backends_device") else {
+        return;
+    };
+    let want = if ctx.info.backend == wgpu::Backend::Gl {
+        FilterDevice::Cpu
+    } else {
+        FilterDevice::Gpu
+    };
+    let backend = GpuBackend::headless(ctx, None).expect("GPU backend");
+    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
+    settings.render.render_scale = 0.125;
+    settings.render.fit_viewport = false;
+    let base = Scene::load(DEFAULT_SCENE).unwrap();
+    let app = ViewerApp::with_backend(base, settings, Box::new(backend)).unwrap();
+    let mut h = egui_kittest::Harness::builder()
+        .with_size(egui::vec2(800.0, 600.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    let start = Instant::now();
+    while h.state().backend().spp() < 2 {
+        assert!(start.elapsed() < Duration::from_secs(120), "no GPU samples");
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.state_mut().push(Edit::Pause(true));
+    h.step();
+    std::thread::sleep(Duration::from_millis(300));
+    h.step();
+    let raw = h.state().backend().read_image().expect("samples");
+    h.state_mut().denoise.on = true;
+    let start = Instant::now();
+    while !h.state().denoise.showing(h.state().backend().generation()) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no denoised image"
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let app = h.state();
+    let (px, size, device) = app.denoise.shown().expect("shown");
+    assert_eq!(device, want, "filtered on {device:?}");
+    assert_eq!(size, [raw.width as usize, raw.height as usize]);
+    let r = refract::cpu::Renderer::new(app.scene.clone()).unwrap();
+    let guides = render_guides(&r, (raw.width, raw.height), GUIDE_SPP, 0);
+    let cpu = denoise(&raw.pixels, None, &guides, &DenoiseParams::default());
+    let worst = cpu
+        .iter()
+        .zip(px)
+        .map(|(a, b)| (*a - *b).abs().max_element() / (a.abs().max_element() + 1e-2))
+        .fold(0.0f32, f32::max);
+    eprintln!("{device:?} filter vs CPU twin: {worst:.2e} relative");
+    assert!(worst < 1e-3, "the live denoised image differs by {worst}");
+    assert!(cpu != raw.pixels, "the filter did nothing");
+    let after = app.backend().read_image().unwrap();
+    assert!(after.pixels == raw.pixels, "the accumulation changed");
+}

@@ -1,15 +1,18 @@
-//! The live view's denoiser (off by default): a worker thread runs the CPU twin of the
-//! à-trous filter (`crate::denoise`) on the backend's accumulated image a few times a
-//! second, and the viewport shows it right of a split line (raw left) with a "DENOISED"
-//! badge. It only reads the accumulation (`Backend::read_image`) and paints over the raw
+//! The live view's denoiser (off by default): a worker thread runs the à-trous filter
+//! (`crate::denoise`) on the backend's accumulated image a few times a second — the WGSL
+//! filter on the GPU backend's device (`denoise::gpu`; not on GL, whose one context the
+//! renderer's thread holds), the CPU twin elsewhere or where the device refuses — and the
+//! viewport shows it right of a split line (raw left) with a "DENOISED" badge. It only reads the accumulation (`Backend::read_image`) and paints over the raw
 //! texture: with it off nothing is read, allocated or painted, so the viewport shows the raw
 //! accumulation bit for bit. The live view has no second moments per pixel, so the filter
 //! estimates the noise from each pixel's neighbourhood (SVGF's spatial estimate).
 
 use super::backend::{Accumulated, Backend, DisplayParams};
 use crate::cpu::Renderer;
+use crate::denoise::gpu::GpuDenoiser;
 use crate::denoise::{DenoiseParams, Guides, badge, denoise, render_guides};
 use crate::film::to_srgb8;
+use crate::gpu::GpuContext;
 use crate::scene::Scene;
 use eframe::egui::{self, Color32, Pos2, Rect};
 use glam::Vec3;
@@ -17,7 +20,7 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::time::{Duration, Instant};
 
 /// Guide samples per pixel in the live view (recomputed after every edit).
-const GUIDE_SPP: u32 = 4;
+pub const GUIDE_SPP: u32 = 4;
 /// At most one denoised image per this long.
 const PERIOD: Duration = Duration::from_millis(300);
 
@@ -28,16 +31,27 @@ struct Job {
     acc: Accumulated,
 }
 
+/// Where an image was filtered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilterDevice {
+    /// The CPU twin (`denoise::atrous`).
+    Cpu,
+    /// The WGSL filter on the GPU backend's device (`denoise::gpu`).
+    Gpu,
+}
+
 /// A denoised image of `generation`.
 struct Done {
     generation: u64,
     size: [usize; 2],
     pixels: Vec<Vec3>,
+    device: FilterDevice,
 }
 
 /// The denoised image on screen.
 struct Shown {
     generation: u64,
+    device: FilterDevice,
     pixels: Vec<Vec3>,
     size: [usize; 2],
     display: DisplayParams,
@@ -69,9 +83,25 @@ impl Default for DenoiseView {
     }
 }
 
+/// The filter on `gpu` where there is one and it succeeds, else the CPU twin.
+fn filter(
+    gpu: Option<&(GpuContext, GpuDenoiser)>,
+    px: &[Vec3],
+    g: &Guides,
+) -> (Vec<Vec3>, FilterDevice) {
+    let p = DenoiseParams::default();
+    if let Some((ctx, d)) = gpu
+        && let Ok(out) = d.denoise(ctx, px, None, g, &p)
+    {
+        return (out, FilterDevice::Gpu);
+    }
+    (denoise(px, None, g, &p), FilterDevice::Cpu)
+}
+
 /// The worker: a CPU renderer of the scene (for the guide rays) and the guides, kept while
-/// the generation and size stay the same.
-fn work(jobs: Receiver<Job>, done: Sender<Done>) {
+/// the generation and size stay the same; the WGSL filter's pipelines on `device`, built once.
+fn work(jobs: Receiver<Job>, done: Sender<Done>, device: Option<GpuContext>) {
+    let gpu = device.and_then(|ctx| GpuDenoiser::new(&ctx).ok().map(|d| (ctx, d)));
     let mut renderer: Option<Renderer> = None;
     let mut guides: Option<(u64, Guides)> = None;
     for job in jobs {
@@ -87,11 +117,12 @@ fn work(jobs: Receiver<Job>, done: Sender<Done>) {
             guides = Some((job.generation, render_guides(r, (w, h), GUIDE_SPP, 0)));
         }
         let Some((_, g)) = &guides else { continue };
-        let pixels = denoise(&job.acc.pixels, None, g, &DenoiseParams::default());
+        let (pixels, device) = filter(gpu.as_ref(), &job.acc.pixels, g);
         let out = Done {
             generation: job.generation,
             size: [w as usize, h as usize],
             pixels,
+            device,
         };
         if done.send(out).is_err() {
             return;
@@ -114,9 +145,10 @@ impl DenoiseView {
         let (_, rx) = self.worker.get_or_insert_with(|| {
             let (jtx, jrx) = channel();
             let (dtx, drx) = channel();
+            let device = backend.denoise_device();
             std::thread::Builder::new()
                 .name("denoise".into())
-                .spawn(move || work(jrx, dtx))
+                .spawn(move || work(jrx, dtx, device))
                 .ok();
             (jtx, drx)
         });
@@ -155,13 +187,14 @@ impl DenoiseView {
         match &mut self.shown {
             Some(s) => {
                 s.texture.set(image, egui::TextureOptions::NEAREST);
-                (s.generation, s.pixels, s.size, s.display) =
-                    (d.generation, d.pixels, d.size, display);
+                (s.generation, s.device, s.pixels, s.size, s.display) =
+                    (d.generation, d.device, d.pixels, d.size, display);
             }
             None => {
                 let texture = ctx.load_texture("denoised", image, egui::TextureOptions::NEAREST);
                 self.shown = Some(Shown {
                     generation: d.generation,
+                    device: d.device,
                     pixels: d.pixels,
                     size: d.size,
                     display,
@@ -192,6 +225,14 @@ impl DenoiseView {
                 .shown
                 .as_ref()
                 .is_some_and(|s| s.generation == generation)
+    }
+
+    /// The denoised image on screen (linear radiance, width × height) and where it was
+    /// filtered; None before the first one arrives.
+    pub fn shown(&self) -> Option<(&[Vec3], [usize; 2], FilterDevice)> {
+        self.shown
+            .as_ref()
+            .map(|s| (s.pixels.as_slice(), s.size, s.device))
     }
 
     /// Paint the denoised part, the split line and the badge over the image in `rect` (only

@@ -121,6 +121,12 @@ pub trait Backend {
     /// demo): the GPU compiles the general kernel of its family ahead of need. The CPU has
     /// nothing to prepare.
     fn prepare_for(&mut self, _scene: &Scene, _options: &RenderOptions) {}
+    /// The device the live view's denoiser filters on (`denoise::gpu`, the WGSL twin): the
+    /// GPU backend's own, except on GL, whose one context the submitting thread holds. None:
+    /// the CPU twin filters.
+    fn denoise_device(&self) -> Option<crate::gpu::GpuContext> {
+        None
+    }
     /// A notice for the user since the last call (e.g. "the GPU cannot render this scene,
     /// rendering on the CPU"); the viewer shows it in the side panel.
     fn take_message(&mut self) -> Option<String> {

@@ -1,6 +1,7 @@
 //! Rendering group: depth, Heckbert path filter, the path inspector's toggle, exposure, tone map, pause, spp target,
 //! render scale, screenshot and reset.
 
+use crate::app::denoise_view::FilterDevice;
 use crate::app::{Edit, ViewerApp};
 use crate::film::ToneMap;
 use crate::render::Estimator;
@@ -294,6 +295,12 @@ fn denoise(app: &mut ViewerApp, ui: &mut egui::Ui) {
         );
         if !app.denoise.split.is_finite() {
             app.denoise.split = 0.5;
+        }
+        if let Some((_, _, device)) = app.denoise.shown() {
+            ui.weak(match device {
+                FilterDevice::Gpu => "Filtered on the GPU (WGSL)",
+                FilterDevice::Cpu => "Filtered on the CPU",
+            });
         }
     }
 }

@@ -283,6 +283,10 @@ impl Backend for GpuBackend {
         Some(DisplayTexture { id, size })
     }
 
+    fn denoise_device(&self) -> Option<crate::gpu::GpuContext> {
+        (self.ctx.info.backend != wgpu::Backend::Gl).then(|| self.ctx.clone())
+    }
+
     fn read_image(&self) -> Option<Accumulated> {
         if let Some(cpu) = &self.fallback {
             return cpu.read_image();
