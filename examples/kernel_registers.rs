@@ -3,11 +3,11 @@
 //!
 //! `VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/radeon_icd.x86_64.json RADV_FORCE_FAMILY=navi21
 //!  cargo run --release --example kernel_registers -- [builtin:NAME | --all-features] [--lt | --sppm]
-//!  [--kernel ENTRY] [--off PART]…`
+//!  [--kernel ENTRY] [--off PART]… [--on PART]…`
 //!
 //! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or `textures`,
 //! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`) leaves a part out, to see
-//! what it costs.
+//! what it costs; `--on PART` puts one in.
 
 #[path = "../tests/radv/mod.rs"]
 mod radv;
@@ -27,9 +27,12 @@ fn flag_value<'a>(args: &'a [String], name: &'a str) -> Option<&'a str> {
     flag_values(args, name).next()
 }
 
-/// `spec` with every `--off PART` left out (the wavefront form kept as chosen).
+/// `spec` with every `--off PART` left out and every `--on PART` put in (the wavefront form
+/// kept as chosen).
 fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specialization> {
-    for part in flag_values(args, "--off") {
+    let off = flag_values(args, "--off").map(|p| (p, false));
+    let on = flag_values(args, "--on").map(|p| (p, true));
+    for (part, value) in off.chain(on) {
         let field = match part {
             "iridescence" => &mut spec.iridescence,
             "textures" => &mut spec.textures,
@@ -40,9 +43,9 @@ fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specia
             "spectral" => &mut spec.spectral,
             "nested" => &mut spec.nested,
             "filter" => &mut spec.filter,
-            other => anyhow::bail!("--off {other}: not a part this example knows"),
+            other => anyhow::bail!("{other}: not a part this example knows"),
         };
-        *field = false;
+        *field = value;
     }
     Ok(spec)
 }
