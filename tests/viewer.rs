@@ -103,6 +103,33 @@ fn ior_slider_updates_the_backend_and_restarts_accumulation() {
     assert!(ior.is_finite() && ior >= 1.0, "IOR {ior}");
 }
 
+/// An edited value is validated once, at the edit (`scene::Checked`): an invalid IOR is
+/// refused there with a message naming it, the scene and the backend keep the old value, and
+/// the accumulation is not restarted.
+#[test]
+fn an_invalid_edit_is_refused_at_the_edit_with_a_message() {
+    use refract::app::Edit;
+    let mut h = harness(small_app());
+    step_until(&mut h, "samples", |a| a.backend().spp() >= 1);
+    let generation = h.state().backend().generation();
+    let mut m = h.state().scene.materials[GLASS].clone();
+    let ior = m.ior;
+    m.ior = f32::NAN;
+    h.state_mut().push(Edit::Material {
+        index: GLASS,
+        material: Box::new(m),
+    });
+    h.step();
+    let error = h.state().messages.error.clone().unwrap_or_default();
+    assert!(error.contains("IOR NaN"), "message: {error:?}");
+    assert_eq!(h.state().scene.materials[GLASS].ior, ior);
+    assert_eq!(
+        h.state().backend().material(GLASS).map(|m| m.ior),
+        Some(ior)
+    );
+    assert_eq!(h.state().backend().generation(), generation, "restarted");
+}
+
 #[test]
 fn ior_preset_sets_the_ior() {
     let mut h = harness(small_app());

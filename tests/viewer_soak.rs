@@ -21,7 +21,7 @@ use glam::Vec3;
 use refract::app::backend::{Backend, GpuBackend};
 use refract::paths::PathFilter;
 use refract::render::{Estimator, RenderOptions};
-use refract::scene::{Camera, Scene, builtin};
+use refract::scene::{Camera, Checked, Scene, builtin};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -88,7 +88,10 @@ fn edit(b: &mut GpuBackend, st: &mut State, rng: &mut Rng, i: usize) {
             if m.emission.max_element() > 0.0 {
                 m.emission *= 0.5 + rng.unit();
             }
-            b.update_material(k, &st.scene.materials[k]);
+            b.update_material(
+                k,
+                &Checked::new(st.scene.materials[k].clone()).expect("valid"),
+            );
         }
         2 => {
             let c = &st.scene.camera;
@@ -97,7 +100,7 @@ fn edit(b: &mut GpuBackend, st: &mut State, rng: &mut Rng, i: usize) {
             let target = eye - c.rotation.z_axis;
             let yfov = (c.yfov * (0.9 + 0.2 * rng.unit())).clamp(0.2, 2.0);
             st.scene.camera = Camera::look_at(eye, target, Vec3::Y, yfov);
-            b.update_camera(&st.scene.camera);
+            b.update_camera(&Checked::new(st.scene.camera).expect("valid"));
         }
         3 => {
             st.opts.estimator = ESTIMATORS[rng.below(ESTIMATORS.len())];

@@ -11,7 +11,7 @@ use crate::paths::PathFilter;
 use crate::render::Estimator;
 use crate::render::settings::{DisplaySettings, RenderEdit, ViewerSettings};
 use crate::scene::edits::{LightEdit, Orbit};
-use crate::scene::{Material, Scene};
+use crate::scene::{Checked, Material, Scene};
 use std::time::{Duration, Instant};
 
 /// One change the user asked for.
@@ -143,8 +143,10 @@ impl ViewerApp {
         }
     }
 
-    /// Validate, record and send a material edit. Invalid values (IOR ≤ 0, NaN …) are refused
-    /// and the previous material stays.
+    /// Validate, record and send a material edit: the one validation of an edited material
+    /// (`scene::Checked`; the panel, the backends and the renderers do not check it again).
+    /// Invalid values (IOR ≤ 0, NaN …) are refused with a message and the previous material
+    /// stays.
     fn apply_material(&mut self, index: usize, m: Material) {
         let Some(old) = self.scene.materials.get(index) else {
             return;
@@ -152,14 +154,16 @@ impl ViewerApp {
         if *old == m {
             return;
         }
-        if let Err(e) = m.validate() {
-            self.messages.error = Some(format!("{e:#}"));
-            return;
-        }
+        let m = match Checked::new(m) {
+            Ok(m) => m,
+            Err(e) => {
+                self.messages.error = Some(format!("{e:#}"));
+                return;
+            }
+        };
         self.settings.set_material(index, &m);
-        self.scene.materials[index] = m;
-        self.backend
-            .update_material(index, &self.scene.materials[index]);
+        self.scene.materials[index] = Material::clone(&m);
+        self.backend.update_material(index, &m);
     }
 
     /// `settings.light` changed: rebuild the lit scene (and the picking BVH if the light
@@ -175,9 +179,15 @@ impl ViewerApp {
     }
 
     /// `settings.camera` changed.
+    /// The camera's one validation (a non-finite orbit is refused; the old camera stays).
     fn camera_follows(&mut self) {
-        self.scene.camera = self.settings.camera.camera(&self.base);
-        self.backend.update_camera(&self.scene.camera);
+        match Checked::new(self.settings.camera.camera(&self.base)) {
+            Ok(c) => {
+                self.scene.camera = *c;
+                self.backend.update_camera(&c);
+            }
+            Err(e) => self.messages.error = Some(format!("{e:#}")),
+        }
     }
 
     /// `settings.render` changed: new options and spp target for the backend.

@@ -5,6 +5,7 @@
 pub mod builtin;
 pub mod camera;
 pub mod caustic_casters;
+pub mod checked;
 pub mod edits;
 pub mod env_map;
 pub mod features;
@@ -14,6 +15,7 @@ pub mod material;
 pub mod nesting;
 
 pub use camera::Camera;
+pub use checked::Checked;
 pub use features::Features;
 pub use material::{Iridescence, Material, MaterialKind, Texture, TextureRef, Wrap};
 

@@ -9,16 +9,16 @@ use crate::app::layer_view::ViewMode;
 use crate::film::exposure_scale;
 use crate::math::color::linear_to_srgb;
 use crate::render::RenderOptions;
-use crate::scene::{Camera, Material, Scene};
+use crate::scene::{Camera, Checked, Material, Scene};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 
 enum Command {
     Scene(Box<Scene>),
-    Material(usize, Box<Material>),
+    Material(usize, Box<Checked<Material>>),
     Lights(Box<Scene>, bool),
-    Camera(Camera),
+    Camera(Checked<Camera>),
 }
 
 /// State shared by the UI handle and the render thread.
@@ -142,7 +142,7 @@ impl Backend for CpuBackend {
         });
     }
 
-    fn update_material(&mut self, index: usize, material: &Material) {
+    fn update_material(&mut self, index: usize, material: &Checked<Material>) {
         let m = Box::new(material.clone());
         self.edit(|st| st.commands.push(Command::Material(index, m)));
     }
@@ -152,8 +152,8 @@ impl Backend for CpuBackend {
         self.edit(|st| st.commands.push(Command::Lights(scene, geometry_changed)));
     }
 
-    fn update_camera(&mut self, camera: &Camera) {
-        let c = *camera;
+    fn update_camera(&mut self, camera: &Checked<Camera>) {
+        let c = camera.clone();
         self.edit(|st| st.commands.push(Command::Camera(c)));
     }
 

@@ -25,7 +25,7 @@ pub use gpu::GpuBackend;
 
 use crate::film::ToneMap;
 use crate::render::RenderOptions;
-use crate::scene::{Camera, Material, Scene};
+use crate::scene::{Camera, Checked, Material, Scene};
 use glam::Vec3;
 use std::time::Duration;
 
@@ -63,11 +63,11 @@ pub trait Backend {
     /// Replace the whole scene (already validated by the caller); restarts accumulation.
     fn set_scene(&mut self, scene: &Scene);
     /// Material `index` of the current scene changed (no geometry rebuild).
-    fn update_material(&mut self, index: usize, material: &Material);
+    fn update_material(&mut self, index: usize, material: &Checked<Material>);
     /// Lights changed: emitter materials, punctual lights, environment and, when
     /// `geometry_changed`, emitter triangles (the backend rebuilds its BVH).
     fn update_lights(&mut self, scene: &Scene, geometry_changed: bool);
-    fn update_camera(&mut self, camera: &Camera);
+    fn update_camera(&mut self, camera: &Checked<Camera>);
     /// Resolution, depth, seed, path filter.
     fn set_options(&mut self, options: &RenderOptions);
     /// While the user drags, the backend may trade resolution for latency.

@@ -238,8 +238,9 @@ fn ior_controls(ui: &mut egui::Ui, m: &mut Material) {
             .max_decimals(3),
     )
     .on_hover_text("Index of refraction n: light is c/n slower inside, so it bends by Snell's law n₁ sinθ₁ = n₂ sinθ₂.");
-    // Only an edit is written back; a typed "NaN" or garbage never reaches the renderer.
-    if r.changed() && ior.is_finite() && ior > 0.0 {
+    // Only an edit is written back; the edit validates it once (`app::edit`, a typed "NaN"
+    // is refused there with a message and never reaches a renderer).
+    if r.changed() {
         m.ior = ior;
     }
     ui.horizontal_wrapped(|ui| {

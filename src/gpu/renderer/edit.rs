@@ -9,7 +9,7 @@ use crate::gpu::pipeline::Specialization;
 use crate::gpu::upload::{self, GpuBvh};
 use crate::paths::{DfaTable, PathFilter};
 use crate::render::{Estimator, EstimatorPlan, RenderOptions};
-use crate::scene::{Camera, Features, Material, Scene, light::LightSet};
+use crate::scene::{Camera, Checked, Features, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
 use glam::Vec3;
 
@@ -18,7 +18,17 @@ impl GpuRenderer {
     /// place, the BVH is kept, and the pipeline is only switched if the material's *kind*
     /// changes the specialisation (then compiled once and cached). Accumulation restarts.
     pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
-        material.validate()?;
+        self.set_checked_material(index, Checked::new(material)?)
+    }
+
+    /// [`GpuRenderer::set_material`] with a material validated where it was edited
+    /// (`scene::Checked`): not validated again.
+    pub fn set_checked_material(
+        &mut self,
+        index: usize,
+        material: Checked<Material>,
+    ) -> Result<()> {
+        let material = material.into_inner();
         ensure!(
             index < self.scene.materials.len(),
             "material index {index} out of range ({} materials)",
@@ -292,8 +302,12 @@ impl GpuRenderer {
 
     /// Move the camera. Accumulation restarts.
     pub fn set_camera(&mut self, camera: Camera) -> Result<()> {
-        camera.validate()?;
-        self.scene.camera = camera;
+        self.set_checked_camera(Checked::new(camera)?)
+    }
+
+    /// [`GpuRenderer::set_camera`] with a camera validated where it was edited: not again.
+    pub fn set_checked_camera(&mut self, camera: Checked<Camera>) -> Result<()> {
+        self.scene.camera = camera.into_inner();
         self.reset();
         Ok(())
     }

@@ -234,14 +234,15 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
             }
         }
         Command::Material(i, m) => {
+            // Checked at the edit (`scene::Checked`): not validated again here.
             if let Some(r) = renderer.as_mut()
                 && let Some(slot) = r.scene.materials.get_mut(i)
-                && m.validate().is_ok()
             {
+                let m = m.into_inner();
                 // Area lights carry their radiance and sidedness (scene::light::TriangleLight).
                 let light_changed =
                     slot.emission != m.emission || slot.double_sided != m.double_sided;
-                *slot = *m;
+                *slot = m;
                 r.refresh_features();
                 if light_changed {
                     r.lights = crate::scene::light::LightSet::build(&r.scene);
@@ -266,10 +267,8 @@ fn apply_command(renderer: &mut Option<Renderer>, c: Command) {
             }
         }
         Command::Camera(c) => {
-            if let Some(r) = renderer.as_mut()
-                && c.validate().is_ok()
-            {
-                r.scene.camera = c;
+            if let Some(r) = renderer.as_mut() {
+                r.scene.camera = c.into_inner();
             }
         }
     }

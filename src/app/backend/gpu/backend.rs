@@ -3,7 +3,7 @@
 use super::GpuBackend;
 use crate::app::backend::{Accumulated, Backend, DisplayParams, DisplayTexture};
 use crate::render::RenderOptions;
-use crate::scene::{Camera, Material, Scene};
+use crate::scene::{Camera, Checked, Material, Scene};
 use eframe::egui;
 use std::time::Duration;
 
@@ -21,20 +21,17 @@ impl Backend for GpuBackend {
         }
     }
 
-    fn update_material(&mut self, index: usize, material: &Material) {
-        if material.validate().is_err() {
-            return; // the CPU backend ignores invalid materials the same way
-        }
+    fn update_material(&mut self, index: usize, material: &Checked<Material>) {
         self.bump();
         if let Some(slot) = self.scene.as_mut().and_then(|s| s.materials.get_mut(index)) {
-            *slot = material.clone();
+            *slot = Material::clone(material);
         }
         if let Some(cpu) = self.fallback.as_mut() {
             cpu.update_material(index, material);
             return;
         }
         let m = material.clone();
-        self.with_renderer(|r| r.set_material(index, m));
+        self.with_renderer(|r| r.set_checked_material(index, m));
     }
 
     fn update_lights(&mut self, scene: &Scene, geometry_changed: bool) {
@@ -67,20 +64,17 @@ impl Backend for GpuBackend {
         });
     }
 
-    fn update_camera(&mut self, camera: &Camera) {
-        if camera.validate().is_err() {
-            return;
-        }
+    fn update_camera(&mut self, camera: &Checked<Camera>) {
         self.bump();
         if let Some(s) = self.scene.as_mut() {
-            s.camera = *camera;
+            s.camera = **camera;
         }
         if let Some(cpu) = self.fallback.as_mut() {
             cpu.update_camera(camera);
             return;
         }
-        let c = *camera;
-        self.with_renderer(|r| r.set_camera(c));
+        let c = camera.clone();
+        self.with_renderer(|r| r.set_checked_camera(c));
     }
 
     fn set_options(&mut self, options: &RenderOptions) {
