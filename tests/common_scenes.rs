@@ -418,3 +418,45 @@ pub fn assert_passes_flat(
         (last / before - 1.0) * 100.0
     );
 }
+
+/// The default scene in the viewer on `backend` at 1/8 scale, paused after its first two
+/// samples (the denoiser tests: a fixed accumulation to filter).
+pub fn paused_viewer(
+    backend: Box<dyn refract::app::backend::Backend>,
+) -> egui_kittest::Harness<'static, refract::app::ViewerApp> {
+    use refract::app::{Edit, ViewerApp};
+    use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
+    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
+    settings.render.render_scale = 0.125;
+    settings.render.fit_viewport = false;
+    let base = Scene::load(DEFAULT_SCENE).unwrap();
+    let app = ViewerApp::with_backend(base, settings, backend).unwrap();
+    let mut h = egui_kittest::Harness::builder()
+        .with_size(eframe::egui::vec2(800.0, 600.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    let start = std::time::Instant::now();
+    while h.state().backend().spp() < 2 {
+        assert!(start.elapsed().as_secs() < 120, "no samples");
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    h.state_mut().push(Edit::Pause(true));
+    h.step();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    h.step();
+    h
+}
+
+/// Step until the denoised image of the current generation is on screen.
+pub fn wait_denoised(h: &mut egui_kittest::Harness<'static, refract::app::ViewerApp>) {
+    let start = std::time::Instant::now();
+    let showing = |h: &egui_kittest::Harness<'static, refract::app::ViewerApp>| {
+        let app = h.state();
+        app.denoise.showing(app.backend().generation())
+    };
+    while !showing(h) && start.elapsed().as_secs() < 60 {
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(showing(h), "no denoised image within a minute");
+}

@@ -3,7 +3,7 @@
 //! converged one.
 
 mod common_scenes;
-use common_scenes::gpu_context;
+use common_scenes::{gpu_context, wait_denoised};
 use glam::Vec3;
 use refract::bench::rel_mse;
 use refract::cpu::Renderer;
@@ -202,41 +202,7 @@ fn wgsl_filter_matches_the_cpu_twin() {
 
 /// The viewer on the CPU backend, paused after its first samples.
 fn paused_viewer() -> egui_kittest::Harness<'static, refract::app::ViewerApp> {
-    use refract::app::{Edit, ViewerApp};
-    use refract::render::settings::{DEFAULT_SCENE, ViewerSettings};
-    let backend = refract::app::backend::CpuBackend::new(None);
-    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
-    settings.render.render_scale = 0.125;
-    settings.render.fit_viewport = false;
-    let base = Scene::load(DEFAULT_SCENE).unwrap();
-    let app = ViewerApp::with_backend(base, settings, Box::new(backend)).unwrap();
-    let mut h = egui_kittest::Harness::builder()
-        .with_size(eframe::egui::vec2(800.0, 600.0))
-        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
-    let start = std::time::Instant::now();
-    while h.state().backend().spp() < 2 && start.elapsed().as_secs() < 60 {
-        h.step();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    h.state_mut().push(Edit::Pause(true));
-    h.step();
-    std::thread::sleep(std::time::Duration::from_millis(300));
-    h.step();
-    h
-}
-
-/// Step until the denoised image of the current generation is on screen.
-fn wait_denoised(h: &mut egui_kittest::Harness<'static, refract::app::ViewerApp>) {
-    let start = std::time::Instant::now();
-    let showing = |h: &egui_kittest::Harness<'static, refract::app::ViewerApp>| {
-        let app = h.state();
-        app.denoise.showing(app.backend().generation())
-    };
-    while !showing(h) && start.elapsed().as_secs() < 60 {
-        h.step();
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    assert!(showing(h), "no denoised image within a minute");
+    common_scenes::paused_viewer(Box::new(refract::app::backend::CpuBackend::new(None)))
 }
 
 #[test]

@@ -595,7 +595,6 @@ fn a_kernel_changing_edit_renders_at_once_with_the_general_kernel() {
 #[test]
 fn the_live_denoiser_filters_on_the_backends_device() {
     use refract::app::denoise_view::{FilterDevice, GUIDE_SPP};
-    use refract::app::{Edit, ViewerApp};
     use refract::denoise::{DenoiseParams, denoise, render_guides};
     let Some(ctx) = context("the_live_denoiser_filters_on_the_backends_device") else {
         return;
@@ -606,35 +605,10 @@ fn the_live_denoiser_filters_on_the_backends_device() {
         FilterDevice::Gpu
     };
     let backend = GpuBackend::headless(ctx, None).expect("GPU backend");
-    let mut settings = ViewerSettings::for_scene(DEFAULT_SCENE);
-    settings.render.render_scale = 0.125;
-    settings.render.fit_viewport = false;
-    let base = Scene::load(DEFAULT_SCENE).unwrap();
-    let app = ViewerApp::with_backend(base, settings, Box::new(backend)).unwrap();
-    let mut h = egui_kittest::Harness::builder()
-        .with_size(egui::vec2(800.0, 600.0))
-        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
-    let start = Instant::now();
-    while h.state().backend().spp() < 2 {
-        assert!(start.elapsed() < Duration::from_secs(120), "no GPU samples");
-        h.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    h.state_mut().push(Edit::Pause(true));
-    h.step();
-    std::thread::sleep(Duration::from_millis(300));
-    h.step();
+    let mut h = common_scenes::paused_viewer(Box::new(backend));
     let raw = h.state().backend().read_image().expect("samples");
     h.state_mut().denoise.on = true;
-    let start = Instant::now();
-    while !h.state().denoise.showing(h.state().backend().generation()) {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no denoised image"
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    common_scenes::wait_denoised(&mut h);
     let app = h.state();
     let (px, size, device) = app.denoise.shown().expect("shown");
     assert_eq!(device, want, "filtered on {device:?}");
