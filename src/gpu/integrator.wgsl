@@ -53,6 +53,8 @@ struct Params {
     photon_radius_exp: f32,
     // where finite lights aim their photons: centre xyz, radius w (photon.wgsl `photon_aim`)
     targets: array<vec4<f32>, PHOTON_TARGETS>,
+    // the Heckbert path filter's table (path_filter.wgsl; zeros without a filter)
+    path_filter: array<vec4<u32>, DFA_VEC4S>,
 }
 
 struct Stats {

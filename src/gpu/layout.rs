@@ -248,6 +248,36 @@ gpu_struct! {
         /// `sppm`: where finite lights aim their photons (centre xyz, radius w;
         /// `render::photon_aim::PhotonTargets`).
         pub targets: [[f32; 4]; MAX_TARGETS],
+        /// The Heckbert path filter's table (`paths::DfaTable::words`, eye→light; zeros
+        /// without a filter). Here rather than in a uniform of its own: lavapipe inlines a
+        /// large shader's uniform values into a new compiled variant per distinct table
+        /// (docs/gpu.md, "Parameters in a storage buffer"), and GL allows no 17th storage
+        /// buffer.
+        pub path_filter: FilterWords,
+    }
+}
+
+/// The path filter's words as `vec4<u32>` rows (`Params::path_filter`).
+#[repr(transparent)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FilterWords(pub [[u32; 4]; FILTER_WORDS / 4]);
+
+impl Default for FilterWords {
+    fn default() -> Self {
+        FilterWords([[0; 4]; FILTER_WORDS / 4])
+    }
+}
+
+impl FilterWords {
+    /// The rows of `table` (None: zeros, no filter).
+    pub fn of(table: Option<&DfaTable>) -> FilterWords {
+        let mut rows = FilterWords::default();
+        if let Some(t) = table {
+            for (row, w) in rows.0.iter_mut().zip(t.words().chunks(4)) {
+                row.copy_from_slice(w);
+            }
+        }
+        rows
     }
 }
 
@@ -482,7 +512,7 @@ pub const DFA_LIVE: u32 = DFA_TRANSITIONS + 1;
 pub const DFA_START: u32 = DFA_TRANSITIONS + 2;
 pub const DFA_DEAD: u32 = DFA_TRANSITIONS + 3;
 pub const DFA_NUM_STATES: u32 = DFA_TRANSITIONS + 4;
-/// `vec4<u32>` rows of the path-filter uniform (`PathFilterTable`).
+/// `vec4<u32>` rows of the path filter's table (`Params::path_filter`).
 pub const DFA_VEC4S: u32 = (FILTER_WORDS / 4) as u32;
 
 /// No texture reference.
@@ -495,7 +525,7 @@ pub const WRAP_CLAMP_TO_EDGE: u32 = Wrap::ClampToEdge as u32;
 pub const TEX_LINEAR: u32 = 16;
 pub const TEX_VALID: u32 = 32;
 
-/// Words of the path-filter uniform (`PathFilterTable`, `DfaTable::WORDS`, a multiple of 4).
+/// Words of the path filter's table (`Params::path_filter`, `DfaTable::WORDS`, a multiple of 4).
 pub const FILTER_WORDS: usize = DfaTable::WORDS;
 
 /// Material flags (`Material.flags`, see `upload::pack_material`).

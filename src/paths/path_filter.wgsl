@@ -1,18 +1,14 @@
 // path_filter.wgsl — the Heckbert path filter on the GPU: twin of `paths::DfaTable`
 // (src/paths.rs, "Table layout"). The table is `PathFilter::reversed().words()` (eye→light
-// order) in a uniform; a uniform needs a 16-byte array stride, so word i is t[i / 4][i % 4].
-// Offsets (DFA_*) and symbols (SYM_*, `paths::Symbol`) come from the generated prelude.
+// order) in the parameters (`params.path_filter`, rows of four words: word i is row i / 4, lane
+// i % 4). Offsets (DFA_*) and symbols (SYM_*, `paths::Symbol`) come from the generated
+// prelude.
 
-// A Heckbert path filter is set (the table is a uniform; only its presence is specialised).
+// A Heckbert path filter is set (the table is data; only its presence is specialised).
 override HAS_FILTER: bool = true;
 
-struct PathFilterTable {
-    t: array<vec4<u32>, DFA_VEC4S>,
-}
-@group(0) @binding(9) var<uniform> path_filter: PathFilterTable;
-
 fn dfa_word(i: u32) -> u32 {
-    return path_filter.t[i / 4u][i % 4u];
+    return params.path_filter[i / 4u][i % 4u];
 }
 
 // The start state. Twin of `DfaTable::start`.

@@ -1,4 +1,4 @@
-//! The integrator's bind group layouts (bindings 0..=16, and `wf_advance`'s group 1) and
+//! The integrator's bind group layouts (bindings 0..=16 but 9, and `wf_advance`'s group 1) and
 //! the storage-buffer limit they need.
 
 use super::STORAGE_BUFFERS;
@@ -23,10 +23,6 @@ fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     buffer_entry(binding, wgpu::BufferBindingType::Storage { read_only })
 }
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    buffer_entry(binding, wgpu::BufferBindingType::Uniform)
-}
-
 /// Fail with a clear message when the adapter allows fewer storage buffers per shader
 /// stage than the integrator binds.
 pub(super) fn check_storage_buffer_limit(ctx: &GpuContext) -> Result<()> {
@@ -40,7 +36,7 @@ pub(super) fn check_storage_buffer_limit(ctx: &GpuContext) -> Result<()> {
     Ok(())
 }
 
-/// The integrator bind group's layout entries, bindings 0..=16 in order.
+/// The integrator bind group's layout entries, bindings 0..=16 in order (9 is unused).
 fn integrator_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     // The parameters are read-only storage (integrator.wgsl says why).
     let mut entries = vec![storage_entry(0, true)];
@@ -49,9 +45,9 @@ fn integrator_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
     }
     entries.push(storage_entry(6, false));
     entries.push(storage_entry(7, false));
-    // Texture references + texels (8 storage buffers in all), the path filter (uniform).
+    // Texture references + texels (8 storage buffers in all). (Binding 9, the path filter's
+    // uniform, is gone: its table is in the parameters.)
     entries.push(storage_entry(8, true));
-    entries.push(uniform_entry(9));
     // Light-tracing splats (fixed-point atomics).
     entries.push(storage_entry(10, false));
     // The photon grid (atomics) and the photons (`sppm`, photon.wgsl).

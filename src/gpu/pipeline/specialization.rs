@@ -32,7 +32,8 @@ pub struct Specialization {
     pub textures: bool,
     /// A material has a tangent-space normal map (the mesh carries tangents).
     pub normal_map: bool,
-    /// A Heckbert path filter is set (the table itself is a uniform: edits do not recompile).
+    /// A Heckbert path filter is set (the table itself is data in the parameters: edits do
+    /// not recompile).
     pub filter: bool,
     /// Hero-wavelength spectral transport (a dispersive material exists).
     pub spectral: bool,

@@ -87,7 +87,6 @@ impl GpuRenderer {
     /// [`GpuRenderer::set_filter`]; accumulation restarts.
     pub fn set_filter_table(&mut self, table: Option<DfaTable>) {
         self.opts.filter = table;
-        self.write_filter_table();
         self.respecialize();
         self.reset();
     }

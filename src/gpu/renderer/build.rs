@@ -6,7 +6,7 @@ use super::{
 };
 use crate::gpu::GpuContext;
 use crate::gpu::buffers::{checked_storage, zeroed_storage};
-use crate::gpu::layout::{self, GpuLayout, Params};
+use crate::gpu::layout::{GpuLayout, Params};
 use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::{Pipelines, Specialization};
 use crate::gpu::submissions::Submissions;
@@ -16,7 +16,6 @@ use crate::render::photon_aim::PhotonTargets;
 use crate::scene::{Scene, light::LightSet};
 use anyhow::Result;
 use std::time::Duration;
-use wgpu::util::DeviceExt;
 
 impl GpuRenderer {
     pub(super) fn build(
@@ -123,7 +122,6 @@ impl GpuRenderer {
         self.fit_wavefront();
         self.photon_r0 = self.sppm_radius0();
         self.fit_photon_aim();
-        self.write_filter_table();
     }
 
     /// Forget where `sppm` aims photons (the materials or lights changed): the next `sppm`
@@ -187,13 +185,6 @@ impl GpuRenderer {
             accum: zeroed_storage(ctx, "accum", accum_bytes, copyable),
             stats: zeroed_storage(ctx, "stats", STATS_BYTES, copyable),
             texels: checked_storage(ctx, "texels", "textures", &texels)?,
-            filter: ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("path filter"),
-                    contents: bytemuck::cast_slice(&[0u32; layout::FILTER_WORDS]),
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                }),
             splats: splat_film(ctx, splat_bytes),
             photon_store: PhotonStore::new(ctx, photon_paths(gpu_plan(opts, scene).sppm(), opts))?,
             env_offset,
@@ -213,7 +204,6 @@ impl GpuRenderer {
             &b.accum,
             &b.stats,
             &b.texels,
-            &b.filter,
         ];
         let mut entries: Vec<wgpu::BindGroupEntry> = bufs
             .iter()

@@ -332,7 +332,6 @@ impl GpuRenderer {
             self.buffers = buffers;
             self.light_count = count;
             self.tex_slots = slots;
-            self.write_filter_table();
             self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
             self.fit_tiles();
             self.fit_wavefront();
@@ -379,7 +378,6 @@ impl GpuRenderer {
         self.bind_group = Self::bind(&self.ctx, &self.pipelines, &self.buffers);
         self.features = self.scene.features();
         self.fit_photon_aim();
-        self.write_filter_table();
         self.respecialize();
         self.fit_tiles();
         self.reset();
@@ -392,7 +390,6 @@ impl GpuRenderer {
     /// Accumulation restarts.
     pub fn set_filter(&mut self, filter: Option<&PathFilter>) {
         self.opts.set_filter(filter);
-        self.write_filter_table();
         self.respecialize();
         self.reset();
     }
@@ -400,16 +397,5 @@ impl GpuRenderer {
     /// The eye→light table in use (None = unfiltered).
     pub fn filter(&self) -> Option<&DfaTable> {
         self.opts.filter.as_ref()
-    }
-
-    pub(super) fn write_filter_table(&self) {
-        let mut words = [0u32; layout::FILTER_WORDS];
-        if let Some(t) = self.opts.filter {
-            let w = t.words();
-            words[..w.len()].copy_from_slice(&w);
-        }
-        self.ctx
-            .queue
-            .write_buffer(&self.buffers.filter, 0, bytemuck::cast_slice(&words));
     }
 }

@@ -79,7 +79,6 @@ struct Buffers {
     accum: wgpu::Buffer,
     stats: wgpu::Buffer,
     texels: wgpu::Buffer,
-    filter: wgpu::Buffer,
     /// Light-tracing splats: per pixel and channel a 64-bit fixed-point sum (two u32).
     splats: wgpu::Buffer,
     /// `sppm`: the photons and their hash grid (placeholders otherwise).

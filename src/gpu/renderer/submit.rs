@@ -2,7 +2,7 @@
 //! submissions and retiring them, and the pipelines' readiness.
 
 use super::{GpuImage, GpuRenderer, photon_paths, wavefront};
-use crate::gpu::layout::Params;
+use crate::gpu::layout::{FilterWords, Params};
 use crate::gpu::photons;
 use crate::gpu::pipeline::Kernel;
 use crate::render::photon_aim;
@@ -178,6 +178,7 @@ impl GpuRenderer {
             target_count,
             photon_radius_exp: photons::RADIUS_EXPONENT,
             targets,
+            path_filter: FilterWords::of(self.opts.filter.as_ref()),
         }
     }
 
