@@ -2,9 +2,10 @@
 //! (`crate::denoise`) on the backend's accumulated image a few times a second — the WGSL
 //! filter on the GPU backend's device (`denoise::gpu`; not on GL, whose one context the
 //! renderer's thread holds), the CPU twin elsewhere or where the device refuses — and the
-//! viewport shows it right of a split line (raw left) with a "DENOISED" badge. It only reads the accumulation (`Backend::read_image`) and paints over the raw
-//! texture: with it off nothing is read, allocated or painted, so the viewport shows the raw
-//! accumulation bit for bit. The live view has no second moments per pixel, so the filter
+//! viewport shows it right of a split line (raw left) with a "DENOISED" badge. It only reads
+//! the accumulation (`Backend::read_image`) and paints over the raw texture: with it off
+//! nothing is read, allocated or painted, so the viewport shows the raw accumulation bit for
+//! bit. The live view has no second moments per pixel, so the filter
 //! estimates the noise from each pixel's neighbourhood (SVGF's spatial estimate).
 
 use super::backend::{Accumulated, Backend, DisplayParams};

@@ -3,17 +3,10 @@
 // Surfaces", EGSR.
 
 // The reflection probability at the facet cosine `cos` (`FacetFresnel::select`): the exact
-// dielectric Fresnel term, or a film's mean reflectance (iridescent.wgsl).
-fn rough_dielectric_select(b: Bsdf, cos: f32) -> f32 {
-    if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
-        return film_mean(film_reflectance_signed(b, cos, b.eta));
-    }
-    return fresnel_dielectric(cos, b.eta);
-}
-
-// The reflection probability at the facet cosine of an (wo, wi) pair, and into `lanes` a film's
-// lane factors at that cosine (F/P or (1 − F)/(1 − P), `film_lane_factors`; left as they are for
-// plain glass): the film's reflectance is integrated once for both.
+// dielectric Fresnel term, or a film's mean reflectance (iridescent.wgsl); and into `lanes` a
+// film's lane factors there for an (wo, wi) pair reflecting or not (F/P or (1 − F)/(1 − P),
+// `film_lane_factors`; left as they are for plain glass): the film's reflectance is
+// integrated once for both.
 fn rough_dielectric_facet(b: Bsdf, cos: f32, is_reflect: bool, lanes: ptr<function, vec4<f32>>) -> f32 {
     if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH {
         let r = film_reflectance_signed(b, cos, b.eta);
@@ -163,7 +156,8 @@ fn rough_dielectric_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode:
     // TIR (Snell's test, fr.f = 1) reflects whatever a film says.
     var p = fr.f;
     if HAS_IRIDESCENCE && b.kind == BSDF_FILM_ROUGH && fr.f < 1.0 {
-        p = rough_dielectric_select(b, dot_o);
+        var unused = vec4<f32>(1.0);
+        p = rough_dielectric_facet(b, dot_o, true, &unused);
     }
     var wi: vec3<f32>;
     var event: u32;

@@ -132,14 +132,17 @@ impl ThinFilm {
 
     /// Reflectance integrated against the white-balanced linear-sRGB matching functions, for
     /// incidence cosine `cos1` over the substrate `n3`: Belcour & Barla 2017 eq. 12 with the
-    /// series truncated after m = 2, each harmonic weighted by [`rgb_sensitivity`]. Clamped to
-    /// [0, 1] (the truncated series and the fit can leave the gamut slightly).
+    /// series truncated after m = 2, each harmonic weighted by ∫ r̄(λ) cos(2π m x/λ + mφ) dλ
+    /// with the white-balanced linear-sRGB matching functions r̄ (`spectrum::rgb_matching`,
+    /// ∫ r̄ = 1): the fitted XYZ sensitivity through the sRGB matrix, divided by its value at
+    /// x = 0 so that a flat spectrum stays white. Clamped to [0, 1] (the truncated series and
+    /// the fit can leave the gamut slightly).
     ///
     /// The sensitivity is linear in cos(μ·phase + mφ) = Re(e^{iμ·phase} e^{imφ}), so the two
     /// polarisations' harmonics are summed as phasors h_m = Σ 2 C_m e^{imφ} first and each
-    /// harmonic's Gaussians evaluated once ([`xyz_harmonic`]): the same value as weighting each
-    /// polarisation's harmonic by [`rgb_sensitivity`], in half the transcendental functions and
-    /// (in the WGSL twin) 16 fewer registers.
+    /// harmonic's Gaussians evaluated once ([`xyz_harmonic`]): the same value as weighting
+    /// each polarisation's harmonic by its own, in half the transcendental functions and (in
+    /// the WGSL twin) 16 fewer registers.
     pub fn rgb(&self, cos1: f32, n3: Complex) -> Vec3 {
         let s = self.stack(cos1, n3);
         let opd = self.opd(s.cos2);
@@ -206,14 +209,6 @@ fn xyz_harmonic(opd_nm: f32, h: Complex) -> Vec3 {
 /// stay white.
 fn white() -> Vec3 {
     xyz_to_linear_srgb(xyz_harmonic(0.0, Complex::ONE))
-}
-
-/// ∫ r̄(λ) cos(2π x/λ + φ) dλ with the white-balanced linear-sRGB matching functions r̄
-/// (`spectrum::rgb_matching`, ∫ r̄ = 1): the fitted XYZ sensitivity through the sRGB matrix,
-/// divided by its value at x = 0 so that a flat spectrum stays white (1, 1, 1).
-pub fn rgb_sensitivity(opd_nm: f32, shift: f32) -> Vec3 {
-    let h = Complex::new(shift.cos(), shift.sin());
-    xyz_to_linear_srgb(xyz_harmonic(opd_nm, h)) / white()
 }
 
 #[cfg(test)]
