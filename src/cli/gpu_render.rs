@@ -6,12 +6,32 @@ use super::job::Job;
 use super::progress::{budget_report, spp_progress_bar, spp_text};
 use anyhow::Result;
 use refract::gpu::{GpuContext, GpuRenderer};
-use refract::render::{Device, EstimatorPlan, RenderOptions, Runner};
+use refract::render::{Device, EstimatorPlan, Polarization, RenderOptions, Runner};
 use refract::scene::Scene;
 
 /// Render on the GPU if `args.device` asks for it (and, for `auto`, a hardware adapter exists).
 /// Returns false when the caller should render on the CPU instead.
 pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
+    render_with(args, scene, job, None)
+}
+
+/// [`render`] tracing polarised light behind `pol`'s filter (`GpuRenderer::set_polarization`;
+/// the caller has checked for the path estimator, no path filter and no Stokes views).
+pub fn render_polarized(
+    args: &RenderArgs,
+    scene: &Scene,
+    job: &Job,
+    pol: Polarization,
+) -> Result<bool> {
+    render_with(args, scene, job, Some(pol))
+}
+
+fn render_with(
+    args: &RenderArgs,
+    scene: &Scene,
+    job: &Job,
+    pol: Option<Polarization>,
+) -> Result<bool> {
     let forced = match args.device {
         Device::Cpu => return Ok(false),
         Device::Gpu => true,
@@ -35,7 +55,10 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     opts.set_filter(Some(&job.filter));
     opts.estimator = plan.runs;
     let name = ctx.describe();
-    let r = GpuRenderer::with_context(ctx, scene.clone(), opts);
+    let r = match pol {
+        Some(p) => GpuRenderer::with_context_polarized(ctx, scene.clone(), opts, p),
+        None => GpuRenderer::with_context(ctx, scene.clone(), opts),
+    };
     let Some(mut r) = or_cpu(r, forced, "GPU renderer unavailable")? else {
         return Ok(false);
     };
@@ -52,8 +75,15 @@ pub fn render(args: &RenderArgs, scene: &Scene, job: &Job) -> Result<bool> {
     let (w, h) = (img.width, img.height);
     let what = (r.effective_estimator(), "gpu");
     super::shard::save(args, scene, job, (w, h), &img.mean, what)?;
+    let filter = match pol {
+        Some(Polarization { filter: Some(a) }) => {
+            format!(" (behind a linear polariser at {:.1}°)", a.to_degrees())
+        }
+        Some(_) => " (polarised, total intensity)".to_owned(),
+        None => String::new(),
+    };
     eprintln!(
-        "wrote {} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
+        "wrote {}{filter} — {} spp in {:.2} s on the GPU, {:.3} M samples/s, {:.3} M path segments/s, {} NaN/Inf/negative samples dropped",
         args.out.display(),
         stats.spp,
         stats.elapsed.as_secs_f64(),

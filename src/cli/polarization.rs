@@ -1,10 +1,12 @@
-//! `render --polarizer DEG` and `render --polarized`: the polarised CPU render
-//! (`cpu::polarized`) and its views, `--aov dop,aop,stokes` (docs/polarization.md).
+//! `render --polarizer DEG` and `render --polarized`: the polarised render — on the GPU
+//! (`--device gpu`, or `auto` with a hardware adapter: the image behind the filter) or the
+//! CPU (`cpu::polarized`, also the views `--aov dop,aop,stokes`; docs/polarization.md).
 //! `--out dir/out.png` writes the image behind the filter to `out.png` and the views beside
 //! it: `out.dop.png` + `out.dop.exr` (false colour and the value), `out.aop.png`, and
 //! `out.s0.exr` … `out.s3.exr` (the Stokes components, linear RGB).
 
 use super::RenderArgs;
+use super::gpu_render;
 use super::job::{Job, prepare};
 use super::layers::layer_path;
 use super::progress::spp_progress_bar;
@@ -15,7 +17,7 @@ use refract::cpu::Renderer;
 use refract::cpu::layers::LayerFilm;
 use refract::cpu::polarized::{Polarization, view};
 use refract::film::{self, ToneMap};
-use refract::render::{Device, Estimator, RenderOptions};
+use refract::render::{Device, Estimator, EstimatorPlan, RenderOptions, Runner};
 use std::path::Path;
 
 /// One view of a polarised render.
@@ -76,10 +78,13 @@ pub(crate) fn parse(args: &RenderArgs) -> Result<(Option<PolarizedRender>, Optio
 }
 
 /// The render the polarised walk supports: the CPU path tracer over all paths, one machine.
-fn check(args: &RenderArgs, job: &Job) -> Result<()> {
+fn check(args: &RenderArgs, job: &Job, views: &[PolView]) -> Result<()> {
     let what = "polarised transport (--polarizer, --polarized)";
-    if args.device == Device::Gpu {
-        bail!("{what} is CPU only: use --device cpu (or auto, which renders on the CPU)");
+    if args.device == Device::Gpu && !views.is_empty() {
+        bail!(
+            "the Stokes views (--aov dop, aop, stokes) are CPU only: use --device cpu (or auto, \
+             which renders them on the CPU)"
+        );
     }
     if !matches!(job.choice, Estimator::Auto | Estimator::Path) {
         bail!(
@@ -101,8 +106,13 @@ pub(crate) fn render(args: &RenderArgs, pr: &PolarizedRender) -> Result<()> {
     for p in outputs(&args.out, &pr.views) {
         film::check_output_path(&p)?;
     }
-    let (scene, job) = prepare(args)?;
-    check(args, &job)?;
+    let (scene, mut job) = prepare(args)?;
+    check(args, &job, &pr.views)?;
+    job.choice = Estimator::Path;
+    job.plan = EstimatorPlan::decide(Estimator::Path, &scene, Runner::Cpu);
+    if pr.views.is_empty() && gpu_render::render_polarized(args, &scene, &job, pr.pol)? {
+        return Ok(());
+    }
     let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
     let mut opts = RenderOptions::from_scene(&renderer.scene);

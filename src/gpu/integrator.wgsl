@@ -20,6 +20,9 @@ struct Params {
     cam_up: vec4<f32>,
     cam_back: vec4<f32>,
     environment: vec4<f32>,
+    // row 0 of the Mueller matrix of the filter in front of the sensor (HAS_POLARIZATION;
+    // (1, 0, 0, 0) without one): chain.wgsl
+    polarizer: vec4<f32>,
     width: u32,
     height: u32,
     seed: u32,
@@ -287,8 +290,8 @@ struct NeeRay {
 // One next-event estimate at `hit` with the light end `nl`, times the path throughput `beta`,
 // MIS-weighted. Twin of `Integrator::sample_light` (plus the light-tracing strategy when
 // HAS_LT).
-fn integrator_sample_light(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>) -> vec4<f32> {
-    let r = integrator_nee_ray(nl, hit, ng, frame, wo, wo_w, bsdf, mask, sp, lt, media, mat, beta);
+fn integrator_sample_light(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>, pol: PolRow) -> vec4<f32> {
+    let r = integrator_nee_ray(nl, hit, ng, frame, wo, wo_w, bsdf, mask, sp, lt, media, mat, beta, pol);
     if all(r.c == vec4<f32>(0.0)) || bvh_occluded(r.o, r.d, r.tmax) {
         return vec4<f32>(0.0);
     }
@@ -297,7 +300,7 @@ fn integrator_sample_light(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: 
 
 // The estimate of `integrator_sample_light` and its shadow ray, not traced (the wavefront's
 // `wf_nee` hands it to `wf_connect`).
-fn integrator_nee_ray(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>) -> NeeRay {
+fn integrator_nee_ray(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame, wo: vec3<f32>, wo_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, sp: Spectral, lt: LtMis, media: MediumStack, mat: Material, beta: vec4<f32>, pol: PolRow) -> NeeRay {
     var zero: NeeRay;
     let ls = nl.ls;
     if !ls.valid {
@@ -320,13 +323,33 @@ fn integrator_nee_ray(nl: NeeLight, hit: SurfaceHit, ng: vec3<f32>, frame: Frame
     // so that only it stays live across the traversal — not the BSDF, the light sample and
     // the interaction (register pressure).
     let w = integrator_light_mis(nl.emit_pdf, ls, hit, wo, wi, bsdf, lt);
-    var c = beta * (f * abs(wi.z) * li * (w / ls.pdf));
+    var fp = f;
+    if HAS_POLARIZATION {
+        fp = integrator_polarized_f(pol, hit, wo, wo_w, wi, ls.wi, bsdf, mask, f);
+    }
+    var c = beta * (fp * abs(wi.z) * li * (w / ls.pdf));
     if !ls.infinite {
         let m = medium_towards(media, mat, hit.material, ng, wo_w, ls.wi);
         c *= connection_transmittance(m, length(ls.p_light - hit.p), sp);
     }
     let ray = spawn_ray_to_light(hit.p, ng, side_i, ls);
     return NeeRay(c, ray.o, ray.d, ray.tmax);
+}
+
+// The polarised value of a next-event connection (HAS_POLARIZATION): the scalar `f` (of the
+// classes in `mask`) turned into the light the sensor's filter passes through the chain
+// `pol` (chain.wgsl `pol_through`; the glossy part takes the event's Mueller matrix, the
+// diffuse part depolarises). Twin of `polarized_connection` in src/cpu/polarized/walk.rs.
+fn integrator_polarized_f(pol: PolRow, hit: SurfaceHit, wo: vec3<f32>, wo_w: vec3<f32>, wi: vec3<f32>, wi_w: vec3<f32>, bsdf: Bsdf, mask: ClassMask, f: vec4<f32>) -> vec4<f32> {
+    var f_g = f;
+    if HAS_METAL_ROUGH && bsdf.kind == BSDF_METAL_ROUGH {
+        f_g = select(vec4<f32>(0.0), bsdf_eval_lobes(bsdf, wo, wi, MODE_RADIANCE).g, mask.g);
+    } else if bsdf_class(bsdf) == LOBE_D {
+        f_g = vec4<f32>(0.0);
+    }
+    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
+    let m = bsdf_mueller(bsdf, wo, wi, event, LOBE_G);
+    return pol_through(pol, wo_w, wi_w, hit.ns, m, f, f_g);
 }
 
 // Beer–Lambert along a connection of length `t` in `medium` (1 outside every medium): the
@@ -369,6 +392,8 @@ struct PathState {
     lt: LtMis,
     // Path-filter state.
     q: u32,
+    // The polarised chain's row (HAS_POLARIZATION; chain.wgsl).
+    pol: PolRow,
     // sppm: 0 = no gather vertex (or a non-specular vertex since the last), else 1 + the
     // specular vertices since the last gather vertex (`chain` in `Integrator::li_walk`).
     chain: u32,
@@ -398,6 +423,9 @@ fn path_state_new(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Samp
     ps.depth = 0u;
     ps.lt = LtMis(HAS_LT, true, 1.0, 0.0, 0.0, 0.0, 0.0);
     ps.q = 0u;
+    if HAS_POLARIZATION {
+        ps.pol = pol_camera(dir, params.cam_right.xyz, params.polarizer);
+    }
     if HAS_FILTER {
         ps.q = dfa_table_step(dfa_table_start(), SYM_E);
     }
@@ -421,6 +449,15 @@ fn lt_mis_arrive(ps: ptr<function, PathState>, hit: SurfaceHit) {
     }
 }
 
+// The throughput `beta` of unpolarised light arriving along the path's current segment
+// behind the sensor's filter: times the chain row's r₀ (HAS_POLARIZATION; chain.wgsl).
+fn integrator_polarized(ps: ptr<function, PathState>, beta: vec4<f32>) -> vec4<f32> {
+    if HAS_POLARIZATION {
+        return beta * ps.pol.i;
+    }
+    return beta;
+}
+
 // The ray escaped: the environment image, MIS-weighted against next-event estimation (the
 // only other strategy that reaches it: lt+pt starts no light subpath at infinity); else
 // the uniform environment (not light-sampled, so MIS weight 1). Twin of the escape in
@@ -438,12 +475,12 @@ fn integrator_add_escaped(ps: ptr<function, PathState>) {
             let p_light = light_pdf_li(env.light, env.prob, 1.0, vec3<f32>(0.0), ps.d);
             w = power_heuristic(ps.prev_pdf, p_light);
         }
-        ps.l += ps.beta * spectral_c(ps.sp, le) * w;
+        ps.l += integrator_polarized(ps, ps.beta) * spectral_c(ps.sp, le) * w;
         return;
     }
     if HAS_ENVIRONMENT && integrator_accepts_light(ps.q) {
         let le = light_le(light_environment(params.environment.xyz), vec3<f32>(0.0), vec3<f32>(0.0), ps.d);
-        ps.l += ps.beta * spectral_c(ps.sp, le);
+        ps.l += integrator_polarized(ps, ps.beta) * spectral_c(ps.sp, le);
     }
 }
 
@@ -480,7 +517,7 @@ fn integrator_add_emitted(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Ma
     } else if !ps.prev_delta {
         w = power_heuristic(ps.prev_pdf, light_pdf_li(area.light, area.prob, hit.t, hit.ng, d));
     }
-    ps.l += ps.beta * spectral_c(ps.sp, le) * w;
+    ps.l += integrator_polarized(ps, ps.beta) * spectral_c(ps.sp, le) * w;
 }
 
 // The IOR the path sees at `mat` with `enclosing` on its far side (`interface_eta`): a
@@ -561,6 +598,10 @@ fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampl
         if v == VERTEX_END {
             break;
         }
+    }
+    if HAS_POLARIZATION {
+        // The intensity a filter passes is ≥ 0 (`li_polarized` clamps per lane too).
+        return spectral_to_rgb(ps.sp, max(ps.l, vec4<f32>(0.0)));
     }
     return spectral_to_rgb(ps.sp, ps.l);
 }
@@ -672,6 +713,10 @@ fn integrator_vertex(ps: ptr<function, PathState>, sampler: ptr<function, Sample
         let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
         let p_back = integrator_p_back(ps, hit, bsdf, wo, bounce);
         step = integrator_scatter(ps, hit, mat, on.ng, bounce, p_back);
+        if HAS_POLARIZATION && step == STEP_CONTINUE {
+            let m = bsdf_mueller(bsdf, wo, bounce.s.wi, bounce.s.event, bounce.s.lobe);
+            ps.pol = pol_scatter(ps.pol, wo_w, bounce.wi_w, hit.ns, m);
+        }
     }
 
     // Next-event estimation.
@@ -680,9 +725,9 @@ fn integrator_vertex(ps: ptr<function, PathState>, sampler: ptr<function, Sample
             nl = integrator_nee_light(hit.p, ul, ul2, before.lt);
         }
         if mode == WALK_NEE {
-            NEE_RAY = integrator_nee_ray(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta);
+            NEE_RAY = integrator_nee_ray(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta, before.pol);
         } else {
-            ps.l += integrator_sample_light(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta);
+            ps.l += integrator_sample_light(nl, hit, on.ng, frame, wo, wo_w, bsdf, mask, before.sp, before.lt, before.media, mat, before.beta, before.pol);
         }
     }
     if mode == WALK_NEE {

@@ -214,6 +214,9 @@ gpu_struct! {
         pub cam_up: [f32; 4],
         pub cam_back: [f32; 4],
         pub environment: [f32; 4],
+        /// Row 0 of the Mueller matrix of the filter in front of the sensor
+        /// (`render::Polarization::filter_row`; read only by polarised kernels).
+        pub polarizer: [f32; 4],
         pub width: u32,
         pub height: u32,
         pub seed: u32,

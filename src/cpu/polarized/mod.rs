@@ -3,7 +3,8 @@
 //! rotations between them (Wilkie & Weidlich 2012, "Polarised Light in Computer Graphics";
 //! Mitsuba 3's polarised variants as the model). A separate walk from the unpolarised one
 //! (`cpu::integrator`), entered only when a render asks for polarisation, so every other
-//! render runs the unpolarised walk unchanged. The GPU renderer has no polarised walk.
+//! render runs the unpolarised walk unchanged. The GPU's twin is `chain.wgsl` (the filtered
+//! intensity only; `gpu::GpuRenderer::set_polarization`).
 //!
 //! - `chain`: the Mueller product of a path and its reference frames.
 //! - `walk`: the polarised path tracer (NEE + MIS).

@@ -7,34 +7,15 @@ use crate::cpu::Renderer;
 use crate::cpu::camera_ray::camera_ray;
 use crate::cpu::layers::LayerFilm;
 use crate::film::Film;
-use crate::math::mueller::linear_polarizer;
 use crate::math::rng::Sampler;
+pub use crate::render::Polarization;
 use crate::render::{RenderOptions, RenderStats};
 use crate::scene::camera::CameraRays;
-use glam::Vec4;
 use rayon::prelude::*;
 use std::time::Duration;
 
 /// The Stokes layers of a polarised render, in this order.
 pub const STOKES_LAYERS: usize = 4;
-
-/// What a polarised render puts in front of the sensor.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Polarization {
-    /// An ideal linear polariser whose axis is at this angle (radians) from the image's
-    /// horizontal, counter-clockwise; None: no filter (the beauty is I).
-    pub filter: Option<f32>,
-}
-
-impl Polarization {
-    /// Row 0 of the filter's Mueller matrix: the intensity it passes is this · S.
-    pub fn filter_row(&self) -> Vec4 {
-        match self.filter {
-            Some(a) => linear_polarizer(a).row(0),
-            None => Vec4::X,
-        }
-    }
-}
 
 impl Renderer {
     /// Add samples `first .. first + count` of the polarised walk to every pixel: the

@@ -58,6 +58,10 @@ pub struct Specialization {
     /// CPU-emulated adapters (`GpuContext::is_software`), where it is the faster form; a GPU
     /// tests them one at a time, in fewer registers (docs/gpu.md "The wide BVH").
     pub bvh_x4: bool,
+    /// Polarised transport (issue 38): the camera walk carries a row of the Mueller chain
+    /// (`cpu/polarized/chain.wgsl`); the path estimator in the megakernel only (the
+    /// renderer refuses the others; no wavefront: its path state has no room for the row).
+    pub polarized: bool,
 }
 
 impl Default for Specialization {
@@ -98,6 +102,7 @@ impl Specialization {
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
             bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
             bvh_x4: false,
+            polarized: false,
         }
     }
 
@@ -107,13 +112,15 @@ impl Specialization {
     /// against the compiler by `tests/gpu_registers.rs`: the image environment, textures, or
     /// light tracing or photon mapping together with spectral, nested or filtered paths or
     /// the metal-rough material, or light tracing with rough glass. Elsewhere the
-    /// megakernel fits and keeps its paths in registers.
+    /// megakernel fits and keeps its paths in registers. Never with polarised transport
+    /// (the wavefront's stored path state has no room for the chain's row).
     pub fn wants_wavefront(&self) -> bool {
         let joint = self.light_tracing || self.sppm;
-        self.env_image
+        let heavy = self.env_image
             || self.textures
             || (joint && (self.spectral || self.nested || self.filter || self.metal_rough))
-            || (self.light_tracing && self.rough_dielectric)
+            || (self.light_tracing && self.rough_dielectric);
+        heavy && !self.polarized
     }
 
     /// The kernel parts `scene` needs (as [`Specialization::from_features`]) with the
@@ -185,6 +192,7 @@ impl Specialization {
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
             bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
             bvh_x4: false,
+            polarized: false,
         }
     }
 
@@ -204,6 +212,7 @@ impl Specialization {
             spectral: self.spectral,
             nested: self.nested,
             wavefront: self.wavefront,
+            polarized: self.polarized,
             // The deepest stack either layout uses (both at most `MAX_BVH_DEPTH` words),
             // and the layout of the uploaded tree.
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
@@ -251,6 +260,7 @@ impl Specialization {
             ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
             ("BVH_WIDE", b(self.bvh_wide)),
             ("BVH_CHILDREN_X4", b(self.bvh_x4)),
+            ("HAS_POLARIZATION", b(self.polarized)),
         ]
     }
 }

@@ -20,6 +20,8 @@ const ROUGH_DIELECTRIC: &str = include_str!("../../bsdf/rough_dielectric.wgsl");
 const METAL_ROUGH: &str = include_str!("../../bsdf/metal_rough.wgsl");
 const THIN_FILM: &str = include_str!("../../bsdf/thin_film.wgsl");
 const IRIDESCENT: &str = include_str!("../../bsdf/iridescent.wgsl");
+const POLARIZED: &str = include_str!("../../bsdf/polarized.wgsl");
+const POLARIZED_CHAIN: &str = include_str!("../../cpu/polarized/chain.wgsl");
 const SCENE: &str = include_str!("../../gpu/scene.wgsl");
 const CWBVH: &str = include_str!("../../gpu/cwbvh.wgsl");
 const LIGHT: &str = include_str!("../../scene/light/light.wgsl");
@@ -53,6 +55,8 @@ const MATHS: &[&str] = &[
     METAL_ROUGH,
     THIN_FILM,
     IRIDESCENT,
+    POLARIZED,
+    POLARIZED_CHAIN,
 ];
 
 /// Every kernel source file by name (tests check that none defines a prelude constant).
@@ -72,6 +76,8 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("metal_rough.wgsl", METAL_ROUGH),
     ("thin_film.wgsl", THIN_FILM),
     ("iridescent.wgsl", IRIDESCENT),
+    ("polarized.wgsl", POLARIZED),
+    ("chain.wgsl", POLARIZED_CHAIN),
     ("scene.wgsl", SCENE),
     ("cwbvh.wgsl", CWBVH),
     ("light.wgsl", LIGHT),

@@ -87,6 +87,9 @@ impl GpuRenderer {
     /// [`GpuRenderer::set_filter`]; accumulation restarts.
     pub fn set_filter_table(&mut self, table: Option<DfaTable>) {
         self.opts.filter = table;
+        if table.is_some() {
+            self.polarization = None; // polarised transport renders every path
+        }
         self.respecialize();
         self.reset();
     }

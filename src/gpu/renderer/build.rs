@@ -1,5 +1,6 @@
 //! Construction of a [`GpuRenderer`]: checks, specialisation, scene buffers and bind groups.
 
+use super::edit::check_polarization;
 use super::{
     BATCHES_IN_FLIGHT, Buffers, BuiltBuffers, GpuRenderer, STATS_BYTES, film_bytes, gpu_plan,
     photon_paths, splat_film, wavefront, wavefront_override_from_env,
@@ -11,8 +12,8 @@ use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::{Pipelines, Specialization};
 use crate::gpu::submissions::Submissions;
 use crate::gpu::upload::{self, GpuBvh};
-use crate::render::RenderOptions;
 use crate::render::photon_aim::PhotonTargets;
+use crate::render::{Polarization, RenderOptions};
 use crate::scene::{Scene, light::LightSet};
 use anyhow::Result;
 use std::time::Duration;
@@ -22,17 +23,24 @@ impl GpuRenderer {
         ctx: GpuContext,
         scene: Scene,
         opts: RenderOptions,
-        background_compile: bool,
-        tiles: bool,
+        (background_compile, tiles): (bool, bool),
+        polarization: Option<Polarization>,
     ) -> Result<GpuRenderer> {
         Self::check_renderable(&scene, &opts)?;
+        check_polarization(polarization, &opts, &scene)?;
         let features = scene.features();
         // The tree first: its depth sizes the kernels' traversal stack.
         let bvh = upload::build_gpu_bvh(&scene, upload::BvhLayout::from_env())?;
         let wavefront_override = wavefront_override_from_env();
         let software = ctx.is_software();
-        let spec =
-            Self::specialization_for(features, &opts, &scene, &bvh, wavefront_override, software);
+        let spec = Self::specialization_for(
+            features,
+            &opts,
+            &scene,
+            &bvh,
+            (wavefront_override, polarization.is_some()),
+            software,
+        );
         let pipelines = Self::compiled_pipelines(&ctx, spec, background_compile)?;
         let light_set = LightSet::build(&scene);
         let (buffers, light_count, tex_slots) =
@@ -66,6 +74,7 @@ impl GpuRenderer {
             tiles,
             wavefront_override,
             wavefront_indirect: false,
+            polarization,
             wf_args,
         };
         r.fit_to_scene();

@@ -8,10 +8,36 @@ use crate::gpu::photons::PhotonStore;
 use crate::gpu::pipeline::Specialization;
 use crate::gpu::upload::{self, GpuBvh};
 use crate::paths::{DfaTable, PathFilter};
-use crate::render::{Estimator, EstimatorPlan, RenderOptions};
+use crate::render::{Estimator, EstimatorPlan, Polarization, RenderOptions};
 use crate::scene::{Camera, Checked, Features, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
 use glam::Vec3;
+
+/// What polarised transport (`pol`) needs of the render: a finite filter angle, the path
+/// estimator (as planned for the GPU) and no path filter.
+pub(super) fn check_polarization(
+    pol: Option<Polarization>,
+    opts: &RenderOptions,
+    scene: &Scene,
+) -> Result<()> {
+    let Some(p) = pol else {
+        return Ok(());
+    };
+    ensure!(
+        p.filter.is_none_or(f32::is_finite),
+        "the polarising filter's angle must be finite"
+    );
+    let runs = gpu_plan(opts, scene).runs;
+    ensure!(
+        runs == Estimator::Path,
+        "polarised transport runs the path estimator on the GPU, not {runs}"
+    );
+    ensure!(
+        opts.filter.is_none(),
+        "polarised transport renders every path: clear the path filter first"
+    );
+    Ok(())
+}
 
 impl GpuRenderer {
     /// Change material `index` (colour, IOR, roughness, emission …): buffers are rewritten in
@@ -111,7 +137,7 @@ impl GpuRenderer {
         opts: &RenderOptions,
         scene: &Scene,
         bvh: &GpuBvh,
-        wavefront: Option<bool>,
+        (wavefront, polarized): (Option<bool>, bool),
         software: bool,
     ) -> Specialization {
         let mut spec = Specialization::from_features(features).with_bvh(bvh);
@@ -120,9 +146,11 @@ impl GpuRenderer {
         let plan = gpu_plan(opts, scene);
         spec.light_tracing = plan.light_tracing();
         spec.sppm = plan.sppm();
+        // `set_polarization` admits it only with the path estimator and no filter.
+        spec.polarized = polarized && !spec.light_tracing && !spec.sppm && !spec.filter;
         match wavefront {
             Some(w) => Specialization {
-                wavefront: w,
+                wavefront: w && !spec.polarized,
                 ..spec
             },
             None => spec.with_wavefront_rule(),
@@ -176,7 +204,7 @@ impl GpuRenderer {
             &self.opts,
             &self.scene,
             &self.bvh,
-            self.wavefront_override,
+            (self.wavefront_override, self.polarization.is_some()),
             self.ctx.is_software(),
         );
         self.fit_wavefront();
@@ -191,7 +219,7 @@ impl GpuRenderer {
             opts,
             scene,
             &self.bvh,
-            self.wavefront_override,
+            (self.wavefront_override, self.polarization.is_some()),
             self.ctx.is_software(),
         )
         .general()
@@ -242,6 +270,14 @@ impl GpuRenderer {
             ..self.opts
         };
         film_bytes(&self.ctx, &self.scene, &opts, self.tiles_allowed())?;
+        if self.polarization.is_some() {
+            let runs = gpu_plan(&opts, &self.scene).runs;
+            ensure!(
+                runs == Estimator::Path,
+                "polarised transport runs the path estimator on the GPU, not {runs}: take the \
+                 polarising filter away first"
+            );
+        }
         self.opts.estimator = estimator;
         self.respecialize();
         self.fit_film()?;
@@ -390,8 +426,33 @@ impl GpuRenderer {
     /// Accumulation restarts.
     pub fn set_filter(&mut self, filter: Option<&PathFilter>) {
         self.opts.set_filter(filter);
+        if self.opts.filter.is_some() {
+            self.polarization = None; // polarised transport renders every path
+        }
         self.respecialize();
         self.reset();
+    }
+
+    /// Trace polarised light (issue 38; `cpu/polarized/chain.wgsl`) with `pol`'s filter in
+    /// front of the sensor (its angle from the image's horizontal; no filter: the image is
+    /// the total intensity I), or unpolarised light (None). The image is the intensity
+    /// behind the filter, as the CPU's `Renderer::render_polarized` beauty; the Stokes views
+    /// (DoP, AoP) are CPU only. Refused unless the path estimator runs and no path filter is
+    /// set (a filter set later turns polarisation off). Selects the polarised kernel
+    /// (compiled once, then cached); accumulation restarts when anything changed.
+    pub fn set_polarization(&mut self, pol: Option<Polarization>) -> Result<()> {
+        check_polarization(pol, &self.opts, &self.scene)?;
+        if pol != self.polarization {
+            self.polarization = pol;
+            self.respecialize();
+            self.reset();
+        }
+        Ok(())
+    }
+
+    /// The sensor's polarising filter (None: unpolarised transport).
+    pub fn polarization(&self) -> Option<Polarization> {
+        self.polarization
     }
 
     /// The eye→light table in use (None = unfiltered).

@@ -24,7 +24,7 @@ use super::submissions::Submissions;
 use super::upload::{self, GpuBvh};
 use crate::film::Film;
 use crate::render::photon_aim::PhotonTargets;
-use crate::render::{EstimatorPlan, RenderOptions, Runner};
+use crate::render::{EstimatorPlan, Polarization, RenderOptions, Runner};
 use crate::scene::{Features, Scene, light::LightSet};
 use anyhow::{Result, ensure};
 use glam::{Vec3, Vec4};
@@ -141,6 +141,8 @@ pub struct GpuRenderer {
     wavefront_indirect: bool,
     /// `wf_advance`'s dispatch-size buffer and its bind group.
     wf_args: wavefront::AdvanceArgs,
+    /// Polarised transport with this filter (`set_polarization`; None: unpolarised).
+    polarization: Option<Polarization>,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,
@@ -262,7 +264,7 @@ impl GpuRenderer {
 
     /// Prepare `scene` on an existing device (its pipelines compiled before this returns).
     pub fn with_context(ctx: GpuContext, scene: Scene, opts: RenderOptions) -> Result<GpuRenderer> {
-        Self::build(ctx, scene, opts, false, true)
+        Self::build(ctx, scene, opts, (false, true), None)
     }
 
     /// [`GpuRenderer::with_context`] for the viewer's progressive display where pipelines must
@@ -272,7 +274,7 @@ impl GpuRenderer {
         scene: Scene,
         opts: RenderOptions,
     ) -> Result<GpuRenderer> {
-        Self::build(ctx, scene, opts, false, false)
+        Self::build(ctx, scene, opts, (false, false), None)
     }
 
     /// Prepare `scene` on an existing device, compiling its pipelines, and those of every
@@ -284,6 +286,17 @@ impl GpuRenderer {
         scene: Scene,
         opts: RenderOptions,
     ) -> Result<GpuRenderer> {
-        Self::build(ctx, scene, opts, true, false)
+        Self::build(ctx, scene, opts, (true, false), None)
+    }
+
+    /// [`GpuRenderer::with_context`] tracing polarised light behind `pol`'s filter from the
+    /// start (`set_polarization`, without compiling the unpolarised kernel first).
+    pub fn with_context_polarized(
+        ctx: GpuContext,
+        scene: Scene,
+        opts: RenderOptions,
+        pol: Polarization,
+    ) -> Result<GpuRenderer> {
+        Self::build(ctx, scene, opts, (false, true), Some(pol))
     }
 }

@@ -155,6 +155,11 @@ impl GpuRenderer {
             cam_up: rot.y_axis.extend(0.0).to_array(),
             cam_back: rot.z_axis.extend(0.0).to_array(),
             environment: self.scene.environment.extend(0.0).to_array(),
+            polarizer: self
+                .polarization
+                .unwrap_or_default()
+                .filter_row()
+                .to_array(),
             width: w,
             height: h,
             seed: self.opts.seed,

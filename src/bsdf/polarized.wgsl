@@ -1,0 +1,217 @@
+// polarized.wgsl — the polarising part of every BSDF (issue 38), twin of src/bsdf/polarized.rs
+// with the Fresnel amplitudes of src/bsdf/fresnel_polarized.rs: for a scattering event
+// (wo, wi) its Mueller matrix in the s/p basis, normalised to m₀₀ = 1 (the scalar BSDF
+// carries the intensity). Hecht, "Optics" 5th ed. §4.6.2 (amplitudes); Azzam & Bashara,
+// "Ellipsometry and Polarized Light" §2.11 (a diagonal Jones matrix as a Mueller matrix);
+// Wilkie & Weidlich 2012, "Polarised Light in Computer Graphics" §5 (microfacet events at
+// the half vector). Complex numbers are vec2 (re, im) with thin_film.wgsl's cx_* helpers.
+//
+// Every event matrix of this renderer has the form
+//     [ 1  b  0  0 ]
+//     [ b  a  0  0 ]
+//     [ 0  0  c  s ]
+//     [ 0  0 -s  c ]
+// per colour lane: a = 1 for a Fresnel event (a diagonal Jones matrix diag(r_s, r_p):
+// b = (|r_s|² − |r_p|²) / (|r_s|² + |r_p|²), c + i s = 2 r_s r_p* / (|r_s|² + |r_p|²)),
+// a = b = c = s = 0 for the depolariser (diffuse). The camera walk (chain.wgsl) keeps only
+// a row of the chain, so the four numbers are all it needs.
+
+// An event's normalised Mueller matrix, one vec4 per entry across the colour lanes.
+struct Mueller {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    s: vec4<f32>,
+}
+
+// The ideal depolariser diag(1, 0, 0, 0) (Lambert; `mueller::depolarizer`).
+fn mueller_depolarizer() -> Mueller {
+    return Mueller(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+// No interface (η = 1): the identity.
+fn mueller_identity() -> Mueller {
+    return Mueller(vec4<f32>(1.0), vec4<f32>(0.0), vec4<f32>(1.0), vec4<f32>(0.0));
+}
+
+// The ideal conductor r_s = −1, r_p = 1 (`ideal_conductor_mueller`).
+fn mueller_ideal_conductor() -> Mueller {
+    return Mueller(vec4<f32>(1.0), vec4<f32>(0.0), vec4<f32>(-1.0), vec4<f32>(0.0));
+}
+
+// The same lane values (a, b, c, s) in every lane.
+fn mueller_splat(v: vec4<f32>) -> Mueller {
+    return Mueller(vec4<f32>(v.x), vec4<f32>(v.y), vec4<f32>(v.z), vec4<f32>(v.w));
+}
+
+// (a, b, c, s) of the Jones matrix diag(ja, jb), normalised by m₀₀ = (|ja|² + |jb|²)/2; the
+// depolariser's zeros when m₀₀ is 0 or not finite (`mueller::normalized`).
+fn jones_diagonal(ja: vec2<f32>, jb: vec2<f32>) -> vec4<f32> {
+    let aa = cx_norm2(ja);
+    let bb = cx_norm2(jb);
+    let p = 0.5 * (aa + bb);
+    let c = cx_mul(ja, vec2<f32>(jb.x, -jb.y));
+    let inv = 1.0 / p;
+    if !(p > 0.0) || !is_finite_f32(inv) {
+        return vec4<f32>(0.0);
+    }
+    let v = vec4<f32>(1.0, 0.5 * (aa - bb) * inv, c.x * inv, c.y * inv);
+    if !is_finite_v4(v) {
+        return vec4<f32>(0.0);
+    }
+    return v;
+}
+
+// The Fresnel amplitudes r_s, r_p (xy, zw) at incidence cosine `cos_i` (negative: from
+// inside, η' = 1/η) for η = n_inside/n_outside, complex (η − ik) for a conductor; cos θt
+// with Im ≤ 0 (the evanescent root beyond the critical angle); `fresnel_amplitudes`.
+struct Amplitudes {
+    r: vec4<f32>,
+    cos_t: vec2<f32>,
+    eta_rel: vec2<f32>,
+    cos_i: f32,
+}
+
+fn fresnel_amplitudes(cos_i_in: f32, eta: vec2<f32>) -> Amplitudes {
+    let c0 = clamp(cos_i_in, -1.0, 1.0);
+    var eta_rel = eta;
+    if c0 < 0.0 {
+        eta_rel = cx_div(vec2<f32>(1.0, 0.0), eta);
+    }
+    let c = abs(c0);
+    let sin2_t = cx_div(vec2<f32>(1.0 - c * c, 0.0), cx_mul(eta_rel, eta_rel));
+    var cos_t = cx_sqrt(vec2<f32>(1.0, 0.0) - sin2_t);
+    if cos_t.y > 0.0 {
+        cos_t.y = -cos_t.y;
+    }
+    let ci = vec2<f32>(c, 0.0);
+    let ect = cx_mul(eta_rel, cos_t);
+    let eci = eta_rel * c;
+    let r_s = cx_div(ci - ect, ci + ect);
+    let r_p = cx_div(eci - cos_t, eci + cos_t);
+    return Amplitudes(vec4<f32>(r_s, r_p), cos_t, eta_rel, c);
+}
+
+// Specular reflection's (a, b, c, s) at `cos_i` (`reflection_mueller`, normalised).
+fn reflection_lane(cos_i: f32, eta: vec2<f32>) -> vec4<f32> {
+    let am = fresnel_amplitudes(cos_i, eta);
+    return jones_diagonal(am.r.xy, am.r.zw);
+}
+
+// Refraction's Jones diagonal (t_s, t_p) through a dielectric at `cos_i`; zeros under total
+// internal reflection or at grazing incidence (`transmission_mueller`, whose scale factor
+// the normalisation removes).
+fn transmission_jones(cos_i: f32, eta: f32) -> vec4<f32> {
+    let am = fresnel_amplitudes(cos_i, vec2<f32>(eta, 0.0));
+    if am.cos_t.y != 0.0 || am.cos_i == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let t_s = vec2<f32>(1.0, 0.0) + am.r.xy;
+    let t_p = (vec2<f32>(1.0, 0.0) + am.r.zw) / am.eta_rel.x;
+    return vec4<f32>(t_s, t_p);
+}
+
+// A dielectric event (reflection or refraction) at the light's incidence cosine `cos_i`.
+fn dielectric_lane(cos_i: f32, eta: f32, event: u32) -> vec4<f32> {
+    if event == EVENT_REFLECT {
+        return reflection_lane(cos_i, vec2<f32>(eta, 0.0));
+    }
+    let t = transmission_jones(cos_i, eta);
+    return jones_diagonal(t.xy, t.zw);
+}
+
+// A conductor's reflection per lane (η − ik per lane; RGB: lane w unused).
+fn conductor_mueller(cos_i: f32, eta: vec4<f32>, k: vec4<f32>) -> Mueller {
+    let r = reflection_lane(cos_i, vec2<f32>(eta.x, -k.x));
+    let g = reflection_lane(cos_i, vec2<f32>(eta.y, -k.y));
+    let b = reflection_lane(cos_i, vec2<f32>(eta.z, -k.z));
+    let w = reflection_lane(cos_i, vec2<f32>(eta.w, -k.w));
+    return Mueller(vec4<f32>(r.x, g.x, b.x, w.x), vec4<f32>(r.y, g.y, b.y, w.y), vec4<f32>(r.z, g.z, b.z, w.z), vec4<f32>(r.w, g.w, b.w, w.w));
+}
+
+// The microfacet normal of (wo, wi) face-forwarded to z > 0 (Walter et al. 2007, eqs. 13
+// and 16; `half_vector`); w = 0 when degenerate.
+fn polarized_half(wo: vec3<f32>, wi: vec3<f32>, event: u32, eta: f32) -> vec4<f32> {
+    var h = wo + wi;
+    if event == EVENT_TRANSMIT {
+        if wo.z > 0.0 {
+            h = wo + wi * eta;
+        } else {
+            h = wi + wo * eta;
+        }
+    }
+    let len2 = dot3(h, h);
+    let rcp = 1.0 / sqrt(len2);
+    if !(len2 > 0.0) || !is_finite_f32(rcp) {
+        return vec4<f32>(0.0);
+    }
+    var m = h * rcp;
+    if m.z < 0.0 {
+        m = -m;
+    }
+    return vec4<f32>(m, 1.0);
+}
+
+// A rough dielectric's event at the half vector (the depolariser when it is degenerate).
+fn rough_dielectric_lane(wo: vec3<f32>, wi: vec3<f32>, event: u32, eta: f32) -> vec4<f32> {
+    let m = polarized_half(wo, wi, event, eta);
+    if m.w == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return dielectric_lane(dot3(wi, m.xyz), eta, event);
+}
+
+// The normalised Mueller matrix of the event (wo, wi) of `b` in class `lobe` (local frame;
+// `event_mueller`). Films are refused on the GPU (gpu::upload::check_supported).
+fn bsdf_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32, lobe: u32) -> Mueller {
+    switch b.kind {
+        case BSDF_MIRROR, BSDF_ROUGH_CONDUCTOR: {
+            return mueller_ideal_conductor();
+        }
+        case BSDF_SMOOTH_DIELECTRIC: {
+            if b.eta == 1.0 {
+                return mueller_identity();
+            }
+            return mueller_splat(dielectric_lane(wi.z, b.eta, event));
+        }
+        case BSDF_ROUGH_DIELECTRIC: {
+            if b.eta == 1.0 {
+                return mueller_identity();
+            }
+            return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
+        }
+        case BSDF_THIN_DIELECTRIC: {
+            let c = abs(wi.z);
+            if event == EVENT_REFLECT {
+                return mueller_splat(dielectric_lane(c, b.eta, event));
+            }
+            // Both interfaces: Jones diag(t_s², t_p²) (`normalized(t · t)`).
+            let t = transmission_jones(c, b.eta);
+            return mueller_splat(jones_diagonal(cx_mul(t.xy, t.xy), cx_mul(t.zw, t.zw)));
+        }
+        case BSDF_SMOOTH_CONDUCTOR: {
+            return conductor_mueller(wi.z, bsdf_conductor_eta(b), bsdf_conductor_k(b));
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+            if m.w == 0.0 {
+                return mueller_depolarizer();
+            }
+            return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b));
+        }
+        case BSDF_METAL_ROUGH: {
+            let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+            if lobe != LOBE_G || m.w == 0.0 {
+                return mueller_depolarizer();
+            }
+            // Dielectric reflection at the material's IOR blended towards the ideal conductor
+            // by `metallic` (docs/polarization.md: Schlick's F has no phases).
+            let d = reflection_lane(dot3(wi, m.xyz), vec2<f32>(b.ior, 0.0));
+            let t = b.metallic;
+            return mueller_splat(d * (1.0 - t) + vec4<f32>(1.0, 0.0, -1.0, 0.0) * t);
+        }
+        default: {
+            return mueller_depolarizer();
+        }
+    }
+}
