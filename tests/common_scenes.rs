@@ -460,3 +460,115 @@ pub fn wait_denoised(h: &mut egui_kittest::Harness<'static, refract::app::Viewer
     }
     assert!(showing(h), "no denoised image within a minute");
 }
+
+/// Exact dielectric Fresnel amplitudes (r_s, r_p) from outside, in f64 (Hecht §4.6.2):
+/// an independent reference for the renderer's f32 complex ones.
+pub fn fresnel_sp(cos_i: f64, n: f64) -> (f64, f64) {
+    let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (n * n)).sqrt();
+    let rs = (cos_i - n * cos_t) / (cos_i + n * cos_t);
+    let rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+    (rs, rp)
+}
+
+pub const N_GLASS: f32 = 1.5;
+
+/// A glass plate (a one-sided 40 × 40 m glass quad at y = 0, normal +y, n = 1.5) in a black
+/// world, a 30 × 30 m unpolarised emitter (radiance 2) facing it across the mirror
+/// direction, and an upright camera 3 m from the plate's centre at `theta` from the normal
+/// with a 0.2° field of view: every pixel sees the emitter in the plate at θ ± 0.1°. The
+/// plane of incidence is vertical, so s is the image's horizontal.
+pub fn polarizer_plate(theta: f32) -> Scene {
+    let mut m = Mesh::default();
+    quad(
+        &mut m,
+        Vec3::new(-20.0, 0.0, 20.0),
+        Vec3::X * 40.0,
+        Vec3::Z * -40.0,
+        0,
+    );
+    let (s, c) = theta.sin_cos();
+    let mirror = Vec3::new(0.0, c, -s);
+    let centre = 20.0 * mirror;
+    // The emitter's corners: a square ⊥ the mirror direction, facing the plate.
+    let (u, v) = (Vec3::X * 30.0, mirror.cross(Vec3::X) * 30.0);
+    quad(&mut m, centre - 0.5 * (u + v), v, u, 1);
+    let cam = Camera::look_at(
+        3.0 * Vec3::new(0.0, c, s),
+        Vec3::ZERO,
+        Vec3::Y,
+        0.2f32.to_radians(),
+    );
+    let materials = vec![
+        Material::glass("plate", N_GLASS),
+        Material::emitter("panel", Vec3::splat(2.0)),
+    ];
+    let mut sc = scene("plate", m, materials, cam, 0.0);
+    sc.settings.width = 8;
+    sc.settings.height = 8;
+    sc
+}
+
+/// The viewer on `builtin:brewster` at 1/8 resolution: the mean of the image's
+/// centre, where the panel is seen in the plate at Brewster's angle, once `spp` samples of
+/// the current generation are in.
+pub fn viewer_centre(
+    h: &mut egui_kittest::Harness<'static, refract::app::ViewerApp>,
+    spp: u64,
+) -> f64 {
+    let start = std::time::Instant::now();
+    let done = |h: &egui_kittest::Harness<'static, refract::app::ViewerApp>| {
+        h.state()
+            .backend()
+            .read_image()
+            .is_some_and(|a| a.spp >= spp)
+    };
+    while !done(h) && start.elapsed().as_secs() < 120 {
+        h.step();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let a = h
+        .state()
+        .backend()
+        .read_image()
+        .expect("samples within two minutes");
+    let (w, ht) = (a.width as usize, a.height as usize);
+    // The panel's reflection: the middle fifth across, the middle eighth down.
+    let (x0, x1, y0, y1) = (2 * w / 5, 3 * w / 5, 7 * ht / 16, 9 * ht / 16);
+    let mut sum = 0.0f64;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            sum += a.pixels[y * w + x].y as f64;
+        }
+    }
+    sum / ((x1 - x0) * (y1 - y0)) as f64
+}
+
+/// The viewer with `backend` on `builtin:brewster`: the polariser at 90° removes the
+/// reflection of the panel in the plate at Brewster's angle, at 0° passes most of it
+/// (tests/polarization.rs on the CPU, tests/viewer_gpu.rs on the GPU).
+pub fn assert_viewer_polarizer_removes_the_brewster_reflection(
+    backend: Box<dyn refract::app::backend::Backend>,
+) {
+    use refract::app::ViewerApp;
+    use refract::render::settings::ViewerSettings;
+    let scene = "builtin:brewster";
+    let mut settings = ViewerSettings::for_scene(scene);
+    settings.render.render_scale = 0.125;
+    settings.render.fit_viewport = false;
+    let app = ViewerApp::with_backend(Scene::load(scene).unwrap(), settings, backend).unwrap();
+    let mut h = egui_kittest::Harness::builder()
+        .with_size(eframe::egui::vec2(800.0, 600.0))
+        .build_ui_state(|ui, app: &mut ViewerApp| app.show(ui), app);
+    let plain = viewer_centre(&mut h, 32);
+    h.state_mut().set_polarizer(Some(90.0));
+    assert_eq!(h.state().polarizer, Some(90.0));
+    let p = viewer_centre(&mut h, 32);
+    h.state_mut().set_polarizer(Some(0.0));
+    let s = viewer_centre(&mut h, 32);
+    let device = h.state().backend().device_name();
+    eprintln!("centre: no filter {plain:.4}, 0° {s:.4}, 90° {p:.4} ({device})");
+    assert!(!device.contains("cannot render"), "fell back: {device}");
+    // All of the reflection is s-polarised (horizontal): 0° passes it, 90° removes it.
+    assert!(p < 0.1 * plain, "90°: {p} vs {plain}");
+    assert!(s > 0.6 * plain, "0°: {s} vs {plain}");
+}

@@ -627,3 +627,15 @@ fn the_live_denoiser_filters_on_the_backends_device() {
     let after = app.backend().read_image().unwrap();
     assert!(after.pixels == raw.pixels, "the accumulation changed");
 }
+
+/// The viewer's polarising filter on the GPU backend (issue 38): the kernel traces the
+/// filtered intensity (`cpu/polarized/chain.wgsl`), so the Brewster reflection vanishes at
+/// 90° as on the CPU, without falling back to it.
+#[test]
+fn the_gpu_backend_traces_the_polarizer() {
+    let Some(ctx) = context("the_gpu_backend_traces_the_polarizer") else {
+        return;
+    };
+    let backend = GpuBackend::headless(ctx, None).expect("GPU backend");
+    common_scenes::assert_viewer_polarizer_removes_the_brewster_reflection(Box::new(backend));
+}

@@ -30,14 +30,16 @@ impl ViewerApp {
     }
 
     /// Put a polarising filter at `degrees` in front of the sensor (None: take it away); a
-    /// backend that cannot (the GPU) keeps the unpolarised image and says so.
+    /// backend that cannot keeps the unpolarised image and says so (both can: the GPU's
+    /// kernel traces the filtered intensity, `cpu/polarized/chain.wgsl`).
     pub fn set_polarizer(&mut self, degrees: Option<f32>) {
         if self.backend.set_polarizer(degrees.map(f32::to_radians)) {
             self.polarizer = degrees;
         } else {
             self.polarizer = None;
-            self.messages.info =
-                Some("the polarising filter is CPU only: switch the device to CPU".to_owned());
+            self.messages.info = Some(
+                "this device cannot trace polarised light: switch the device to CPU".to_owned(),
+            );
         }
     }
 

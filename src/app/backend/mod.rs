@@ -138,8 +138,9 @@ pub trait Backend {
         false
     }
     /// Trace polarised light and show the image behind a linear polariser at `angle`
-    /// (radians from the image's horizontal; None: no filter, unpolarised transport,
-    /// `cpu::polarized`); false when this backend cannot (the GPU).
+    /// (radians from the image's horizontal; None: no filter, unpolarised transport;
+    /// `cpu::polarized`, on the GPU `cpu/polarized/chain.wgsl`); false when this backend
+    /// cannot.
     fn set_polarizer(&mut self, _angle: Option<f32>) -> bool {
         false
     }

@@ -358,16 +358,17 @@ fn accumulation(app: &mut ViewerApp, ui: &mut egui::Ui, r: &mut RenderEdit) {
     }
 }
 
-/// The polarising filter in front of the sensor (CPU only, the beauty view): on/off and its
+/// The polarising filter in front of the sensor (the beauty view, CPU or GPU): on/off and its
 /// angle from the image's horizontal (docs/polarization.md).
 fn polarizer(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut on = app.polarizer.is_some();
     let mut deg = app.polarizer.unwrap_or(90.0);
     ui.horizontal(|ui| {
         ui.checkbox(&mut on, "Polarizer").on_hover_text(
-            "Trace polarised light and look through a linear polarising filter (CPU, image \
-             view). 0° passes horizontally polarised light, 90° vertically: at Brewster's \
-             angle (builtin:brewster) 90° removes the reflection off glass.",
+            "Trace polarised light and look through a linear polarising filter (image view; \
+             the path tracer over every path, on the CPU or the GPU). 0° passes horizontally \
+             polarised light, 90° vertically: at Brewster's angle (builtin:brewster) 90° \
+             removes the reflection off glass.",
         );
         if on {
             ui.add(egui::Slider::new(&mut deg, 0.0..=180.0).suffix("°"));

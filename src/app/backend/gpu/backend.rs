@@ -327,4 +327,22 @@ impl Backend for GpuBackend {
     fn take_message(&mut self) -> Option<String> {
         self.message.take()
     }
+
+    fn set_polarizer(&mut self, angle: Option<f32>) -> bool {
+        if self.polarizer == angle {
+            return true;
+        }
+        self.bump();
+        self.polarizer = angle;
+        if let Some(cpu) = self.fallback.as_mut() {
+            return cpu.set_polarizer(angle);
+        }
+        if let Err(e) = self.sync_polarizer() {
+            self.enter_fallback(&e);
+            if let Some(cpu) = self.fallback.as_mut() {
+                cpu.set_polarizer(angle);
+            }
+        }
+        true
+    }
 }

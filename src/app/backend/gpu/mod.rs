@@ -45,7 +45,7 @@
 use super::{Backend, CpuBackend, DisplayParams};
 use crate::gpu::tonemap::ToneMapper;
 use crate::gpu::{GpuContext, GpuRenderer};
-use crate::render::{Estimator, RenderOptions};
+use crate::render::{Estimator, Polarization, RenderOptions};
 use crate::scene::Scene;
 use anyhow::{Context as _, Result};
 use eframe::egui;
@@ -128,6 +128,9 @@ pub struct GpuBackend {
     pipeline_capacity: Option<usize>,
     poller: Poller,
     message: Option<String>,
+    /// The polarising filter's angle (radians; `Backend::set_polarizer`): polarised
+    /// transport, the path estimator over every path (as `CpuBackend`).
+    polarizer: Option<f32>,
 }
 
 impl GpuBackend {
@@ -213,6 +216,7 @@ impl GpuBackend {
             pipeline_capacity: None,
             poller,
             message: None,
+            polarizer: None,
         })
     }
 
@@ -371,8 +375,10 @@ impl GpuBackend {
                 });
             }
         }
+        let table = self.wanted_filter(&o);
         if let Some(r) = self.renderer.as_mut() {
-            r.set_filter_table(o.filter);
+            r.set_polarization(None)?;
+            r.set_filter_table(table);
             if let Some(on) = self.compile_ahead {
                 r.set_compile_ahead(on);
             }
@@ -384,14 +390,49 @@ impl GpuBackend {
             }
         }
         self.sync_estimator();
+        self.sync_polarizer()?;
         Ok(true)
     }
 
     /// The viewer's choice, as asked: the renderer plans what runs for it
     /// (`render::estimator_plan`, the same decision as `render --device gpu`: auto resolved
     /// for the scene, bdpt and lt as lt+pt).
+    /// With the polarising filter the path tracer runs (`CpuBackend` does the same).
     fn wanted_estimator(&self) -> Estimator {
-        self.options.map_or(Estimator::Path, |o| o.estimator)
+        match self.options {
+            Some(o) if self.polarizer.is_none() => o.estimator,
+            _ => Estimator::Path,
+        }
+    }
+
+    /// The path filter of `o`, none with the polarising filter (polarised transport
+    /// renders every path, as on the CPU).
+    fn wanted_filter(&self, o: &RenderOptions) -> Option<crate::paths::DfaTable> {
+        o.filter.filter(|_| self.polarizer.is_none())
+    }
+
+    /// Give the renderer the polarising filter: taken away first, then the filter and
+    /// estimator it needs, then set (each step only where something changes).
+    fn sync_polarizer(&mut self) -> Result<()> {
+        let want = self.polarizer.map(|a| Polarization { filter: Some(a) });
+        let table = self.options.map(|o| self.wanted_filter(&o));
+        let Some(r) = self.renderer.as_mut() else {
+            return Ok(());
+        };
+        if r.polarization() == want {
+            return Ok(());
+        }
+        r.set_polarization(None)?;
+        if let Some(table) = table
+            && r.filter().copied() != table
+        {
+            r.set_filter_table(table);
+        }
+        self.sync_estimator();
+        let Some(r) = self.renderer.as_mut() else {
+            return Ok(());
+        };
+        r.set_polarization(want)
     }
 
     /// Apply the wanted estimator (only when it changed: switching restarts accumulation).
@@ -416,15 +457,16 @@ impl GpuBackend {
         let (Some(gopts), Some(o)) = (self.gpu_options(), self.options) else {
             return Ok(());
         };
+        let table = self.wanted_filter(&o);
         let Some(r) = self.renderer.as_mut() else {
             return self.sync_full().map(|_| ());
         };
         r.set_options(gopts)?;
-        if r.filter().copied() != o.filter {
-            r.set_filter_table(o.filter);
+        if r.filter().copied() != table {
+            r.set_filter_table(table);
         }
         self.sync_estimator();
-        Ok(())
+        self.sync_polarizer()
     }
 
     /// Render on the CPU from now on (state replayed), with a message saying why.
