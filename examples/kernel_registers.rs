@@ -6,7 +6,8 @@
 //!  [--kernel ENTRY] [--off PART]… [--on PART]…`
 //!
 //! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or `textures`,
-//! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`) leaves a part out, to see
+//! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`,
+//! `polarized`) leaves a part out, to see
 //! what it costs; `--on PART` puts one in.
 
 #[path = "../tests/radv/mod.rs"]
@@ -43,10 +44,13 @@ fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specia
             "spectral" => &mut spec.spectral,
             "nested" => &mut spec.nested,
             "filter" => &mut spec.filter,
+            "polarized" => &mut spec.polarized,
             other => anyhow::bail!("{other}: not a part this example knows"),
         };
         *field = value;
     }
+    // Polarised transport runs in the megakernel only (`Specialization::wants_wavefront`).
+    spec.wavefront &= !spec.polarized;
     Ok(spec)
 }
 

@@ -15,6 +15,7 @@ use refract::gpu::{GpuContext, GpuRenderer};
 use refract::paths::PathFilter;
 use refract::render::{Estimator, Polarization, RenderOptions};
 use refract::scene::Scene;
+use refract::scene::material::MaterialKind;
 
 /// `scene` at `w` × `h`.
 fn sized(spec: &str, w: u32, h: u32) -> Scene {
@@ -22,6 +23,17 @@ fn sized(spec: &str, w: u32, h: u32) -> Scene {
     s.settings.width = w;
     s.settings.height = h;
     s
+}
+
+/// `scene` with its solid glass made thin-walled sheets (the sheet's reflection and its
+/// transmission through both faces).
+fn thin_walled(mut scene: Scene) -> Scene {
+    for m in &mut scene.materials {
+        if m.kind == MaterialKind::Glass {
+            m.kind = MaterialKind::ThinGlass;
+        }
+    }
+    scene
 }
 
 /// The GPU's polarised image of `scene` behind `pol` (None: unpolarised), `spp` samples from
@@ -80,7 +92,8 @@ fn mean_abs_diff(a: &[Vec3], b: &[Vec3]) -> f64 {
 /// each other — else the comparison would not see the polarisation at all. Scenes: the Brewster plate behind both filter
 /// angles (dielectric reflection and refraction), the metals (tabulated conductors with
 /// complex IOR, smooth and rough; the ideal conductor), rough glass at 45° (the half vector),
-/// the metal-rough materials (its two lobes), the dispersive prism (spectral lanes).
+/// the metal-rough materials (its two lobes), the dispersive prism (spectral lanes; total
+/// internal reflection's phase), cornell-glass with a thin-walled sphere (the sheet).
 #[test]
 fn gpu_polarized_images_match_the_cpu_walk_sample_for_sample() {
     let Some(ctx) = gpu_context("gpu_polarized_images_match_the_cpu_walk_sample_for_sample") else {
@@ -96,9 +109,13 @@ fn gpu_polarized_images_match_the_cpu_walk_sample_for_sample() {
         ("builtin:rough-glass", deg(45.0)),
         ("builtin:materials", deg(120.0)),
         ("builtin:prism", deg(60.0)),
+        ("thin:builtin:cornell-glass", deg(0.0)),
     ];
     for (spec, pol) in cases {
-        let scene = sized(spec, 48, 36);
+        let scene = match spec.strip_prefix("thin:") {
+            Some(spec) => thin_walled(sized(spec, 48, 36)),
+            None => sized(spec, 48, 36),
+        };
         let run = (8, 11);
         let g = gpu_image(&ctx, &scene, Some(pol), run);
         let c = cpu_image(&scene, pol, run);

@@ -46,8 +46,17 @@ pub fn fresnel_amplitudes(cos_i: f32, eta: Complex) -> FresnelAmplitudes {
         cos_t = cos_t.conj();
     }
     let ci = Complex::real(c);
-    let r_s = (ci - eta_rel * cos_t) / (ci + eta_rel * cos_t);
-    let r_p = (eta_rel * ci - cos_t) / (eta_rel * ci + cos_t);
+    // r_s and r_p with their numerators multiplied out (cos²θt = 1 − sin²θi/η'²):
+    // cos²θi − η'² cos²θt = 1 − η'² and η'² cos²θi − cos²θt = (η'² − 1)((η'² + 1) cos²θi − 1)/η'²,
+    // which do not cancel as η' → 1 (an index-matched interface), where the differences of
+    // nearly equal terms lose every digit in f32; 1 − η'² as (1 − η')(1 + η').
+    let d_s = ci + eta_rel * cos_t;
+    let d_p = eta_rel * ci + cos_t;
+    let eta2 = eta_rel * eta_rel;
+    let one_minus_eta2 = (Complex::ONE - eta_rel) * (Complex::ONE + eta_rel);
+    let r_s = one_minus_eta2 / (d_s * d_s);
+    let brewster = Complex::real(c * c) * (eta2 + Complex::ONE) - Complex::ONE;
+    let r_p = -(one_minus_eta2 * brewster) / (eta2 * d_p * d_p);
     FresnelAmplitudes {
         r_s,
         r_p,

@@ -84,40 +84,86 @@ fn fresnel_amplitudes(cos_i_in: f32, eta: vec2<f32>) -> Amplitudes {
     if cos_t.y > 0.0 {
         cos_t.y = -cos_t.y;
     }
-    let ci = vec2<f32>(c, 0.0);
-    let ect = cx_mul(eta_rel, cos_t);
-    let eci = eta_rel * c;
-    let r_s = cx_div(ci - ect, ci + ect);
-    let r_p = cx_div(eci - cos_t, eci + cos_t);
+    // The numerators multiplied out, as in the Rust (no cancellation as η' → 1).
+    let d_s = vec2<f32>(c, 0.0) + cx_mul(eta_rel, cos_t);
+    let d_p = eta_rel * c + cos_t;
+    let eta2 = cx_mul(eta_rel, eta_rel);
+    let one_minus_eta2 = cx_mul(vec2<f32>(1.0, 0.0) - eta_rel, vec2<f32>(1.0, 0.0) + eta_rel);
+    let r_s = cx_div(one_minus_eta2, cx_mul(d_s, d_s));
+    let brewster = c * c * (eta2 + vec2<f32>(1.0, 0.0)) - vec2<f32>(1.0, 0.0);
+    let r_p = cx_div(-cx_mul(one_minus_eta2, brewster), cx_mul(eta2, cx_mul(d_p, d_p)));
     return Amplitudes(vec4<f32>(r_s, r_p), cos_t, eta_rel, c);
 }
 
-// Specular reflection's (a, b, c, s) at `cos_i` (`reflection_mueller`, normalised).
+// Specular reflection's (a, b, c, s) at `cos_i` for a complex η (`reflection_mueller`,
+// normalised): conductors.
 fn reflection_lane(cos_i: f32, eta: vec2<f32>) -> vec4<f32> {
     let am = fresnel_amplitudes(cos_i, eta);
     return jones_diagonal(am.r.xy, am.r.zw);
 }
 
-// Refraction's Jones diagonal (t_s, t_p) through a dielectric at `cos_i`; zeros under total
-// internal reflection or at grazing incidence (`transmission_mueller`, whose scale factor
-// the normalisation removes).
-fn transmission_jones(cos_i: f32, eta: f32) -> vec4<f32> {
-    let am = fresnel_amplitudes(cos_i, vec2<f32>(eta, 0.0));
-    if am.cos_t.y != 0.0 || am.cos_i == 0.0 {
+// (a, b, c, s) of the real Jones diagonal diag(ja, jb), normalised (`jones_diagonal`).
+fn jones_real(ja: f32, jb: f32) -> vec4<f32> {
+    let p = 0.5 * (ja * ja + jb * jb);
+    let inv = 1.0 / p;
+    if !(p > 0.0) || !is_finite_f32(inv) {
         return vec4<f32>(0.0);
     }
-    let t_s = vec2<f32>(1.0, 0.0) + am.r.xy;
-    let t_p = (vec2<f32>(1.0, 0.0) + am.r.zw) / am.eta_rel.x;
-    return vec4<f32>(t_s, t_p);
+    return vec4<f32>(1.0, 0.5 * (ja * ja - jb * jb) * inv, ja * jb * inv, 0.0);
 }
 
-// A dielectric event (reflection or refraction) at the light's incidence cosine `cos_i`.
-fn dielectric_lane(cos_i: f32, eta: f32, event: u32) -> vec4<f32> {
-    if event == EVENT_REFLECT {
-        return reflection_lane(cos_i, vec2<f32>(eta, 0.0));
+// A dielectric event (reflection or refraction; η real) at the light's incidence cosine
+// `cos_i` (negative: from inside), in real arithmetic: the matrices of `fresnel_amplitudes`
+// with a real η, whose amplitudes are real except under total internal reflection. There
+// cos θt = −iκ, κ = √(sin²θi/η'² − 1), and r_s = z_s / z_s*, r_p = z_p / z_p* with
+// z_s = cos θi + iη'κ, z_p = η' cos θi + iκ, so r_s r_p* = w² / |w|² for
+// w = z_s z_p* = η'(cos²θi + κ²) + i cos θi κ (η'² − 1): |r_s| = |r_p| = 1 and a retarder of
+// phase arg w² (Born & Wolf §1.5.4). Refraction is zero there (the depolariser's zeros, as
+// `transmission_mueller`'s zero matrix normalised), and at grazing incidence.
+fn dielectric_lane(cos_i_in: f32, eta: f32, event: u32) -> vec4<f32> {
+    var c = clamp(cos_i_in, -1.0, 1.0);
+    var e = eta;
+    if c < 0.0 {
+        e = 1.0 / eta;
+        c = -c;
     }
-    let t = transmission_jones(cos_i, eta);
-    return jones_diagonal(t.xy, t.zw);
+    let cos2_t = 1.0 - (1.0 - c * c) / (e * e);
+    if cos2_t < 0.0 {
+        if event != EVENT_REFLECT {
+            return vec4<f32>(0.0);
+        }
+        let k = sqrt(-cos2_t);
+        let w = vec2<f32>(e * (c * c + k * k), c * k * (e * e - 1.0));
+        let n = w.x * w.x + w.y * w.y;
+        if !(n > 0.0) {
+            return vec4<f32>(0.0);
+        }
+        return vec4<f32>(1.0, 0.0, (w.x * w.x - w.y * w.y) / n, 2.0 * w.x * w.y / n);
+    }
+    // `fresnel_amplitudes`' cancellation-free forms.
+    let ct = sqrt(cos2_t);
+    let one_minus_e2 = (1.0 - e) * (1.0 + e);
+    let ds = c + e * ct;
+    let dp = e * c + ct;
+    let rs = one_minus_e2 / (ds * ds);
+    let rp = -one_minus_e2 * (c * c * (e * e + 1.0) - 1.0) / (e * e * dp * dp);
+    if event == EVENT_REFLECT {
+        return jones_real(rs, rp);
+    }
+    if c == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return jones_real(1.0 + rs, (1.0 + rp) / e);
+}
+
+// Through both faces of a thin sheet: Jones diag(t_s², t_p²) (`normalized(t · t)`). With
+// the single pass normalised to (1, β, γ, 0), t_s² : t_p² = (1 + β) : (1 − β).
+fn sheet_transmission_lane(cos_i: f32, eta: f32) -> vec4<f32> {
+    let t = dielectric_lane(cos_i, eta, EVENT_TRANSMIT);
+    if t.x == 0.0 {
+        return t;
+    }
+    return jones_real(0.5 * (1.0 + t.y), 0.5 * (1.0 - t.y));
 }
 
 // A conductor's reflection per lane (η − ik per lane; RGB: lane w unused).
@@ -162,56 +208,100 @@ fn rough_dielectric_lane(wo: vec3<f32>, wi: vec3<f32>, event: u32, eta: f32) -> 
 }
 
 // The normalised Mueller matrix of the event (wo, wi) of `b` in class `lobe` (local frame;
-// `event_mueller`). Films are refused on the GPU (gpu::upload::check_supported).
+// `event_mueller`). Films are refused on the GPU (gpu::upload::check_supported); absent
+// kinds are compiled out by their HAS_* overrides, as in bsdf.wgsl.
 fn bsdf_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32, lobe: u32) -> Mueller {
     switch b.kind {
         case BSDF_MIRROR, BSDF_ROUGH_CONDUCTOR: {
             return mueller_ideal_conductor();
         }
         case BSDF_SMOOTH_DIELECTRIC: {
-            if b.eta == 1.0 {
-                return mueller_identity();
+            if HAS_SMOOTH_DIELECTRIC {
+                if b.eta == 1.0 {
+                    return mueller_identity();
+                }
+                return mueller_splat(dielectric_lane(wi.z, b.eta, event));
             }
-            return mueller_splat(dielectric_lane(wi.z, b.eta, event));
         }
         case BSDF_ROUGH_DIELECTRIC: {
-            if b.eta == 1.0 {
-                return mueller_identity();
+            if HAS_ROUGH_DIELECTRIC {
+                if b.eta == 1.0 {
+                    return mueller_identity();
+                }
+                return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
             }
-            return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
         }
         case BSDF_THIN_DIELECTRIC: {
-            let c = abs(wi.z);
-            if event == EVENT_REFLECT {
-                return mueller_splat(dielectric_lane(c, b.eta, event));
+            if HAS_THIN_DIELECTRIC {
+                let c = abs(wi.z);
+                if event == EVENT_REFLECT {
+                    return mueller_splat(dielectric_lane(c, b.eta, event));
+                }
+                return mueller_splat(sheet_transmission_lane(c, b.eta));
             }
-            // Both interfaces: Jones diag(t_s², t_p²) (`normalized(t · t)`).
-            let t = transmission_jones(c, b.eta);
-            return mueller_splat(jones_diagonal(cx_mul(t.xy, t.xy), cx_mul(t.zw, t.zw)));
         }
         case BSDF_SMOOTH_CONDUCTOR: {
-            return conductor_mueller(wi.z, bsdf_conductor_eta(b), bsdf_conductor_k(b));
+            if HAS_CONDUCTOR {
+                return conductor_mueller(wi.z, bsdf_conductor_eta(b), bsdf_conductor_k(b));
+            }
         }
         case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
-            if m.w == 0.0 {
-                return mueller_depolarizer();
+            if HAS_CONDUCTOR {
+                let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+                if m.w != 0.0 {
+                    return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b));
+                }
             }
-            return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b));
         }
         case BSDF_METAL_ROUGH: {
-            let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
-            if lobe != LOBE_G || m.w == 0.0 {
-                return mueller_depolarizer();
+            if HAS_METAL_ROUGH && lobe == LOBE_G {
+                return mueller_splat(metal_rough_specular_lane(b, wo, wi));
             }
-            // Dielectric reflection at the material's IOR blended towards the ideal conductor
-            // by `metallic` (docs/polarization.md: Schlick's F has no phases).
-            let d = reflection_lane(dot3(wi, m.xyz), vec2<f32>(b.ior, 0.0));
-            let t = b.metallic;
-            return mueller_splat(d * (1.0 - t) + vec4<f32>(1.0, 0.0, -1.0, 0.0) * t);
         }
-        default: {
-            return mueller_depolarizer();
-        }
+        default: {}
     }
+    return mueller_depolarizer();
+}
+
+// glTF metallic-roughness's specular lobe: dielectric reflection at the material's IOR at the
+// half vector, blended towards the ideal conductor by `metallic` (docs/polarization.md:
+// Schlick's F has no phases); the depolariser's zeros where the half vector is degenerate.
+fn metal_rough_specular_lane(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+    var d = vec4<f32>(0.0);
+    if m.w != 0.0 {
+        d = dielectric_lane(dot3(wi, m.xyz), b.ior, EVENT_REFLECT);
+    }
+    let t = b.metallic;
+    return d * (1.0 - t) + vec4<f32>(1.0, 0.0, -1.0, 0.0) * t;
+}
+
+// m₀₁ (= m₁₀) of the glossy event (wo, wi) of a non-delta BSDF, all a next-event connection
+// needs of its matrix (chain.wgsl `pol_through`): [`bsdf_mueller`]'s b for the kinds next-event
+// estimation reaches, in less code (the delta kinds never connect; the ideal conductor and
+// the depolariser have b = 0).
+fn bsdf_mueller_b(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
+    switch b.kind {
+        case BSDF_ROUGH_DIELECTRIC: {
+            if HAS_ROUGH_DIELECTRIC && b.eta != 1.0 {
+                return vec4<f32>(rough_dielectric_lane(wo, wi, event, b.eta).y);
+            }
+        }
+        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
+            if HAS_CONDUCTOR {
+                let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+                if m.w != 0.0 {
+                    return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b)).b;
+                }
+            }
+        }
+        case BSDF_METAL_ROUGH: {
+            if HAS_METAL_ROUGH {
+                return vec4<f32>(metal_rough_specular_lane(b, wo, wi).y);
+            }
+        }
+        default: {}
+    }
+    return vec4<f32>(0.0);
 }

@@ -20,15 +20,20 @@ fn cx_norm2(a: vec2<f32>) -> f32 {
 }
 
 // The principal square root (Re ≥ 0; Im ≥ 0 on the cut). Twin of `math::Complex::sqrt`
-// (which takes the modulus in f64; the same root to f32 rounding).
+// (which takes the modulus in f64; the same root to f32 rounding): the larger component from
+// √((r ± x)/2), the smaller as y / (2 · that) — without the cancellation of r − x where
+// |y| ≪ x (a conductor or thin film near normal incidence lost most of Im that way).
 fn cx_sqrt(a: vec2<f32>) -> vec2<f32> {
     let r = sqrt(cx_norm2(a));
-    let re = sqrt(max(0.5 * (r + a.x), 0.0));
-    var im = sqrt(max(0.5 * (r - a.x), 0.0));
-    if a.y < 0.0 {
-        im = -im;
+    if r == 0.0 {
+        return vec2<f32>(0.0);
     }
-    return vec2<f32>(re, im);
+    if a.x >= 0.0 {
+        let t = sqrt(0.5 * (r + a.x));
+        return vec2<f32>(t, a.y / (2.0 * t));
+    }
+    let t = sqrt(0.5 * (r - a.x));
+    return vec2<f32>(abs(a.y) / (2.0 * t), select(t, -t, a.y < 0.0));
 }
 
 fn cx_arg(a: vec2<f32>) -> f32 {

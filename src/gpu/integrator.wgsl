@@ -347,9 +347,7 @@ fn integrator_polarized_f(pol: PolRow, hit: SurfaceHit, wo: vec3<f32>, wo_w: vec
     } else if bsdf_class(bsdf) == LOBE_D {
         f_g = vec4<f32>(0.0);
     }
-    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
-    let m = bsdf_mueller(bsdf, wo, wi, event, LOBE_G);
-    return pol_through(pol, wo_w, wi_w, hit.ns, m, f, f_g);
+    return pol_through(pol, wo_w, wi_w, hit.ns, bsdf_mueller_b(bsdf, wo, wi), f, f_g);
 }
 
 // Beer–Lambert along a connection of length `t` in `medium` (1 outside every medium): the

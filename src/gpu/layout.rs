@@ -377,6 +377,11 @@ gpu_struct! {
         /// spectrum_sample_to_rgb(lambdas, (1, u2.x, u2.y, uc)), cauchy_from_abbe(eta, 40, lambdas.x).
         pub to_rgb: [f32; 4],
         /// pcg_hash(pixel), then the first 4 draws of sampler_new(pixel, sample, seed) as raw bits
+        /// `bsdf_mueller` of the event (wo, wi) in the glossy class: (a, b, c, s), each per
+        /// colour lane (bsdf/polarized.wgsl).
+        pub mueller: [f32; 16],
+        /// `bsdf_mueller_b` of (wo, wi) per lane.
+        pub mueller_b: [f32; 4],
         pub rng: [u32; 5],
         pub _pad: [u32; 3],
     }

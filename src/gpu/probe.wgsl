@@ -1,5 +1,5 @@
 // probe.wgsl — evaluates the WGSL maths on a list of cases so tests/gpu.rs can compare it with
-// the Rust twins (fresnel, refract, each BSDF's eval/pdf/sample, the RNG).
+// the Rust twins (fresnel, refract, each BSDF's eval/pdf/sample and polarising matrix, the RNG).
 
 struct ProbeCase {
     wo: array<f32, 3>,
@@ -52,6 +52,10 @@ struct ProbeOut {
     lambdas: array<f32, 4>,
     uplift: array<f32, 4>,
     to_rgb: array<f32, 4>,
+    // bsdf_mueller(b, wo, wi, event of (wo, wi), LOBE_G): a, b, c, s (4 lanes each), and
+    // bsdf_mueller_b (polarized.wgsl)
+    mueller: array<f32, 16>,
+    mueller_b: array<f32, 4>,
     // pcg_hash(pixel), then the first 4 draws of sampler_new(pixel, sample, seed) as raw bits
     rng: array<u32, 5>,
     _pad: array<u32, 3>,
@@ -142,6 +146,15 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     o.uplift = a4(rgb_to_spectrum4(PROBE_COLOR, lambdas));
     let rgb = spectrum_sample_to_rgb(lambdas, vec4<f32>(1.0, u2.x, u2.y, c.uc));
     o.to_rgb = array<f32, 4>(rgb.x, rgb.y, rgb.z, cauchy_from_abbe(c.eta, 40.0, lambdas.x));
+    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
+    let mu = bsdf_mueller(b, wo, wi, event, LOBE_G);
+    for (var k = 0u; k < 4u; k++) {
+        o.mueller[k] = mu.a[k];
+        o.mueller[4u + k] = mu.b[k];
+        o.mueller[8u + k] = mu.c[k];
+        o.mueller[12u + k] = mu.s[k];
+    }
+    o.mueller_b = a4(bsdf_mueller_b(b, wo, wi));
     var smp = sampler_new(c.pixel, c.sample, c.seed);
     o.rng[0] = pcg_hash(c.pixel);
     for (var k = 1u; k < 5u; k++) {

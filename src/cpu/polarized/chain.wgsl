@@ -85,9 +85,9 @@ fn pol_scatter(r: PolRow, wo: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, m: Mueller
 }
 
 // The factor per lane on the scalar BSDF value `f` of a next-event connection whose glossy
-// part is `f_g` (`MuellerChain::through` with `eval_mueller`: D f_d + G f_g, first column
-// (1, 0, 0, 0) for D and (1, b, 0, 0) for G): r₀ f + (r R)_Q b f_g.
-fn pol_through(r: PolRow, wo: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, m: Mueller, f: vec4<f32>, f_g: vec4<f32>) -> vec4<f32> {
+// part is `f_g` with m₀₁ = `b` (`MuellerChain::through` with `eval_mueller`: D f_d + G f_g,
+// first column (1, 0, 0, 0) for D and (1, b, 0, 0) for G): r₀ f + (r R)_Q b f_g.
+fn pol_through(r: PolRow, wo: vec3<f32>, wi: vec3<f32>, n: vec3<f32>, b: vec4<f32>, f: vec4<f32>, f_g: vec4<f32>) -> vec4<f32> {
     let h = pol_at_vertex(r, wo, pol_s_vector(wi, wo, n));
-    return h.i * f + h.q * m.b * f_g;
+    return h.i * f + h.q * b * f_g;
 }
