@@ -7,7 +7,7 @@
 //!
 //! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or `textures`,
 //! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`,
-//! `polarized`) leaves a part out, to see
+//! `polarized`, `light_tracing`, `wavefront`) leaves a part out, to see
 //! what it costs; `--on PART` puts one in.
 
 #[path = "../tests/radv/mod.rs"]
@@ -45,6 +45,8 @@ fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specia
             "nested" => &mut spec.nested,
             "filter" => &mut spec.filter,
             "polarized" => &mut spec.polarized,
+            "light_tracing" => &mut spec.light_tracing,
+            "wavefront" => &mut spec.wavefront,
             other => anyhow::bail!("{other}: not a part this example knows"),
         };
         *field = value;

@@ -26,12 +26,21 @@ const CHILD: &str = "REFRACT_RADV_CHILD";
 fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
     let cornell = Scene::load("builtin:cornell-glass").expect("built-in");
     let cornell = Specialization::for_scene(&cornell).expect("BVH");
+    let brewster = Scene::load("builtin:brewster").expect("built-in");
+    let brewster_polarized = Specialization {
+        polarized: true,
+        ..Specialization::for_scene(&brewster).expect("BVH")
+    }
+    .with_wavefront_rule();
     vec![
         // 96 VGPRs allow 10 subgroups per SIMD; the traversal stack sized to the scene's tree
         // (24 entries, 6 KiB of workgroup memory) no longer caps it at 4.
         ("cornell-glass", cornell, 96, 10),
         ("all features", Specialization::all(), 128, 4),
         ("all features, sppm", Specialization::all_sppm(), 128, 4),
+        // The polariser's lecture demo (issue 38): the chain's row costs the megakernel
+        // 96 → 128 VGPRs, still 8 subgroups per SIMD (docs/polarization.md lists the others).
+        ("brewster, polarised", brewster_polarized, 128, 8),
     ]
 }
 
