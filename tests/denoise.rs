@@ -200,6 +200,36 @@ fn wgsl_filter_matches_the_cpu_twin() {
     }
 }
 
+/// `render --device gpu --denoise` filters on the render's device (the WGSL twin), and a CPU
+/// render on the CPU; both write the denoised EXR beside the raw one.
+#[test]
+fn the_command_line_filters_on_the_renders_device() {
+    if gpu_context("the_command_line_filters_on_the_renders_device").is_none() {
+        return;
+    }
+    let dir = tmp_dir("device");
+    for device in ["gpu", "cpu"] {
+        let out = dir.join(format!("{device}.exr"));
+        let mut args = render_args(out.to_str().unwrap(), &["--denoise"]);
+        let at = args.iter().position(|a| *a == "--device").unwrap();
+        args[at + 1] = device;
+        args.retain(|a| *a != "--quiet");
+        let (ok, err) = refract(&args);
+        assert!(ok, "{err}");
+        let want = if device == "gpu" {
+            "denoised on the GPU (WGSL)"
+        } else {
+            "denoised on the CPU"
+        };
+        assert!(err.contains(want), "{device}: {err}");
+        let denoised = dir.join(format!("{device}.denoised.exr"));
+        assert!(
+            std::fs::read(&denoised).unwrap() != std::fs::read(&out).unwrap(),
+            "{device}: the denoised EXR is the raw one"
+        );
+    }
+}
+
 /// The viewer on the CPU backend, paused after its first samples.
 fn paused_viewer() -> egui_kittest::Harness<'static, refract::app::ViewerApp> {
     common_scenes::paused_viewer(Box::new(refract::app::backend::CpuBackend::new(None)))

@@ -1,14 +1,18 @@
 //! `render --denoise`: the denoised image beside the unbiased one (`OUT.denoised.exr`, and
 //! `OUT.denoised.png` for a PNG output). The unbiased image is written first and untouched;
-//! the guides come from their own camera rays (`denoise::render_guides`).
+//! the guides come from their own camera rays (`denoise::render_guides`). A GPU render is
+//! filtered on its device (`denoise::gpu::GpuDenoiser`, the WGSL twin), a CPU render on the
+//! CPU.
 
 use super::RenderArgs;
 use super::job::Job;
 use anyhow::{Context, Result};
 use glam::Vec3;
 use refract::cpu::Renderer;
+use refract::denoise::gpu::GpuDenoiser;
 use refract::denoise::{DenoiseParams, denoise, half_variance, render_guides};
 use refract::film::{check_output_path, save_image};
+use refract::gpu::GpuContext;
 use refract::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -53,17 +57,19 @@ pub(crate) struct Rendered<'a> {
     pub(crate) half: Option<(&'a [Vec3], u64)>,
 }
 
-/// [`write`] for a render that has no CPU renderer (the GPU's): one is built for the guides.
+/// [`write`] for a GPU render: a CPU renderer is built for the guides, and the filter runs
+/// on the render's device `ctx` (the CPU twin, with a note, if it cannot).
 pub(crate) fn write_for_scene(
     args: &RenderArgs,
     scene: &Scene,
     job: &Job,
     img: Rendered,
+    ctx: &GpuContext,
 ) -> Result<()> {
     if !args.denoise {
         return Ok(());
     }
-    write(args, &Renderer::new(scene.clone())?, job, img)
+    write_on(args, &Renderer::new(scene.clone())?, job, img, Some(ctx))
 }
 
 /// Denoise `img` and write it beside `args.out` (nothing when `--denoise` is off).
@@ -74,6 +80,17 @@ pub(crate) fn write(
     job: &Job,
     img: Rendered,
 ) -> Result<()> {
+    write_on(args, renderer, job, img, None)
+}
+
+/// [`write`], filtering on `ctx` when given.
+fn write_on(
+    args: &RenderArgs,
+    renderer: &Renderer,
+    job: &Job,
+    img: Rendered,
+    ctx: Option<&GpuContext>,
+) -> Result<()> {
     if !args.denoise {
         return Ok(());
     }
@@ -83,12 +100,19 @@ pub(crate) fn write(
     let variance = img
         .half
         .map(|(first, k)| half_variance(first, img.mean, k, img.spp));
-    let out = denoise(
-        img.mean,
-        variance.as_deref(),
-        &guides,
-        &DenoiseParams::default(),
-    );
+    let params = DenoiseParams::default();
+    let on_gpu = ctx.and_then(|ctx| {
+        GpuDenoiser::new(ctx)
+            .and_then(|d| d.denoise(ctx, img.mean, variance.as_deref(), &guides, &params))
+            .map_err(|e| eprintln!("the GPU filter failed ({e:#}); filtering on the CPU"))
+            .ok()
+    });
+    let device = if on_gpu.is_some() {
+        "GPU (WGSL)"
+    } else {
+        "CPU"
+    };
+    let out = on_gpu.unwrap_or_else(|| denoise(img.mean, variance.as_deref(), &guides, &params));
     for p in denoised_paths(&args.out) {
         save_image(&p, w, h, &out, job.exposure, job.tone)?;
         eprintln!("wrote {} (denoised)", p.display());
@@ -99,7 +123,7 @@ pub(crate) fn write(
         "variance estimated from each pixel's neighbourhood"
     };
     eprintln!(
-        "denoised in {:.2} s ({how})",
+        "denoised on the {device} in {:.2} s ({how})",
         started.elapsed().as_secs_f64()
     );
     Ok(())

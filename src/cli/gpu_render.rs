@@ -97,7 +97,7 @@ fn render_with(
         spp: stats.spp,
         half: None,
     };
-    super::denoise::write_for_scene(args, scene, job, rendered)?;
+    super::denoise::write_for_scene(args, scene, job, rendered, r.context())?;
     budget_report(args.time_budget, stats.spp, r.batch_spp());
     Ok(true)
 }
