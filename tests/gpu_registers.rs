@@ -39,7 +39,7 @@ fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
         ("all features", Specialization::all(), 128, 4),
         ("all features, sppm", Specialization::all_sppm(), 128, 4),
         // The polariser's lecture demo (issue 38): the chain's row costs the megakernel
-        // 96 → 128 VGPRs, still 8 subgroups per SIMD (docs/polarization.md lists the others).
+        // 96 → 112 VGPRs, 8 subgroups per SIMD (docs/polarization.md lists the others).
         ("brewster, polarised", brewster_polarized, 128, 8),
     ]
 }

@@ -451,7 +451,7 @@ fn lt_mis_arrive(ps: ptr<function, PathState>, hit: SurfaceHit) {
 // behind the sensor's filter: times the chain row's r₀ (HAS_POLARIZATION; chain.wgsl).
 fn integrator_polarized(ps: ptr<function, PathState>, beta: vec4<f32>) -> vec4<f32> {
     if HAS_POLARIZATION {
-        return beta * ps.pol.i;
+        return beta * pol_lanes(ps.pol).i;
     }
     return beta;
 }
