@@ -396,3 +396,50 @@ fn fresnel_plot_cursor_is_the_inspected_points_angle() {
     assert!((deg - want).abs() < 0.3 && !leaving, "{deg}");
     assert_eq!(inspected_angle(&trace, None, "no-such-material"), None);
 }
+
+/// A screenshot taken behind the polariser records it in its sidecar (`render.polarizer`,
+/// degrees): `render --settings` renders behind it, and a viewer opened on the sidecar starts
+/// behind it.
+#[test]
+fn a_screenshot_sidecar_keeps_the_polarizer() {
+    use refract::app::ViewerApp;
+    use refract::render::settings::ViewerSettings;
+    let dir = std::env::temp_dir().join(format!("refract-pol-shot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = "builtin:brewster";
+    let mut settings = ViewerSettings::for_scene(scene);
+    settings.render.render_scale = 0.0625;
+    settings.render.fit_viewport = false;
+    let backend = Box::new(refract::app::backend::CpuBackend::new(None));
+    let mut app = ViewerApp::with_backend(Scene::load(scene).unwrap(), settings, backend).unwrap();
+    app.screenshot_dir = dir.clone();
+    app.set_polarizer(Some(90.0));
+    let start = std::time::Instant::now();
+    while app.backend().read_image().is_none_or(|a| a.spp < 2) {
+        assert!(start.elapsed().as_secs() < 120, "no samples");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let saved = app.save_screenshot().unwrap();
+    let sidecar = ViewerSettings::load(&saved.json).unwrap();
+    assert_eq!(sidecar.render.polarizer, Some(90.0));
+    let out = dir.join("again.png");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_refract"))
+        .args(["render", "--settings"])
+        .arg(&saved.json)
+        .args([
+            "--spp", "2", "--width", "24", "--height", "16", "--device", "cpu",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && err.contains("behind a linear polariser at 90.0°"),
+        "{err}"
+    );
+    let backend = Box::new(refract::app::backend::CpuBackend::new(None));
+    let reopened = ViewerApp::with_backend(Scene::load(scene).unwrap(), sidecar, backend).unwrap();
+    assert_eq!(reopened.polarizer, Some(90.0));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -79,6 +79,10 @@ impl ViewerApp {
         app.report_warnings(&warnings);
         app.backend.set_scene(&app.scene);
         app.options_follow();
+        // A screenshot's sidecar opened again: behind its polariser.
+        if let Some(deg) = app.settings.render.polarizer.filter(|d| d.is_finite()) {
+            app.set_polarizer(Some(deg));
+        }
         Ok(app)
     }
 

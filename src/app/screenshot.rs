@@ -99,6 +99,7 @@ pub fn save(app: &ViewerApp) -> anyhow::Result<Saved> {
     film::save_image(&exr, acc.width, acc.height, &acc.pixels, 0.0, d.tone_map)?;
     let mut sidecar = app.settings.clone();
     sidecar.environment = EnvironmentSetting::of(&app.base);
+    sidecar.render.polarizer = app.polarizer;
     sidecar.capture = Some(CaptureInfo {
         width: acc.width,
         height: acc.height,

@@ -17,6 +17,7 @@ use refract::cpu::Renderer;
 use refract::cpu::layers::LayerFilm;
 use refract::cpu::polarized::{Polarization, view};
 use refract::film::{self, ToneMap};
+use refract::render::settings::ViewerSettings;
 use refract::render::{Device, Estimator, EstimatorPlan, RenderOptions, Runner};
 use std::path::Path;
 
@@ -57,10 +58,20 @@ pub(crate) fn parse(args: &RenderArgs) -> Result<(Option<PolarizedRender>, Optio
             None => rest.push(item),
         }
     }
+    // The flag, else a screenshot sidecar's `render.polarizer` (`--settings`).
+    let sidecar = match (&args.polarizer, args.settings.as_deref()) {
+        (None, Some(path)) => ViewerSettings::load(path)?.render.polarizer,
+        _ => None,
+    };
     let filter = match args.polarizer {
         Some(deg) if !deg.is_finite() => bail!("--polarizer: {deg} is not an angle in degrees"),
         Some(deg) => Some(deg.to_radians()),
-        None => None,
+        None => match sidecar {
+            Some(deg) if !deg.is_finite() => {
+                bail!("render.polarizer in the sidecar: {deg} is not an angle in degrees")
+            }
+            deg => deg.map(f32::to_radians),
+        },
     };
     let rest = (!rest.is_empty()).then(|| rest.join(","));
     if filter.is_none() && !args.polarized && views.is_empty() {

@@ -76,6 +76,11 @@ pub struct RenderEdit {
     pub fit_viewport: bool,
     /// Light-transport estimator ("auto" picks by scene features).
     pub estimator: Estimator,
+    /// A linear polariser in front of the sensor, its axis in degrees from the image's
+    /// horizontal (docs/polarization.md); absent: unpolarised transport. The viewer writes
+    /// it into a screenshot's sidecar, and `render --settings` renders behind it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polarizer: Option<f32>,
 }
 
 impl Default for RenderEdit {
@@ -89,6 +94,7 @@ impl Default for RenderEdit {
             render_scale: 0.5,
             fit_viewport: true,
             estimator: Estimator::Auto,
+            polarizer: None,
         }
     }
 }
