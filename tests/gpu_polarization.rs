@@ -239,3 +239,55 @@ fn gpu_polarization_refuses_what_it_cannot_render() {
     };
     assert!(GpuRenderer::with_context_polarized(ctx, scene, opts, pol).is_err());
 }
+
+/// `render --device gpu --aov dop,aop,stokes`: the Stokes images from four analysers on the
+/// GPU (`cli/gpu_stokes.rs`) are the CPU walk's, sample for sample (the same seed), and so is
+/// the image behind the filter; Q is far from zero on the Brewster plate (the check has power).
+#[test]
+fn gpu_stokes_views_match_the_cpu() {
+    if gpu_context("gpu_stokes_views_match_the_cpu").is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("refract-gpu-stokes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let render = |device: &str| {
+        let out = dir.join(format!("{device}.exr"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_refract"))
+            .args(["render", "--scene", "builtin:brewster", "--polarizer", "30"])
+            .args(["--aov", "dop,aop,stokes", "--spp", "8", "--width", "48"])
+            .args(["--height", "36", "--seed", "2", "--device", device, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{device}: {err}");
+        let load = |name: &str| refract::film::load_exr(&dir.join(name)).unwrap().2;
+        let layers: Vec<Vec<Vec3>> = (0..4)
+            .map(|k| load(&format!("{device}.s{k}.exr")))
+            .collect();
+        (load(&format!("{device}.exr")), layers, err)
+    };
+    let (gb, gs, err) = render("gpu");
+    assert!(err.contains("on the GPU, four analysers"), "{err}");
+    let (cb, cs, _) = render("cpu");
+    let scale = mean(&cs[0]);
+    let worst = |a: &[Vec3], b: &[Vec3]| {
+        a.iter()
+            .zip(b)
+            .map(|(p, q)| (*p - *q).abs().max_element() as f64)
+            .fold(0.0, f64::max)
+            / scale
+    };
+    for k in 0..4 {
+        let w = worst(&gs[k], &cs[k]);
+        eprintln!(
+            "s{k}: worst |GPU − CPU| {w:.2e} of mean I, mean {:.4}",
+            mean(&cs[k])
+        );
+        assert!(w < 1e-3, "s{k}: {w}");
+    }
+    let wb = worst(&gb, &cb);
+    assert!(wb < 1e-3, "beauty: {wb}");
+    assert!(mean(&cs[1]) > 0.1 * scale, "no polarisation to compare");
+    std::fs::remove_dir_all(&dir).ok();
+}

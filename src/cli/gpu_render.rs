@@ -105,7 +105,7 @@ fn render_with(
 /// The GPU to render on: None (render on the CPU, saying why) when `auto` finds no adapter
 /// or only a software one; `--device gpu` (`forced`) takes a software adapter with a note
 /// and makes a missing one an error.
-fn context(forced: bool) -> Result<Option<GpuContext>> {
+pub(super) fn context(forced: bool) -> Result<Option<GpuContext>> {
     let Some(ctx) = or_cpu(GpuContext::new(), forced, "no GPU adapter")? else {
         return Ok(None);
     };
@@ -127,7 +127,7 @@ fn context(forced: bool) -> Result<Option<GpuContext>> {
 
 /// `r`'s value; for a failure, None (render on the CPU, saying "`what` (error)") unless the
 /// GPU was `forced`, which makes it the command's error.
-fn or_cpu<T>(r: Result<T>, forced: bool, what: &str) -> Result<Option<T>> {
+pub(super) fn or_cpu<T>(r: Result<T>, forced: bool, what: &str) -> Result<Option<T>> {
     match r {
         Ok(v) => Ok(Some(v)),
         Err(e) if !forced => {
@@ -140,7 +140,7 @@ fn or_cpu<T>(r: Result<T>, forced: bool, what: &str) -> Result<Option<T>> {
 
 /// One line on what is about to render: scene and adapter, BVH, size, spp, depth, estimator,
 /// path filter and spectral mode.
-fn log_start(args: &RenderArgs, scene: &Scene, job: &Job, r: &GpuRenderer, name: &str) {
+pub(super) fn log_start(args: &RenderArgs, scene: &Scene, job: &Job, r: &GpuRenderer, name: &str) {
     let (bvh_time, depth, nodes) = r.bvh_info();
     let tree = match r.bvh_layout() {
         refract::gpu::upload::BvhLayout::Bvh2 => "BVH2",

@@ -13,6 +13,7 @@ mod bench;
 mod denoise;
 mod duration;
 mod gpu_render;
+mod gpu_stokes;
 mod job;
 mod layers;
 mod lecture;

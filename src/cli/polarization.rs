@@ -7,6 +7,7 @@
 
 use super::RenderArgs;
 use super::gpu_render;
+use super::gpu_stokes;
 use super::job::{Job, prepare};
 use super::layers::layer_path;
 use super::progress::spp_progress_bar;
@@ -14,11 +15,10 @@ use super::threads::thread_pool;
 use anyhow::{Result, bail};
 use glam::Vec3;
 use refract::cpu::Renderer;
-use refract::cpu::layers::LayerFilm;
-use refract::cpu::polarized::{Polarization, view};
+use refract::cpu::polarized::view;
 use refract::film::{self, ToneMap};
 use refract::render::settings::ViewerSettings;
-use refract::render::{Device, Estimator, EstimatorPlan, RenderOptions, Runner};
+use refract::render::{Estimator, EstimatorPlan, Polarization, RenderOptions, Runner};
 use std::path::Path;
 
 /// One view of a polarised render.
@@ -89,14 +89,8 @@ pub(crate) fn parse(args: &RenderArgs) -> Result<(Option<PolarizedRender>, Optio
 }
 
 /// The render the polarised walk supports: the CPU path tracer over all paths, one machine.
-fn check(args: &RenderArgs, job: &Job, views: &[PolView]) -> Result<()> {
+fn check(args: &RenderArgs, job: &Job) -> Result<()> {
     let what = "polarised transport (--polarizer, --polarized)";
-    if args.device == Device::Gpu && !views.is_empty() {
-        bail!(
-            "the Stokes views (--aov dop, aop, stokes) are CPU only: use --device cpu (or auto, \
-             which renders them on the CPU)"
-        );
-    }
     if !matches!(job.choice, Estimator::Auto | Estimator::Path) {
         bail!(
             "{what} needs --estimator path (or auto), not {}",
@@ -118,11 +112,15 @@ pub(crate) fn render(args: &RenderArgs, pr: &PolarizedRender) -> Result<()> {
         film::check_output_path(&p)?;
     }
     let (scene, mut job) = prepare(args)?;
-    check(args, &job, &pr.views)?;
+    check(args, &job)?;
     job.choice = Estimator::Path;
     job.plan = EstimatorPlan::decide(Estimator::Path, &scene, Runner::Cpu);
-    if pr.views.is_empty() && gpu_render::render_polarized(args, &scene, &job, pr.pol)? {
-        return Ok(());
+    if pr.views.is_empty() {
+        if gpu_render::render_polarized(args, &scene, &job, pr.pol)? {
+            return Ok(());
+        }
+    } else if let Some(s) = gpu_stokes::render_stokes(args, &scene, &job, pr.pol)? {
+        return write_gpu_stokes(args, pr, &job, &s);
     }
     let pool = thread_pool(args.threads)?;
     let renderer = Renderer::new(scene)?;
@@ -141,10 +139,7 @@ pub(crate) fn render(args: &RenderArgs, pr: &PolarizedRender) -> Result<()> {
     bar.finish_and_clear();
     let (w, h) = (opts.width, opts.height);
     film::save_image(&args.out, w, h, &film.image(), job.exposure, job.tone)?;
-    let filter = match pr.pol.filter {
-        Some(a) => format!("behind a linear polariser at {:.1}°", a.to_degrees()),
-        None => "total intensity, no filter".to_owned(),
-    };
+    let filter = filter_text(pr.pol);
     eprintln!(
         "wrote {} ({filter}) — {} spp polarised in {:.2} s, {} NaN/Inf/negative samples dropped",
         args.out.display(),
@@ -152,7 +147,36 @@ pub(crate) fn render(args: &RenderArgs, pr: &PolarizedRender) -> Result<()> {
         stats.elapsed.as_secs_f64(),
         stats.dropped
     );
-    save_views(&args.out, &pr.views, &stokes, film.spp)
+    let layers: Vec<Vec<Vec3>> = (0..4).map(|k| stokes.image(k, film.spp)).collect();
+    save_views(&args.out, &pr.views, (w, h), &layers)
+}
+
+/// What the filter passes.
+fn filter_text(pol: Polarization) -> String {
+    match pol.filter {
+        Some(a) => format!("behind a linear polariser at {:.1}°", a.to_degrees()),
+        None => "total intensity, no filter".to_owned(),
+    }
+}
+
+/// Write a GPU Stokes render (`gpu_stokes`): the image behind the filter and the views.
+fn write_gpu_stokes(
+    args: &RenderArgs,
+    pr: &PolarizedRender,
+    job: &Job,
+    s: &gpu_stokes::StokesRender,
+) -> Result<()> {
+    let (w, h) = s.size;
+    film::save_image(&args.out, w, h, &s.beauty, job.exposure, job.tone)?;
+    eprintln!(
+        "wrote {} ({}) — {} spp polarised on the GPU, four analysers in {:.2} s, {} NaN/Inf/negative samples dropped",
+        args.out.display(),
+        filter_text(pr.pol),
+        s.spp,
+        s.elapsed.as_secs_f64(),
+        s.dropped
+    );
+    save_views(&args.out, &pr.views, (w, h), &s.stokes)
 }
 
 /// Every file the views write for `--out out`.
@@ -168,10 +192,13 @@ fn outputs(out: &Path, views: &[PolView]) -> Vec<std::path::PathBuf> {
         .collect()
 }
 
-/// Write the views of the Stokes film (means over `spp`), in the order of [`outputs`].
-fn save_views(out: &Path, views: &[PolView], stokes: &LayerFilm, spp: u64) -> Result<()> {
-    let (w, h) = (stokes.width, stokes.height);
-    let layers: Vec<Vec<Vec3>> = (0..4).map(|k| stokes.image(k, spp)).collect();
+/// Write the views of the mean Stokes images (I, Q, U, V), in the order of [`outputs`].
+fn save_views(
+    out: &Path,
+    views: &[PolView],
+    (w, h): (u32, u32),
+    layers: &[Vec<Vec3>],
+) -> Result<()> {
     let px: Vec<[Vec3; 4]> = (0..layers[0].len())
         .map(|i| std::array::from_fn(|k| layers[k][i]))
         .collect();
@@ -183,7 +210,7 @@ fn save_views(out: &Path, views: &[PolView], stokes: &LayerFilm, spp: u64) -> Re
                 vec![view::dop_image(&px), grey]
             }
             PolView::Aop => vec![view::aop_image(&px)],
-            PolView::Stokes => layers.clone(),
+            PolView::Stokes => layers.to_vec(),
         })
         .collect();
     for (path, img) in outputs(out, views).into_iter().zip(images) {

@@ -75,6 +75,7 @@ impl GpuRenderer {
             wavefront_override,
             wavefront_indirect: false,
             polarization,
+            analyzer: None,
             wf_args,
         };
         r.fit_to_scene();

@@ -11,7 +11,7 @@ use crate::paths::{DfaTable, PathFilter};
 use crate::render::{Estimator, EstimatorPlan, Polarization, RenderOptions};
 use crate::scene::{Camera, Checked, Features, Material, Scene, light::LightSet};
 use anyhow::{Result, ensure};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// What polarised transport (`pol`) needs of the render: a finite filter angle, the path
 /// estimator (as planned for the GPU) and no path filter.
@@ -444,9 +444,32 @@ impl GpuRenderer {
         check_polarization(pol, &self.opts, &self.scene)?;
         if pol != self.polarization {
             self.polarization = pol;
+            self.analyzer = None;
             self.respecialize();
             self.reset();
         }
+        Ok(())
+    }
+
+    /// Measure with the analyser `row` (row 0 of a Mueller matrix: the sensor reads row · S)
+    /// instead of the filter's, with polarised transport on; None: the filter's again. The
+    /// Stokes views measure I, Q, U and V as combinations of four such renders with the same
+    /// samples (`render --device gpu --aov dop`). The row must be an ideal analyser's, whose
+    /// reading is never negative (r₀ ≥ |(r₁, r₂, r₃)|): the kernel clamps a sample's reading
+    /// at 0. Accumulation restarts.
+    pub fn set_analyzer(&mut self, row: Option<Vec4>) -> Result<()> {
+        ensure!(
+            self.polarization.is_some(),
+            "an analyser needs polarised transport (set_polarization)"
+        );
+        if let Some(r) = row {
+            ensure!(
+                r.is_finite() && r.x + 1e-6 >= glam::Vec3::new(r.y, r.z, r.w).length(),
+                "analyser row {r} is not a physical one (r₀ ≥ |(r₁, r₂, r₃)|)"
+            );
+        }
+        self.analyzer = row;
+        self.reset();
         Ok(())
     }
 

@@ -143,6 +143,8 @@ pub struct GpuRenderer {
     wf_args: wavefront::AdvanceArgs,
     /// Polarised transport with this filter (`set_polarization`; None: unpolarised).
     polarization: Option<Polarization>,
+    /// The row the sensor reads instead of the filter's (`set_analyzer`; Stokes views).
+    analyzer: Option<Vec4>,
 }
 
 /// Submissions [`GpuRenderer::render_with`] keeps queued by default: while the GPU runs one,

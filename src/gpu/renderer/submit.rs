@@ -156,9 +156,8 @@ impl GpuRenderer {
             cam_back: rot.z_axis.extend(0.0).to_array(),
             environment: self.scene.environment.extend(0.0).to_array(),
             polarizer: self
-                .polarization
-                .unwrap_or_default()
-                .filter_row()
+                .analyzer
+                .unwrap_or_else(|| self.polarization.unwrap_or_default().filter_row())
                 .to_array(),
             width: w,
             height: h,
