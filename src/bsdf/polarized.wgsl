@@ -63,16 +63,10 @@ fn jones_diagonal(ja: vec2<f32>, jb: vec2<f32>) -> vec4<f32> {
 }
 
 // The Fresnel amplitudes r_s, r_p (xy, zw) at incidence cosine `cos_i` (negative: from
-// inside, η' = 1/η) for η = n_inside/n_outside, complex (η − ik) for a conductor; cos θt
-// with Im ≤ 0 (the evanescent root beyond the critical angle); `fresnel_amplitudes`.
-struct Amplitudes {
-    r: vec4<f32>,
-    cos_t: vec2<f32>,
-    eta_rel: vec2<f32>,
-    cos_i: f32,
-}
-
-fn fresnel_amplitudes(cos_i_in: f32, eta: vec2<f32>) -> Amplitudes {
+// inside, η' = 1/η) for η = n_inside/n_outside, complex (η − ik) for a conductor, with cos θt
+// the root with Im ≤ 0 (the evanescent one beyond the critical angle); `fresnel_amplitudes`
+// (whose cos θt, η' and |cos θi| only its refraction reads: dielectric_lane's here).
+fn fresnel_amplitudes(cos_i_in: f32, eta: vec2<f32>) -> vec4<f32> {
     let c0 = clamp(cos_i_in, -1.0, 1.0);
     var eta_rel = eta;
     if c0 < 0.0 {
@@ -92,14 +86,14 @@ fn fresnel_amplitudes(cos_i_in: f32, eta: vec2<f32>) -> Amplitudes {
     let r_s = cx_div(one_minus_eta2, cx_mul(d_s, d_s));
     let brewster = c * c * (eta2 + vec2<f32>(1.0, 0.0)) - vec2<f32>(1.0, 0.0);
     let r_p = cx_div(-cx_mul(one_minus_eta2, brewster), cx_mul(eta2, cx_mul(d_p, d_p)));
-    return Amplitudes(vec4<f32>(r_s, r_p), cos_t, eta_rel, c);
+    return vec4<f32>(r_s, r_p);
 }
 
 // Specular reflection's (a, b, c, s) at `cos_i` for a complex η (`reflection_mueller`,
 // normalised): conductors.
 fn reflection_lane(cos_i: f32, eta: vec2<f32>) -> vec4<f32> {
-    let am = fresnel_amplitudes(cos_i, eta);
-    return jones_diagonal(am.r.xy, am.r.zw);
+    let r = fresnel_amplitudes(cos_i, eta);
+    return jones_diagonal(r.xy, r.zw);
 }
 
 // (a, b, c, s) of the real Jones diagonal diag(ja, jb), normalised (`jones_diagonal`).

@@ -583,6 +583,20 @@ fn integrator_scatter(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Materi
     return STEP_CONTINUE;
 }
 
+// The BSDF sample at `hit` (random numbers uc, u2 in `u`) and the path continued with it
+// (`integrator_scatter`), its polarised chain too (HAS_POLARIZATION: the event's Mueller
+// matrix, chain.wgsl `pol_scatter`); the step `integrator_scatter` returns.
+fn integrator_bounce(ps: ptr<function, PathState>, hit: SurfaceHit, mat: Material, ng: vec3<f32>, bsdf: Bsdf, frame: Frame, wo_w: vec3<f32>, wo: vec3<f32>, u: vec3<f32>) -> u32 {
+    let bounce = interaction_sample(bsdf, frame, ng, wo_w, wo, u.x, u.yz, MODE_RADIANCE);
+    let p_back = integrator_p_back(ps, hit, bsdf, wo, bounce);
+    let step = integrator_scatter(ps, hit, mat, ng, bounce, p_back);
+    if HAS_POLARIZATION && step == STEP_CONTINUE {
+        let m = bsdf_mueller(bsdf, wo, bounce.s.wi, bounce.s.event, bounce.s.lobe);
+        ps.pol = pol_scatter(ps.pol, wo_w, bounce.wi_w, hit.ns, m);
+    }
+    return step;
+}
+
 // Radiance along the camera ray (origin, dir) — one path sample, RGB. Twin of `Integrator::li`.
 fn integrator_li(origin: vec3<f32>, dir: vec3<f32>, sampler: ptr<function, Sampler>) -> vec3<f32> {
     var ps = path_state_new(origin, dir, sampler);
@@ -708,13 +722,7 @@ fn integrator_vertex(ps: ptr<function, PathState>, sampler: ptr<function, Sample
     let before = *ps;
     var step = STEP_CONTINUE;
     if mode != WALK_NEE {
-        let bounce = interaction_sample(bsdf, frame, on.ng, wo_w, wo, uc, u2, MODE_RADIANCE);
-        let p_back = integrator_p_back(ps, hit, bsdf, wo, bounce);
-        step = integrator_scatter(ps, hit, mat, on.ng, bounce, p_back);
-        if HAS_POLARIZATION && step == STEP_CONTINUE {
-            let m = bsdf_mueller(bsdf, wo, bounce.s.wi, bounce.s.event, bounce.s.lobe);
-            ps.pol = pol_scatter(ps.pol, wo_w, bounce.wi_w, hit.ns, m);
-        }
+        step = integrator_bounce(ps, hit, mat, on.ng, bsdf, frame, wo_w, wo, vec3<f32>(uc, u2));
     }
 
     // Next-event estimation.

@@ -6,7 +6,8 @@
 // arriving along the current segment passes r₀ L to the sensor: the CPU computes C's first
 // column and then f · S, the GPU carries f · C instead — four numbers per colour lane rather
 // than sixteen, the same sums in another order. The Stokes views (DoP, AoP) need all of C's
-// first column and stay on the CPU.
+// first column: four renders behind four analysers (`GpuRenderer::set_analyzer`,
+// src/cli/gpu_stokes.rs).
 //
 // Frames as in chain.rs: `x` is the reference vector of the current segment (⊥ it); at a
 // vertex the light leaves along wo (world), s = the normal of the plane of (wi, wo), and the
@@ -20,8 +21,8 @@ override HAS_POLARIZATION: bool = false;
 // (dielectrics, the ideal conductor and the depolariser have one matrix for all lanes; a
 // dispersive interface refracts the hero wavelength's η, as on the CPU). Then the row is
 // read from lane 0 alone (`pol_lanes`), so the compiler keeps 4 numbers across the bounce
-// loop instead of 16 (RADV navi21: the polarised kernels of rough-glass 160 → 144 VGPRs, prism 160 → 128,
-// cornell-glass 128 → 112).
+// loop instead of 16 (RADV navi21: the polarised kernels of rough-glass 160 → 144 VGPRs,
+// prism 160 → 128, cornell-glass 128 → 112).
 override POL_LANES_UNIFORM: bool = !HAS_CONDUCTOR;
 
 struct PolRow {

@@ -436,8 +436,9 @@ impl GpuRenderer {
     /// Trace polarised light (issue 38; `cpu/polarized/chain.wgsl`) with `pol`'s filter in
     /// front of the sensor (its angle from the image's horizontal; no filter: the image is
     /// the total intensity I), or unpolarised light (None). The image is the intensity
-    /// behind the filter, as the CPU's `Renderer::render_polarized` beauty; the Stokes views
-    /// (DoP, AoP) are CPU only. Refused unless the path estimator runs and no path filter is
+    /// behind the filter, as the CPU's `Renderer::render_polarized` beauty; the Stokes
+    /// components take one render each behind an analyser ([`GpuRenderer::set_analyzer`]).
+    /// Refused unless the path estimator runs and no path filter is
     /// set (a filter set later turns polarisation off). Selects the polarised kernel
     /// (compiled once, then cached); accumulation restarts when anything changed.
     pub fn set_polarization(&mut self, pol: Option<Polarization>) -> Result<()> {
