@@ -5,10 +5,10 @@
 //!  cargo run --release --example kernel_registers -- [builtin:NAME | --all-features] [--lt | --sppm]
 //!  [--kernel ENTRY] [--off PART]… [--on PART]…`
 //!
-//! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or `textures`,
-//! `env_image`, `conductor`, `rough_dielectric`, `smooth_dielectric`, `spectral`, `nested`, `filter`,
-//! `polarized`, `light_tracing`, `wavefront`) leaves a part out, to see
-//! what it costs; `--on PART` puts one in.
+//! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or any BSDF part,
+//! `bsdf::BsdfParts::NAMES`: `lambert`, `smooth_conductor`, `rough_dielectric`, …; or
+//! `textures`, `env_image`, `spectral`, `nested`, `filter`, `polarized`, `light_tracing`,
+//! `wavefront`) leaves a part out, to see what it costs; `--on PART` puts one in.
 
 #[path = "../tests/radv/mod.rs"]
 mod radv;
@@ -34,13 +34,13 @@ fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specia
     let off = flag_values(args, "--off").map(|p| (p, false));
     let on = flag_values(args, "--on").map(|p| (p, true));
     for (part, value) in off.chain(on) {
+        if let Some(field) = spec.bsdfs.part_mut(part) {
+            *field = value;
+            continue;
+        }
         let field = match part {
-            "iridescence" => &mut spec.iridescence,
             "textures" => &mut spec.textures,
             "env_image" => &mut spec.env_image,
-            "conductor" => &mut spec.conductor,
-            "rough_dielectric" => &mut spec.rough_dielectric,
-            "smooth_dielectric" => &mut spec.smooth_dielectric,
             "spectral" => &mut spec.spectral,
             "nested" => &mut spec.nested,
             "filter" => &mut spec.filter,

@@ -183,7 +183,10 @@ fn a_burst_of_edits_compiles_the_first_and_the_latest_only() {
         .into_iter()
         .map(
             |(mirror, beckmann)| refract::gpu::pipeline::Specialization {
-                mirror,
+                bsdfs: refract::bsdf::BsdfParts {
+                    mirror,
+                    ..base.bsdfs
+                },
                 beckmann,
                 wavefront: false,
                 ..base
@@ -226,7 +229,10 @@ fn the_pipeline_cache_keeps_at_most_its_capacity() {
     let [a, b, c, d] =
         [(false, false), (true, false), (false, true), (true, true)].map(|(mirror, beckmann)| {
             Specialization {
-                mirror,
+                bsdfs: refract::bsdf::BsdfParts {
+                    mirror,
+                    ..base.bsdfs
+                },
                 beckmann,
                 wavefront: false,
                 ..base

@@ -5,22 +5,16 @@
 // surface, eval excludes the cosine, delta lobes return 0 from eval/pdf and their weight from
 // sample.
 //
-// The switch: `Bsdf.kind` is one of the BSDF_* constants (generated from gpu::layout), one per
-// `bsdf::Bsdf` variant, and `bsdf_eval` / `bsdf_pdf` / `bsdf_sample` dispatch on it. A new CPU
-// variant gets a new constant, a file with a `<name>_eval/_pdf/_sample` triple with the same
-// names as its Rust methods, a case in each switch guarded by its HAS_* override, and a row in
-// gpu::upload::bsdf_kind.
+// The switch: `Bsdf.kind` is one of the BSDF_* constants, and `bsdf_eval` / `bsdf_pdf` /
+// `bsdf_sample` / `bsdf_class` / `bsdf_kind_is_delta` dispatch on it. All five, the constants and
+// the HAS_* overrides are generated from the BSDF table (src/bsdf/family.rs, one row per
+// `bsdf::Bsdf` variant; bsdf::family_wgsl writes the WGSL); a new variant is a row there and a
+// file with its `<name>_eval/_pdf/_sample` (the same names as its Rust methods).
 
-// Pipeline specialisation (gpu::pipeline::Specialization): absent kinds are compiled out.
-override HAS_LAMBERT: bool = true;
-override HAS_MIRROR: bool = true;
-override HAS_SMOOTH_DIELECTRIC: bool = true;
-override HAS_ROUGH_DIELECTRIC: bool = true;
-override HAS_ROUGH_CONDUCTOR: bool = true;
-override HAS_METAL_ROUGH: bool = true;
-override HAS_THIN_DIELECTRIC: bool = true;
-override HAS_CONDUCTOR: bool = true;
-override HAS_IRIDESCENCE: bool = true;
+// Pipeline specialisation (gpu::pipeline::Specialization): absent kinds are compiled out. Each
+// variant's `HAS_*` override is declared by the generated dispatch (bsdf::family_wgsl); the
+// tabulated metals' shared Fresnel code is compiled in where either of them is.
+override HAS_CONDUCTOR: bool = HAS_SMOOTH_CONDUCTOR || HAS_ROUGH_FRESNEL_CONDUCTOR;
 
 // Smooth threshold (bsdf::SMOOTH_ALPHA).
 
@@ -134,18 +128,6 @@ fn bsdf_is_delta(b: Bsdf) -> bool {
     return bsdf_kind_is_delta(b.kind);
 }
 
-// Whether every lobe of a BSDF of kind `kind` (a material's `bsdf`) is a delta distribution.
-fn bsdf_kind_is_delta(kind: u32) -> bool {
-    switch kind {
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR, BSDF_FILM_SMOOTH: {
-            return true;
-        }
-        default: {
-            return false;
-        }
-    }
-}
-
 // True if some lobe transmits (the sampled direction may cross the surface).
 fn bsdf_can_transmit(b: Bsdf) -> bool {
     switch b.kind {
@@ -161,96 +143,6 @@ fn bsdf_can_transmit(b: Bsdf) -> bool {
     }
 }
 
-// Heckbert class of the non-delta part for single-class BSDFs (`Bsdf::class`).
-fn bsdf_class(b: Bsdf) -> u32 {
-    switch b.kind {
-        case BSDF_LAMBERT: {
-            return LOBE_D;
-        }
-        case BSDF_MIRROR, BSDF_SMOOTH_DIELECTRIC, BSDF_THIN_DIELECTRIC, BSDF_SMOOTH_CONDUCTOR, BSDF_FILM_SMOOTH: {
-            return LOBE_S;
-        }
-        default: {
-            return LOBE_G;
-        }
-    }
-}
-
-fn bsdf_eval(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> vec4<f32> {
-    switch b.kind {
-        case BSDF_LAMBERT: {
-            if HAS_LAMBERT {
-                return lambert_eval(b.color, wo, wi);
-            }
-        }
-        case BSDF_ROUGH_DIELECTRIC: {
-            if HAS_ROUGH_DIELECTRIC {
-                return rough_dielectric_eval(b, wo, wi, mode);
-            }
-        }
-        case BSDF_ROUGH_CONDUCTOR: {
-            if HAS_ROUGH_CONDUCTOR {
-                return rough_conductor_eval(b, wo, wi);
-            }
-        }
-        case BSDF_METAL_ROUGH: {
-            if HAS_METAL_ROUGH {
-                return metal_rough_eval(b, wo, wi);
-            }
-        }
-        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                return rough_fresnel_conductor_eval(b, wo, wi);
-            }
-        }
-        case BSDF_FILM_ROUGH: {
-            if HAS_IRIDESCENCE {
-                return film_eval(b, wo, wi, mode);
-            }
-        }
-        default: {}
-    }
-    // Delta lobes (mirror, smooth and thin dielectric) and compiled-out kinds.
-    return vec4<f32>(0.0);
-}
-
-fn bsdf_pdf(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
-    switch b.kind {
-        case BSDF_LAMBERT: {
-            if HAS_LAMBERT {
-                return lambert_pdf(wo, wi, b.metallic != 0.0);
-            }
-        }
-        case BSDF_ROUGH_DIELECTRIC: {
-            if HAS_ROUGH_DIELECTRIC {
-                return rough_dielectric_pdf(b, wo, wi);
-            }
-        }
-        case BSDF_ROUGH_CONDUCTOR: {
-            if HAS_ROUGH_CONDUCTOR {
-                return rough_conductor_pdf(b, wo, wi);
-            }
-        }
-        case BSDF_METAL_ROUGH: {
-            if HAS_METAL_ROUGH {
-                return metal_rough_pdf(b, wo, wi);
-            }
-        }
-        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                return rough_conductor_pdf(b, wo, wi);
-            }
-        }
-        case BSDF_FILM_ROUGH: {
-            if HAS_IRIDESCENCE {
-                return film_pdf(b, wo, wi);
-            }
-        }
-        default: {}
-    }
-    return 0.0;
-}
-
 // f(wo, wi) split by Heckbert class (delta lobes contribute nothing).
 fn bsdf_eval_lobes(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> LobeValues {
     if HAS_METAL_ROUGH && b.kind == BSDF_METAL_ROUGH {
@@ -261,61 +153,4 @@ fn bsdf_eval_lobes(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> LobeValu
         return LobeValues(f, vec4<f32>(0.0));
     }
     return LobeValues(vec4<f32>(0.0), f);
-}
-
-fn bsdf_sample(b: Bsdf, wo: vec3<f32>, uc: f32, u2: vec2<f32>, mode: u32) -> BsdfSample {
-    switch b.kind {
-        case BSDF_LAMBERT: {
-            if HAS_LAMBERT {
-                return lambert_sample(b.color, wo, u2, b.metallic != 0.0);
-            }
-        }
-        case BSDF_MIRROR: {
-            if HAS_MIRROR {
-                return mirror_sample(b.color, wo);
-            }
-        }
-        case BSDF_SMOOTH_DIELECTRIC: {
-            if HAS_SMOOTH_DIELECTRIC {
-                return smooth_dielectric_sample(b.eta, wo, uc, mode);
-            }
-        }
-        case BSDF_THIN_DIELECTRIC: {
-            if HAS_THIN_DIELECTRIC {
-                return thin_dielectric_sample(b.eta, wo, uc);
-            }
-        }
-        case BSDF_ROUGH_DIELECTRIC: {
-            if HAS_ROUGH_DIELECTRIC {
-                return rough_dielectric_sample(b, wo, uc, u2, mode);
-            }
-        }
-        case BSDF_ROUGH_CONDUCTOR: {
-            if HAS_ROUGH_CONDUCTOR {
-                return rough_conductor_sample(b, wo, u2);
-            }
-        }
-        case BSDF_METAL_ROUGH: {
-            if HAS_METAL_ROUGH {
-                return metal_rough_sample(b, wo, uc, u2);
-            }
-        }
-        case BSDF_SMOOTH_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                return smooth_conductor_sample(b, wo);
-            }
-        }
-        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                return rough_fresnel_conductor_sample(b, wo, u2);
-            }
-        }
-        case BSDF_FILM_SMOOTH, BSDF_FILM_ROUGH: {
-            if HAS_IRIDESCENCE {
-                return film_sample(b, wo, uc, u2, mode);
-            }
-        }
-        default: {}
-    }
-    return bsdf_sample_none();
 }

@@ -14,6 +14,8 @@ pub mod complex_conductor;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod family;
+pub mod family_wgsl;
 pub mod fresnel;
 pub mod fresnel_polarized;
 pub mod glossy;
@@ -33,6 +35,7 @@ pub use complex_conductor::{ComplexIor, RoughFresnelConductor, SmoothConductor};
 pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
+pub use family::{Bsdf, BsdfParts};
 pub use glossy::RoughConductor;
 pub use iridescent::{FilmBase, Iridescent};
 pub use metal_ior::Metal;
@@ -177,25 +180,6 @@ pub trait BxDF {
     fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample>;
 }
 
-/// A BSDF instance at a surface point (material parameters already resolved: textures
-/// looked up, eta chosen for the path's wavelength).
-#[derive(Clone, Copy, Debug)]
-pub enum Bsdf {
-    Lambert(Lambert),
-    Mirror(Mirror),
-    SmoothDielectric(SmoothDielectric),
-    ThinDielectric(ThinDielectric),
-    RoughDielectric(RoughDielectric),
-    RoughConductor(RoughConductor),
-    MetalRough(MetalRough),
-    /// Smooth conductor with a complex IOR (tabulated metal).
-    SmoothConductor(SmoothConductor),
-    /// Rough conductor with a complex IOR (tabulated metal).
-    RoughFresnelConductor(RoughFresnelConductor),
-    /// A dielectric or metal under a thin film (iridescence), smooth or rough.
-    Iridescent(Iridescent),
-}
-
 impl Bsdf {
     /// True if every lobe is a delta distribution (next-event estimation is skipped).
     #[inline]
@@ -318,54 +302,6 @@ impl Bsdf {
                 d: Color::ZERO,
                 g: f,
             },
-        }
-    }
-}
-
-impl BxDF for Bsdf {
-    #[inline]
-    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
-        match self {
-            Bsdf::Lambert(b) => b.eval(wo, wi, mode),
-            Bsdf::Mirror(b) => b.eval(wo, wi, mode),
-            Bsdf::SmoothDielectric(b) => b.eval(wo, wi, mode),
-            Bsdf::ThinDielectric(b) => b.eval(wo, wi, mode),
-            Bsdf::RoughDielectric(b) => b.eval(wo, wi, mode),
-            Bsdf::RoughConductor(b) => b.eval(wo, wi, mode),
-            Bsdf::MetalRough(b) => b.eval(wo, wi, mode),
-            Bsdf::SmoothConductor(b) => b.eval(wo, wi, mode),
-            Bsdf::RoughFresnelConductor(b) => b.eval(wo, wi, mode),
-            Bsdf::Iridescent(b) => b.eval(wo, wi, mode),
-        }
-    }
-    #[inline]
-    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        match self {
-            Bsdf::Lambert(b) => b.pdf(wo, wi),
-            Bsdf::Mirror(b) => b.pdf(wo, wi),
-            Bsdf::SmoothDielectric(b) => b.pdf(wo, wi),
-            Bsdf::ThinDielectric(b) => b.pdf(wo, wi),
-            Bsdf::RoughDielectric(b) => b.pdf(wo, wi),
-            Bsdf::RoughConductor(b) => b.pdf(wo, wi),
-            Bsdf::MetalRough(b) => b.pdf(wo, wi),
-            Bsdf::SmoothConductor(b) => b.pdf(wo, wi),
-            Bsdf::RoughFresnelConductor(b) => b.pdf(wo, wi),
-            Bsdf::Iridescent(b) => b.pdf(wo, wi),
-        }
-    }
-    #[inline]
-    fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        match self {
-            Bsdf::Lambert(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::Mirror(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::SmoothDielectric(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::ThinDielectric(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::RoughDielectric(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::RoughConductor(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::MetalRough(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::SmoothConductor(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::RoughFresnelConductor(b) => b.sample(wo, uc, u2, mode),
-            Bsdf::Iridescent(b) => b.sample(wo, uc, u2, mode),
         }
     }
 }

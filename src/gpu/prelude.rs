@@ -22,23 +22,30 @@ use std::fmt::Write;
 
 macro_rules! wgsl_constants {
     ($($name:ident),* $(,)?) => {
-        /// (WGSL name, value) of every generated constant (`const NAME: u32 = value;`).
-        pub const WGSL_CONSTANTS: &[(&str, u32)] = &[$((stringify!($name), $name as u32)),*];
+        /// (WGSL name, value) of the generated `u32` constants other than the tables' kinds.
+        const LAYOUT_CONSTANTS: &[(&str, u32)] = &[$((stringify!($name), $name as u32)),*];
     };
 }
 
+/// `a` then `b` (a const concatenation: `N` = the sum of their lengths; `fill` is overwritten).
+pub(crate) const fn concat<T: Copy, const N: usize>(a: &[T], b: &[T], fill: T) -> [T; N] {
+    let mut out = [fill; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = if i < a.len() { a[i] } else { b[i - a.len()] };
+        i += 1;
+    }
+    out
+}
+
+const KINDS: &[(&str, u32)] = crate::bsdf::family::GPU_KIND_CONSTANTS;
+
+/// (WGSL name, value) of every generated constant (`const NAME: u32 = value;`): the BSDF
+/// table's kinds (`bsdf::family`), then the layout's.
+pub const WGSL_CONSTANTS: &[(&str, u32)] =
+    &concat::<_, { KINDS.len() + LAYOUT_CONSTANTS.len() }>(KINDS, LAYOUT_CONSTANTS, ("", 0));
+
 wgsl_constants![
-    BSDF_LAMBERT,
-    BSDF_MIRROR,
-    BSDF_SMOOTH_DIELECTRIC,
-    BSDF_ROUGH_DIELECTRIC,
-    BSDF_ROUGH_CONDUCTOR,
-    BSDF_METAL_ROUGH,
-    BSDF_THIN_DIELECTRIC,
-    BSDF_SMOOTH_CONDUCTOR,
-    BSDF_ROUGH_FRESNEL_CONDUCTOR,
-    BSDF_FILM_SMOOTH,
-    BSDF_FILM_ROUGH,
     FILM_ON_DIELECTRIC,
     FILM_ON_SHEET,
     FILM_ON_CONDUCTOR,

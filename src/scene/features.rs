@@ -3,7 +3,7 @@
 //! the `auto` estimator rule and the GPU pipeline specialisation.
 
 use super::{Material, MaterialKind, Scene};
-use crate::bsdf::{Bsdf, MicrofacetDistribution};
+use crate::bsdf::{Bsdf, BsdfParts, MicrofacetDistribution};
 use glam::Vec2;
 
 bitflags::bitflags! {
@@ -58,6 +58,28 @@ bitflags::bitflags! {
         const IRIDESCENCE = 1 << 20;
     }
 }
+
+/// The BSDF parts of `scene::Features` flags, generated from the BSDF table (`bsdf::family`):
+/// each row's `feature` flag compiles in its `part`.
+macro_rules! parts_of_features {
+    ($(
+        $(#[$attr:meta])*
+        $variant:ident($ty:ident) {
+            part: $part:ident, has: $has:ident, feature: $feature:ident,
+            $($rest:tt)*
+        }
+    )*) => {
+        /// The BSDFs a kernel for a scene of features `f` compiles in: a part per `Bsdf`
+        /// variant, set where the variant's `Features` flag is.
+        pub fn bsdf_parts(f: Features) -> BsdfParts {
+            BsdfParts {
+                $($part: f.contains(Features::$feature),)*
+            }
+        }
+    };
+}
+
+crate::bsdf::family::bsdf_table!(parts_of_features);
 
 /// The features of `scene` (materials no triangle uses are ignored).
 pub fn compute(scene: &Scene) -> Features {

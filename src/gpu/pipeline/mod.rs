@@ -436,11 +436,17 @@ mod eviction_tests {
     fn eviction_spares_general_kernels_and_the_newest() {
         let general = Specialization::all().general();
         let a = Specialization {
-            mirror: false,
+            bsdfs: crate::bsdf::BsdfParts {
+                mirror: false,
+                ..general.bsdfs
+            },
             ..general
         };
         let b = Specialization {
-            lambert: false,
+            bsdfs: crate::bsdf::BsdfParts {
+                lambert: false,
+                ..general.bsdfs
+            },
             ..general
         };
         let spectral_general = Specialization {

@@ -1,5 +1,6 @@
 //! [`Specialization`]: which parts of the kernel a scene needs, the pipeline cache key.
 
+use crate::bsdf::BsdfParts;
 use crate::gpu::upload::{BvhLayout, GpuBvh};
 use crate::scene::Features;
 
@@ -7,17 +8,9 @@ use crate::scene::Features;
 /// always compiled in (its radiance is a slider: value edits must not recompile).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Specialization {
-    pub lambert: bool,
-    pub mirror: bool,
-    pub smooth_dielectric: bool,
-    pub thin_dielectric: bool,
-    pub rough_dielectric: bool,
-    pub rough_conductor: bool,
-    pub metal_rough: bool,
-    /// Tabulated metals with the conductor Fresnel term (smooth or rough).
-    pub conductor: bool,
-    /// Thin films (iridescence) on dielectrics and metals.
-    pub iridescence: bool,
+    /// The BSDFs compiled in: one part per variant of the BSDF table (`bsdf::family`), each
+    /// a `HAS_*` override.
+    pub bsdfs: BsdfParts,
     /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
     pub ggx: bool,
     pub beckmann: bool,
@@ -75,15 +68,7 @@ impl Specialization {
     /// The kernel parts `f` needs (no filter, path tracing).
     pub fn from_features(f: Features) -> Specialization {
         Specialization {
-            lambert: f.contains(Features::DIFFUSE),
-            mirror: f.contains(Features::MIRROR),
-            smooth_dielectric: f.contains(Features::SMOOTH_GLASS),
-            thin_dielectric: f.contains(Features::THIN_GLASS),
-            rough_dielectric: f.contains(Features::ROUGH_GLASS),
-            rough_conductor: f.contains(Features::GLOSSY_METAL),
-            metal_rough: f.contains(Features::METAL_ROUGH),
-            conductor: f.intersects(Features::SMOOTH_CONDUCTOR | Features::ROUGH_FRESNEL_CONDUCTOR),
-            iridescence: f.contains(Features::IRIDESCENCE),
+            bsdfs: crate::scene::features::bsdf_parts(f),
             ggx: f.contains(Features::GGX),
             beckmann: f.contains(Features::BECKMANN),
             area_lights: f.contains(Features::AREA_LIGHTS),
@@ -118,8 +103,8 @@ impl Specialization {
         let joint = self.light_tracing || self.sppm;
         let heavy = self.env_image
             || self.textures
-            || (joint && (self.spectral || self.nested || self.filter || self.metal_rough))
-            || (self.light_tracing && self.rough_dielectric);
+            || (joint && (self.spectral || self.nested || self.filter || self.bsdfs.metal_rough))
+            || (self.light_tracing && self.bsdfs.rough_dielectric);
         heavy && !self.polarized
     }
 
@@ -165,16 +150,11 @@ impl Specialization {
     /// `light_tracing` and `sppm`), so [`Specialization::all_sppm`] is the other worst case.
     pub fn all() -> Specialization {
         Specialization {
-            lambert: true,
-            mirror: true,
-            smooth_dielectric: true,
-            thin_dielectric: true,
-            rough_dielectric: true,
-            rough_conductor: true,
-            metal_rough: true,
-            conductor: true,
             // Films are refused by `upload::check_supported` until they fit the budget.
-            iridescence: false,
+            bsdfs: BsdfParts {
+                iridescence: false,
+                ..BsdfParts::ALL
+            },
             ggx: true,
             beckmann: true,
             area_lights: true,
@@ -233,34 +213,32 @@ impl Specialization {
     /// The override constants that specialise the integrator module.
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let b = |x: bool| if x { 1.0 } else { 0.0 };
-        vec![
-            ("HAS_LAMBERT", b(self.lambert)),
-            ("HAS_MIRROR", b(self.mirror)),
-            ("HAS_SMOOTH_DIELECTRIC", b(self.smooth_dielectric)),
-            ("HAS_THIN_DIELECTRIC", b(self.thin_dielectric)),
-            ("HAS_ROUGH_DIELECTRIC", b(self.rough_dielectric)),
-            ("HAS_ROUGH_CONDUCTOR", b(self.rough_conductor)),
-            ("HAS_METAL_ROUGH", b(self.metal_rough)),
-            ("HAS_CONDUCTOR", b(self.conductor)),
-            ("HAS_IRIDESCENCE", b(self.iridescence)),
-            ("HAS_GGX", b(self.ggx)),
-            ("HAS_BECKMANN", b(self.beckmann)),
-            ("HAS_LIGHTS", b(self.area_lights)),
-            ("HAS_PUNCTUAL", b(self.punctual_lights)),
-            ("HAS_ENVIRONMENT", 1.0),
-            ("HAS_ENV_IMAGE", b(self.env_image)),
-            ("HAS_ABSORPTION", b(self.absorption)),
-            ("HAS_TEXTURES", b(self.textures)),
-            ("HAS_NORMAL_MAP", b(self.normal_map)),
-            ("HAS_FILTER", b(self.filter)),
-            ("HAS_SPECTRAL", b(self.spectral)),
-            ("HAS_LT", b(self.light_tracing)),
-            ("HAS_SPPM", b(self.sppm)),
-            ("HAS_NESTED", b(self.nested)),
-            ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
-            ("BVH_WIDE", b(self.bvh_wide)),
-            ("BVH_CHILDREN_X4", b(self.bvh_x4)),
-            ("HAS_POLARIZATION", b(self.polarized)),
-        ]
+        let bsdfs = self
+            .bsdfs
+            .overrides()
+            .into_iter()
+            .map(|(name, x)| (name, b(x)));
+        bsdfs
+            .chain([
+                ("HAS_GGX", b(self.ggx)),
+                ("HAS_BECKMANN", b(self.beckmann)),
+                ("HAS_LIGHTS", b(self.area_lights)),
+                ("HAS_PUNCTUAL", b(self.punctual_lights)),
+                ("HAS_ENVIRONMENT", 1.0),
+                ("HAS_ENV_IMAGE", b(self.env_image)),
+                ("HAS_ABSORPTION", b(self.absorption)),
+                ("HAS_TEXTURES", b(self.textures)),
+                ("HAS_NORMAL_MAP", b(self.normal_map)),
+                ("HAS_FILTER", b(self.filter)),
+                ("HAS_SPECTRAL", b(self.spectral)),
+                ("HAS_LT", b(self.light_tracing)),
+                ("HAS_SPPM", b(self.sppm)),
+                ("HAS_NESTED", b(self.nested)),
+                ("BVH_STACK_SIZE", f64::from(self.bvh_stack)),
+                ("BVH_WIDE", b(self.bvh_wide)),
+                ("BVH_CHILDREN_X4", b(self.bvh_x4)),
+                ("HAS_POLARIZATION", b(self.polarized)),
+            ])
+            .collect()
     }
 }

@@ -7,19 +7,11 @@ use anyhow::Result;
 const COMMON: &str = include_str!("../../math/common.wgsl");
 const RNG: &str = include_str!("../../math/rng.wgsl");
 const SPECTRUM: &str = include_str!("../../math/spectrum.wgsl");
-// The BSDFs: one file per src/bsdf/*.rs, the dispatch (mod.rs) first.
+// The BSDFs' shared files (the variants' own come from the table, `bsdf::family`).
 const BSDF: &str = include_str!("../../bsdf/bsdf.wgsl");
 const FRESNEL: &str = include_str!("../../bsdf/fresnel.wgsl");
 const MICROFACET: &str = include_str!("../../bsdf/microfacet.wgsl");
-const DIFFUSE: &str = include_str!("../../bsdf/diffuse.wgsl");
-const CONDUCTOR: &str = include_str!("../../bsdf/conductor.wgsl");
-const DIELECTRIC: &str = include_str!("../../bsdf/dielectric.wgsl");
-const THIN: &str = include_str!("../../bsdf/thin.wgsl");
-const GLOSSY: &str = include_str!("../../bsdf/glossy.wgsl");
-const ROUGH_DIELECTRIC: &str = include_str!("../../bsdf/rough_dielectric.wgsl");
-const METAL_ROUGH: &str = include_str!("../../bsdf/metal_rough.wgsl");
 const THIN_FILM: &str = include_str!("../../bsdf/thin_film.wgsl");
-const IRIDESCENT: &str = include_str!("../../bsdf/iridescent.wgsl");
 const POLARIZED: &str = include_str!("../../bsdf/polarized.wgsl");
 const POLARIZED_CHAIN: &str = include_str!("../../cpu/polarized/chain.wgsl");
 const SCENE: &str = include_str!("../../gpu/scene.wgsl");
@@ -38,7 +30,8 @@ const PROBE: &str = include_str!("../../gpu/probe.wgsl");
 const LIGHT_PROBE: &str = include_str!("../../gpu/light_probe.wgsl");
 const BVH_PROBE: &str = include_str!("../../gpu/bvh_probe.wgsl");
 
-/// The maths shared by every kernel, in assembly order (twins of src/math and src/bsdf).
+/// The maths shared by every kernel (twins of src/math and src/bsdf): these, then the BSDF
+/// table's variant files (`bsdf::family::WGSL_FILES`).
 const MATHS: &[&str] = &[
     COMMON,
     RNG,
@@ -46,36 +39,36 @@ const MATHS: &[&str] = &[
     BSDF,
     FRESNEL,
     MICROFACET,
-    DIFFUSE,
-    CONDUCTOR,
-    DIELECTRIC,
-    THIN,
-    GLOSSY,
-    ROUGH_DIELECTRIC,
-    METAL_ROUGH,
     THIN_FILM,
-    IRIDESCENT,
     POLARIZED,
     POLARIZED_CHAIN,
 ];
 
-/// Every kernel source file by name (tests check that none defines a prelude constant).
-pub const SHADER_FILES: &[(&str, &str)] = &[
+/// [`MATHS`], then the BSDF variants' files.
+fn maths() -> Vec<&'static str> {
+    let variants = crate::bsdf::family::WGSL_FILES
+        .iter()
+        .map(|&(_, text)| text);
+    MATHS.iter().copied().chain(variants).collect()
+}
+
+const VARIANT_FILES: &[(&str, &str)] = crate::bsdf::family::WGSL_FILES;
+
+/// Every kernel source file by name (tests check that none defines a prelude constant): the
+/// BSDF table's variant files, then the others.
+pub const SHADER_FILES: &[(&str, &str)] = &crate::gpu::prelude::concat::<
+    _,
+    { VARIANT_FILES.len() + OTHER_FILES.len() },
+>(VARIANT_FILES, OTHER_FILES, ("", ""));
+
+const OTHER_FILES: &[(&str, &str)] = &[
     ("common.wgsl", COMMON),
     ("rng.wgsl", RNG),
     ("spectrum.wgsl", SPECTRUM),
     ("bsdf.wgsl", BSDF),
     ("fresnel.wgsl", FRESNEL),
     ("microfacet.wgsl", MICROFACET),
-    ("diffuse.wgsl", DIFFUSE),
-    ("conductor.wgsl", CONDUCTOR),
-    ("dielectric.wgsl", DIELECTRIC),
-    ("thin.wgsl", THIN),
-    ("glossy.wgsl", GLOSSY),
-    ("rough_dielectric.wgsl", ROUGH_DIELECTRIC),
-    ("metal_rough.wgsl", METAL_ROUGH),
     ("thin_film.wgsl", THIN_FILM),
-    ("iridescent.wgsl", IRIDESCENT),
     ("polarized.wgsl", POLARIZED),
     ("chain.wgsl", POLARIZED_CHAIN),
     ("scene.wgsl", SCENE),
@@ -95,13 +88,16 @@ pub const SHADER_FILES: &[(&str, &str)] = &[
     ("bvh_probe.wgsl", BVH_PROBE),
 ];
 
-/// The generated prelude, then `parts`.
+/// The generated prelude, then `parts`, then the BSDF table's generated dispatch
+/// (`bsdf::family_wgsl`).
 fn assemble(parts: &[&str]) -> String {
     let mut s = crate::gpu::prelude::wgsl_prelude();
     for p in parts {
         s.push('\n');
         s.push_str(p);
     }
+    s.push('\n');
+    s.push_str(&crate::bsdf::family_wgsl::wgsl_dispatch());
     s
 }
 
@@ -122,22 +118,22 @@ pub fn integrator_source() -> String {
         WAVEFRONT,
         LIGHT_WAVEFRONT,
     ];
-    assemble(&[MATHS, &kernel].concat())
+    assemble(&[&maths()[..], &kernel].concat())
 }
 
 /// The probe kernel's full WGSL source (prelude and maths only, no scene).
 pub fn probe_source() -> String {
-    assemble(&[MATHS, &[PROBE]].concat())
+    assemble(&[&maths()[..], &[PROBE]].concat())
 }
 
 /// The light probe kernel's full WGSL source: prelude, maths, scene bindings, lights.
 pub fn light_probe_source() -> String {
-    assemble(&[MATHS, &[SCENE, CWBVH, LIGHT, LIGHT_PROBE]].concat())
+    assemble(&[&maths()[..], &[SCENE, CWBVH, LIGHT, LIGHT_PROBE]].concat())
 }
 
 /// The traversal probe's full WGSL source: prelude, maths, scene bindings, both traversals.
 pub fn bvh_probe_source() -> String {
-    assemble(&[MATHS, &[SCENE, CWBVH, BVH_PROBE]].concat())
+    assemble(&[&maths()[..], &[SCENE, CWBVH, BVH_PROBE]].concat())
 }
 
 /// Compile a WGSL module, turning validation errors into `Err` instead of a panic.

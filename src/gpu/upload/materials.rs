@@ -7,22 +7,11 @@ use crate::scene::{MaterialKind, Scene};
 use glam::{Vec2, Vec3};
 
 /// The BSDF kind of a material: decided by the CPU's own `Material::bsdf` mapping, so CPU and
-/// GPU can never disagree about which BSDF a material gets. A new `Bsdf` variant fails to
-/// compile here until its WGSL twin exists.
+/// GPU can never disagree about which BSDF a material gets; the variant's GPU kind is the BSDF
+/// table's (`bsdf::family`).
 pub fn bsdf_kind(scene: &Scene, m: &crate::scene::Material) -> (u32, Vec3) {
-    match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
-        Bsdf::Lambert(_) => (layout::BSDF_LAMBERT, m.base_color),
-        Bsdf::Mirror(_) => (layout::BSDF_MIRROR, m.base_color),
-        Bsdf::SmoothDielectric(_) => (layout::BSDF_SMOOTH_DIELECTRIC, m.base_color),
-        Bsdf::ThinDielectric(_) => (layout::BSDF_THIN_DIELECTRIC, m.base_color),
-        Bsdf::RoughDielectric(_) => (layout::BSDF_ROUGH_DIELECTRIC, m.base_color),
-        Bsdf::RoughConductor(_) => (layout::BSDF_ROUGH_CONDUCTOR, m.base_color),
-        Bsdf::MetalRough(_) => (layout::BSDF_METAL_ROUGH, m.base_color),
-        Bsdf::SmoothConductor(_) => (layout::BSDF_SMOOTH_CONDUCTOR, m.base_color),
-        Bsdf::RoughFresnelConductor(_) => (layout::BSDF_ROUGH_FRESNEL_CONDUCTOR, m.base_color),
-        Bsdf::Iridescent(b) if b.is_smooth() => (layout::BSDF_FILM_SMOOTH, m.base_color),
-        Bsdf::Iridescent(_) => (layout::BSDF_FILM_ROUGH, m.base_color),
-    }
+    let kind = m.bsdf(&scene.textures, Vec2::ZERO, m.ior).gpu_kind();
+    (kind, m.base_color)
 }
 
 /// `FILM_ON_*` of what a film lies on.
