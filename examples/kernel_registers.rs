@@ -6,9 +6,10 @@
 //!  [--kernel ENTRY] [--off PART]… [--on PART]…`
 //!
 //! `--kernel wf_shade` compiles that entry point only; `--off iridescence` (or any BSDF part,
-//! `bsdf::BsdfParts::NAMES`: `lambert`, `smooth_conductor`, `rough_dielectric`, …; or
-//! `textures`, `env_image`, `spectral`, `nested`, `filter`, `polarized`, `light_tracing`,
-//! `wavefront`) leaves a part out, to see what it costs; `--on PART` puts one in.
+//! `bsdf::BsdfParts::NAMES`: `lambert`, `smooth_conductor`, `rough_dielectric`, …; any light
+//! part, `scene::light::LightParts::NAMES`: `area_lights`, `env_image`, …; or `textures`,
+//! `spectral`, `nested`, `filter`, `polarized`, `light_tracing`, `wavefront`) leaves a part
+//! out, to see what it costs; `--on PART` puts one in.
 
 #[path = "../tests/radv/mod.rs"]
 mod radv;
@@ -34,13 +35,12 @@ fn parts_off(mut spec: Specialization, args: &[String]) -> anyhow::Result<Specia
     let off = flag_values(args, "--off").map(|p| (p, false));
     let on = flag_values(args, "--on").map(|p| (p, true));
     for (part, value) in off.chain(on) {
-        if let Some(field) = spec.bsdfs.part_mut(part) {
+        if let Some(field) = spec.bsdfs.part_mut(part).or(spec.lights.part_mut(part)) {
             *field = value;
             continue;
         }
         let field = match part {
             "textures" => &mut spec.textures,
-            "env_image" => &mut spec.env_image,
             "spectral" => &mut spec.spectral,
             "nested" => &mut spec.nested,
             "filter" => &mut spec.filter,

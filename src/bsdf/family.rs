@@ -136,6 +136,7 @@ macro_rules! optional {
         Some($x)
     };
 }
+pub(crate) use optional;
 
 /// The GPU kind of one row's value `$x`: its only kind, or the one `select` names.
 macro_rules! kind_of {

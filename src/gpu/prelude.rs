@@ -38,10 +38,13 @@ pub(crate) const fn concat<T: Copy, const N: usize>(a: &[T], b: &[T], fill: T) -
     out
 }
 
-const KINDS: &[(&str, u32)] = crate::bsdf::family::GPU_KIND_CONSTANTS;
+const BSDF_KINDS: &[(&str, u32)] = crate::bsdf::family::GPU_KIND_CONSTANTS;
+const LIGHT_KINDS: &[(&str, u32)] = crate::scene::light::family::GPU_KIND_CONSTANTS;
+const KINDS: &[(&str, u32)] =
+    &concat::<_, { BSDF_KINDS.len() + LIGHT_KINDS.len() }>(BSDF_KINDS, LIGHT_KINDS, ("", 0));
 
-/// (WGSL name, value) of every generated constant (`const NAME: u32 = value;`): the BSDF
-/// table's kinds (`bsdf::family`), then the layout's.
+/// (WGSL name, value) of every generated constant (`const NAME: u32 = value;`): the BSDF and
+/// light tables' kinds (`bsdf::family`, `scene::light::family`), then the layout's.
 pub const WGSL_CONSTANTS: &[(&str, u32)] =
     &concat::<_, { KINDS.len() + LAYOUT_CONSTANTS.len() }>(KINDS, LAYOUT_CONSTANTS, ("", 0));
 
@@ -86,12 +89,6 @@ wgsl_constants![
     MAT_BLACK_EMITTER,
     MAT_ABSORBS,
     MAT_UNIFORM_SAMPLING,
-    LIGHT_TRIANGLE,
-    LIGHT_POINT,
-    LIGHT_SPOT,
-    LIGHT_DIRECTIONAL,
-    LIGHT_ENVIRONMENT,
-    LIGHT_IMAGE,
     MEDIUM_STACK_DEPTH,
     FALSE_HIT_LIMIT,
     DEBUG_MAX_VERTICES,

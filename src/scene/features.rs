@@ -2,6 +2,7 @@
 //! once here from the materials the mesh uses, read by the CPU renderer (spectral transport),
 //! the `auto` estimator rule and the GPU pipeline specialisation.
 
+use super::light::LightParts;
 use super::{Material, MaterialKind, Scene};
 use crate::bsdf::{Bsdf, BsdfParts, MicrofacetDistribution};
 use glam::Vec2;
@@ -80,6 +81,28 @@ macro_rules! parts_of_features {
 }
 
 crate::bsdf::family::bsdf_table!(parts_of_features);
+
+/// The light parts of `scene::Features` flags, generated from the light table
+/// (`scene::light::family`): each row that owns a part has the `feature` flag that sets it.
+macro_rules! light_parts_of_features {
+    ($(
+        $(#[$attr:meta])*
+        $variant:ident($ty:ident) {
+            $(part: $part:ident = $has:ident, feature: $feature:ident,)?
+            $(guard: $guard:ident,)?
+            kind: $($rest:tt)*
+        }
+    )*) => {
+        /// The lights a kernel for a scene of features `f` compiles in.
+        pub fn light_parts(f: Features) -> LightParts {
+            LightParts {
+                $($($part: f.contains(Features::$feature),)?)*
+            }
+        }
+    };
+}
+
+crate::scene::light::family::light_table!(light_parts_of_features);
 
 /// The features of `scene` (materials no triangle uses are ignored).
 pub fn compute(scene: &Scene) -> Features {

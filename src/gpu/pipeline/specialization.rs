@@ -3,6 +3,7 @@
 use crate::bsdf::BsdfParts;
 use crate::gpu::upload::{BvhLayout, GpuBvh};
 use crate::scene::Features;
+use crate::scene::light::LightParts;
 
 /// Which parts of the kernel a scene needs (the pipeline cache key). The environment is
 /// always compiled in (its radiance is a slider: value edits must not recompile).
@@ -14,11 +15,11 @@ pub struct Specialization {
     /// Microfacet distributions in use (rough glass / glossy metal; metal-rough is GGX).
     pub ggx: bool,
     pub beckmann: bool,
-    /// Emissive triangles (area lights).
-    pub area_lights: bool,
-    pub punctual_lights: bool,
-    /// An environment image (next-event estimation samples it; escaping rays weight it).
-    pub env_image: bool,
+    /// The lights compiled in: one part per light-table row that owns one
+    /// (`scene::light::family`): emissive triangles, punctual lights, the environment image
+    /// (next-event estimation samples it; escaping rays weight it). The uniform environment
+    /// is always compiled in (`HAS_ENVIRONMENT`).
+    pub lights: LightParts,
     /// Solid glass exists (absorption is a slider on it, so keyed by the kind).
     pub absorption: bool,
     /// Some BSDF reads a texture.
@@ -71,9 +72,7 @@ impl Specialization {
             bsdfs: crate::scene::features::bsdf_parts(f),
             ggx: f.contains(Features::GGX),
             beckmann: f.contains(Features::BECKMANN),
-            area_lights: f.contains(Features::AREA_LIGHTS),
-            punctual_lights: f.contains(Features::PUNCTUAL_LIGHTS),
-            env_image: f.contains(Features::ENV_IMAGE),
+            lights: crate::scene::features::light_parts(f),
             absorption: f
                 .intersects(Features::SMOOTH_GLASS | Features::ROUGH_GLASS | Features::IRIDESCENCE),
             textures: f.contains(Features::TEXTURES),
@@ -101,7 +100,7 @@ impl Specialization {
     /// (the wavefront's stored path state has no room for the chain's row).
     pub fn wants_wavefront(&self) -> bool {
         let joint = self.light_tracing || self.sppm;
-        let heavy = self.env_image
+        let heavy = self.lights.env_image
             || self.textures
             || (joint && (self.spectral || self.nested || self.filter || self.bsdfs.metal_rough))
             || (self.light_tracing && self.bsdfs.rough_dielectric);
@@ -157,8 +156,7 @@ impl Specialization {
             },
             ggx: true,
             beckmann: true,
-            area_lights: true,
-            punctual_lights: true,
+            lights: LightParts::ALL,
             absorption: true,
             textures: true,
             normal_map: true,
@@ -167,7 +165,6 @@ impl Specialization {
             light_tracing: true,
             sppm: false,
             nested: true,
-            env_image: true,
             wavefront: true,
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,
             bvh_wide: BvhLayout::default() == BvhLayout::Cwbvh,
@@ -213,19 +210,14 @@ impl Specialization {
     /// The override constants that specialise the integrator module.
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
         let b = |x: bool| if x { 1.0 } else { 0.0 };
-        let bsdfs = self
-            .bsdfs
-            .overrides()
-            .into_iter()
-            .map(|(name, x)| (name, b(x)));
-        bsdfs
+        let tables = self.bsdfs.overrides().into_iter();
+        let tables = tables.chain(self.lights.overrides());
+        tables
+            .map(|(name, x)| (name, b(x)))
             .chain([
                 ("HAS_GGX", b(self.ggx)),
                 ("HAS_BECKMANN", b(self.beckmann)),
-                ("HAS_LIGHTS", b(self.area_lights)),
-                ("HAS_PUNCTUAL", b(self.punctual_lights)),
                 ("HAS_ENVIRONMENT", 1.0),
-                ("HAS_ENV_IMAGE", b(self.env_image)),
                 ("HAS_ABSORPTION", b(self.absorption)),
                 ("HAS_TEXTURES", b(self.textures)),
                 ("HAS_NORMAL_MAP", b(self.normal_map)),

@@ -101,13 +101,16 @@ fn assemble(parts: &[&str]) -> String {
     s
 }
 
-/// The integrator kernel's full WGSL source: prelude, maths, scene, lights, the per-vertex
+/// The integrator kernel's full WGSL source: prelude, maths, scene, lights (`light.wgsl` and
+/// the light table's generated dispatch, `scene::light::family_wgsl`), the per-vertex
 /// step, then the walks (camera, light, photon).
 pub fn integrator_source() -> String {
+    let lights = crate::scene::light::family_wgsl::wgsl_dispatch();
     let kernel = [
         SCENE,
         CWBVH,
         LIGHT,
+        &lights,
         SPECTRAL,
         MATERIAL,
         PATH_FILTER,
@@ -128,7 +131,8 @@ pub fn probe_source() -> String {
 
 /// The light probe kernel's full WGSL source: prelude, maths, scene bindings, lights.
 pub fn light_probe_source() -> String {
-    assemble(&[&maths()[..], &[SCENE, CWBVH, LIGHT, LIGHT_PROBE]].concat())
+    let lights = crate::scene::light::family_wgsl::wgsl_dispatch();
+    assemble(&[&maths()[..], &[SCENE, CWBVH, LIGHT, &lights, LIGHT_PROBE]].concat())
 }
 
 /// The traversal probe's full WGSL source: prelude, maths, scene bindings, both traversals.

@@ -24,15 +24,12 @@
 // `radius`), as on the CPU: photons (photon.wgsl) start there; lt+pt does not
 // (light_tracing.wgsl).
 //
-// Adding a light type: the Rust file and `Light` variant in src/scene/light/ (see its module
-// docs), a LIGHT_* kind in gpu::layout packed by `upload::pack_lights`, a `case LIGHT_*` in
-// every light_* function below, and the light in tests/light_twin.rs `all_lights_scene`, which
-// runs these functions through src/gpu/light_probe.wgsl against the Rust methods.
-
-// Pipeline specialisation: area and punctual lights compiled out when a scene has none.
-override HAS_LIGHTS: bool = true;
-override HAS_PUNCTUAL: bool = true;
-override HAS_ENV_IMAGE: bool = true;
+// The interface functions' switches on `kind`, `light_is_infinite`, the LIGHT_* constants and
+// the HAS_* overrides are generated from the light table (src/scene/light/family.rs, one row
+// per `Light` variant; scene::light::family_wgsl writes the WGSL): the arms call the per-kind
+// functions below. Adding a light type: its functions here, a row there naming them (see
+// src/scene/light/mod.rs), and the light in tests/light_twin.rs `all_lights_scene`, which runs
+// the interface through src/gpu/light_probe.wgsl against the Rust methods.
 
 // A light picked from the distribution, with its selection probability (0 = none).
 struct LightPick {
@@ -355,44 +352,33 @@ struct LightLiSample {
     infinite: bool,
 }
 
-// Sample incident illumination at `p_ref` from `light` (picked with probability `pick`).
-// PBR 4th ed. §12.2–12.5 (`Light::SampleLi`); area lights sample the triangle uniformly and
-// convert to solid angle, pdf = pick / area · d² / |cos θl| (PBR 4th ed. §12.5.1, Veach 1997 §9.2).
-fn light_sample_li(light: Light, p_ref: vec3<f32>, u: vec2<f32>, pick: f32) -> LightLiSample {
+// `light_sample_li` (generated, light::family_wgsl): incident illumination at `p_ref` from
+// `light` (picked with probability `pick`), by kind. PBR 4th ed. §12.2–12.5 (`Light::SampleLi`);
+// area lights sample the triangle uniformly and convert to solid angle, pdf = pick / area · d² /
+// |cos θl| (PBR 4th ed. §12.5.1, Veach 1997 §9.2).
+
+// Directional light: irradiance from −direction, a delta direction.
+fn light_directional_sample_li(light: Light, pick: f32) -> LightLiSample {
+    // Shadow ray to infinity (KHR_lights_punctual "Directional").
+    let wi = -v3(light.direction);
+    return LightLiSample(true, v3(light.intensity), wi, pick, vec3<f32>(0.0), vec3<f32>(0.0), true, true);
+}
+
+// Uniform environment: a uniform sphere of directions, pdf = pick / 4π (PBR 4th ed. §12.5.2,
+// §A.5.2).
+fn light_environment_sample_li(light: Light, u: vec2<f32>, pick: f32) -> LightLiSample {
+    let wi = uniform_sphere(u);
+    return LightLiSample(true, v3(light.intensity), wi, pick * UNIFORM_SPHERE_PDF, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
+}
+
+// Environment image: a direction importance-sampled from the image (invalid where its density
+// is 0). PBR 4th ed. §12.5.2 (`ImageInfiniteLight::SampleLi`).
+fn light_image_sample_li(light: Light, u: vec2<f32>, pick: f32) -> LightLiSample {
     var s: LightLiSample;
-    switch light.kind {
-        case LIGHT_TRIANGLE: {
-            if HAS_LIGHTS {
-                s = light_triangle_sample_li(light, p_ref, u, pick);
-            }
-        }
-        case LIGHT_POINT, LIGHT_SPOT: {
-            if HAS_PUNCTUAL {
-                s = light_punctual_sample_li(light, p_ref, pick);
-            }
-        }
-        case LIGHT_DIRECTIONAL: {
-            if HAS_PUNCTUAL {
-                // Irradiance from −direction, shadow ray to infinity (KHR_lights_punctual "Directional").
-                let wi = -v3(light.direction);
-                s = LightLiSample(true, v3(light.intensity), wi, pick, vec3<f32>(0.0), vec3<f32>(0.0), true, true);
-            }
-        }
-        case LIGHT_ENVIRONMENT: {
-            // Uniform sphere of directions, pdf = pick / 4π (PBR 4th ed. §12.5.2, §A.5.2).
-            let wi = uniform_sphere(u);
-            s = LightLiSample(true, v3(light.intensity), wi, pick * UNIFORM_SPHERE_PDF, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
-        }
-        case LIGHT_IMAGE: {
-            if HAS_ENV_IMAGE {
-                let ds = light_image_sample_dir(light, u);
-                let d = ds.d;
-                if d.w > 0.0 {
-                    s = LightLiSample(true, ds.l, d.xyz, pick * d.w, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
-                }
-            }
-        }
-        default: {}
+    let ds = light_image_sample_dir(light, u);
+    let d = ds.d;
+    if d.w > 0.0 {
+        s = LightLiSample(true, ds.l, d.xyz, pick * d.w, vec3<f32>(0.0), vec3<f32>(0.0), false, true);
     }
     return s;
 }
@@ -447,66 +433,35 @@ fn light_punctual_sample_li(light: Light, p_ref: vec3<f32>, pick: f32) -> LightL
     return LightLiSample(true, l, wi, pick, lp, vec3<f32>(0.0), true, false);
 }
 
-// Solid-angle density with which `light_sample_li` would choose the point at distance `dist`
-// along `wi` with geometric normal `n_light` (area lights; 0 for delta lights).
-// PBR 4th ed. §12.5.1 (`DiffuseAreaLight::PDF_Li`): pick / area · d² / |cos θl|.
-fn light_pdf_li(light: Light, pick: f32, dist: f32, n_light: vec3<f32>, wi: vec3<f32>) -> f32 {
-    switch light.kind {
-        case LIGHT_TRIANGLE: {
-            if pick <= 0.0 {
-                return 0.0;
-            }
-            let area = triangles[light.index].area;
-            let cos_l = abs(dot3(n_light, wi));
-            if cos_l <= 0.0 || area <= 0.0 {
-                return 0.0;
-            }
-            return pick / area * dist * dist / cos_l;
-        }
-        case LIGHT_ENVIRONMENT: {
-            return pick * UNIFORM_SPHERE_PDF;
-        }
-        case LIGHT_IMAGE: {
-            if HAS_ENV_IMAGE {
-                return pick * light_image_pdf_dir(light, wi);
-            }
-            return 0.0;
-        }
-        default: {
-            return 0.0;
-        }
+// `light_pdf_li` (generated): the solid-angle density with which `light_sample_li` would
+// choose the point at distance `dist` along `wi` with geometric normal `n_light` (0 for delta
+// lights; the environments' 1/4π and the image's density are the table's expressions).
+// Area lights, PBR 4th ed. §12.5.1 (`DiffuseAreaLight::PDF_Li`): pick / area · d² / |cos θl|.
+fn light_triangle_pdf_li(light: Light, pick: f32, dist: f32, n_light: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if pick <= 0.0 {
+        return 0.0;
     }
+    let area = triangles[light.index].area;
+    let cos_l = abs(dot3(n_light, wi));
+    if cos_l <= 0.0 || area <= 0.0 {
+        return 0.0;
+    }
+    return pick / area * dist * dist / cos_l;
 }
 
-// Radiance (area, environment) or intensity (punctual, with the spot falloff) emitted
+// `light_le` (generated): radiance (area, environment) or intensity (punctual, with the spot falloff) emitted
 // towards `w` from the point `p` with geometric normal `n_light` (an area light's emissive
 // texture is read at p; lights at infinity ignore p and n); area lights are one-sided
 // unless double-sided (glTF `doubleSided`). PBR 4th ed. §12.5.1 (`DiffuseAreaLight::L`),
-// §12.1 (`SpotLight::I`, KHR_lights_punctual falloff).
-fn light_le(light: Light, p: vec3<f32>, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
-    switch light.kind {
-        case LIGHT_TRIANGLE: {
-            let m = light_material(light);
-            let emits = (m.flags & MAT_EMISSIVE) != 0u;
-            if emits && (dot3(w, n_light) > 0.0 || (m.flags & MAT_DOUBLE_SIDED) != 0u) {
-                if HAS_TEXTURES && m.emit_tex != NO_TEXTURE {
-                    return light_triangle_emission(light, m, light_triangle_barycentric(light.index, p));
-                }
-                return v3(m.emission);
-            }
+// §12.1 (`SpotLight::I`, KHR_lights_punctual falloff). The area light's:
+fn light_triangle_le(light: Light, p: vec3<f32>, n_light: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
+    let m = light_material(light);
+    let emits = (m.flags & MAT_EMISSIVE) != 0u;
+    if emits && (dot3(w, n_light) > 0.0 || (m.flags & MAT_DOUBLE_SIDED) != 0u) {
+        if HAS_TEXTURES && m.emit_tex != NO_TEXTURE {
+            return light_triangle_emission(light, m, light_triangle_barycentric(light.index, p));
         }
-        case LIGHT_SPOT: {
-            return v3(light.intensity) * spot_falloff(dot3(w, v3(light.direction)), light.cos_inner, light.cos_outer);
-        }
-        case LIGHT_POINT, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT: {
-            return v3(light.intensity);
-        }
-        case LIGHT_IMAGE: {
-            if HAS_ENV_IMAGE {
-                return light_image_radiance(light, -w);
-            }
-        }
-        default: {}
+        return v3(m.emission);
     }
     return vec3<f32>(0.0);
 }
@@ -531,40 +486,10 @@ struct LightLeSample {
     delta_pos: bool,
 }
 
-// Sample an emitted ray of `light` (picked with probability `pick`): u_pos picks the point,
+// `light_sample_le` (generated): an emitted ray of `light` (picked with probability `pick`): u_pos picks the point,
 // u_dir the direction; a double-sided area light draws its side from `sampler` (one dimension,
 // as `bdpt::light_path`). Lights at infinity emit from their bounding disk.
 // PBR 4th ed. §12.1–12.5 (`Light::SampleLe`).
-fn light_sample_le(light: Light, u_pos: vec2<f32>, u_dir: vec2<f32>, sampler: ptr<function, Sampler>, pick: f32) -> LightLeSample {
-    var s: LightLeSample;
-    switch light.kind {
-        case LIGHT_TRIANGLE: {
-            if HAS_LIGHTS {
-                s = light_triangle_sample_le(light, u_pos, u_dir, sampler, pick);
-            }
-        }
-        case LIGHT_POINT, LIGHT_SPOT: {
-            if HAS_PUNCTUAL {
-                s = light_punctual_sample_le(light, u_dir, pick);
-            }
-        }
-        case LIGHT_DIRECTIONAL: {
-            if HAS_PUNCTUAL {
-                s = light_directional_sample_le(light, u_pos, pick);
-            }
-        }
-        case LIGHT_ENVIRONMENT: {
-            s = light_environment_sample_le(light, u_pos, u_dir, pick);
-        }
-        case LIGHT_IMAGE: {
-            if HAS_ENV_IMAGE {
-                s = light_image_sample_le(light, u_pos, u_dir, pick);
-            }
-        }
-        default: {}
-    }
-    return s;
-}
 
 // Area light: uniform point, cosine-weighted direction about the emitting side (Lambertian
 // emitter; half the density on each side when double-sided). PBR 4th ed. §12.5.1
@@ -611,11 +536,6 @@ fn light_punctual_sample_le(light: Light, u_dir: vec2<f32>, pick: f32) -> LightL
 // Lights at infinity: rays from the disk of radius r perpendicular to the emission direction
 // that covers the scene's bounding sphere (centre light.position, radius light.radius),
 // placed behind the scene. PBR 4th ed. §12.4 (`DistantLight::SampleLe`), §12.5.
-
-// The light is at infinity (directional, environments). Twin of `Light::is_infinite`.
-fn light_is_infinite(light: Light) -> bool {
-    return light.kind == LIGHT_DIRECTIONAL || light.kind == LIGHT_ENVIRONMENT || light.kind == LIGHT_IMAGE;
-}
 
 // The disk point for u_pos behind the scene, for rays along `dir`: c − r·dir + r·disk(u_pos)
 // in dir's frame (the expression of the Rust `sample_le`s; PBR 4th ed. §12.4).
@@ -686,49 +606,29 @@ struct LightLePdf {
     pdf_dir: f32,
 }
 
-// Densities with which `light_sample_le` of `light` (selection probability `pick`) emits from
+// `light_pdf_le` (generated): densities with which `light_sample_le` of `light` (selection probability `pick`) emits from
 // a point with normal `n_light` towards `w`: area lights pdf_pos = pick / area (the mesh area),
 // pdf_dir cosine-weighted; a delta position reports pdf_pos = pick, as `light_sample_le` does
 // (the walks read pdf_dir only); lights at infinity the bounding disk's pick / (π r²) and the
 // direction's density (0 for a delta direction, Veach 1997 §10.3.5).
-// PBR 4th ed. §12.1, §12.4, §12.5 (`PDF_Le`).
-fn light_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> LightLePdf {
-    switch light.kind {
-        case LIGHT_TRIANGLE: {
-            let m = light_material(light);
-            let c = dot3(n_light, w);
-            var pdf_dir = 0.0;
-            if c > 0.0 || (m.flags & MAT_DOUBLE_SIDED) != 0u {
-                pdf_dir = light_area_pdf_dir(m, abs(c));
-            }
-            return LightLePdf(pick / triangles[light.index].area, pdf_dir);
-        }
-        case LIGHT_POINT: {
-            return LightLePdf(pick, light_punctual_pdf_dir(light));
-        }
-        case LIGHT_SPOT: {
-            var pdf_dir = 0.0;
-            if dot3(w, v3(light.direction)) >= light.cos_outer {
-                pdf_dir = light_punctual_pdf_dir(light);
-            }
-            return LightLePdf(pick, pdf_dir);
-        }
-        case LIGHT_DIRECTIONAL: {
-            return LightLePdf(pick * light_directional_pdf_pos(light), 0.0);
-        }
-        case LIGHT_ENVIRONMENT: {
-            return LightLePdf(light_infinite_pdf_pos(light, pick), UNIFORM_SPHERE_PDF);
-        }
-        case LIGHT_IMAGE: {
-            if HAS_ENV_IMAGE {
-                return LightLePdf(light_infinite_pdf_pos(light, pick), light_image_pdf_dir(light, -w));
-            }
-            return LightLePdf(0.0, 0.0);
-        }
-        default: {
-            return LightLePdf(0.0, 0.0);
-        }
+// PBR 4th ed. §12.1, §12.4, §12.5 (`PDF_Le`). The area light's:
+fn light_triangle_pdf_le(light: Light, pick: f32, n_light: vec3<f32>, w: vec3<f32>) -> LightLePdf {
+    let m = light_material(light);
+    let c = dot3(n_light, w);
+    var pdf_dir = 0.0;
+    if c > 0.0 || (m.flags & MAT_DOUBLE_SIDED) != 0u {
+        pdf_dir = light_area_pdf_dir(m, abs(c));
     }
+    return LightLePdf(pick / triangles[light.index].area, pdf_dir);
+}
+
+// Spot light: the cone's density inside the outer angle, 0 outside.
+fn light_spot_pdf_le(light: Light, pick: f32, w: vec3<f32>) -> LightLePdf {
+    var pdf_dir = 0.0;
+    if dot3(w, v3(light.direction)) >= light.cos_outer {
+        pdf_dir = light_punctual_pdf_dir(light);
+    }
+    return LightLePdf(pick, pdf_dir);
 }
 
 // Solid-angle density with which an area light emits towards a direction at cosθ (≥ 0) to

@@ -23,14 +23,15 @@
 //!
 //! # Adding a light type
 //!
-//! A new light is one more variant, in three places (the image environment was added so):
-//! 1. Rust: a file here with the type and its `sample_li`, `pdf_li`, `le`, `sample_le`,
-//!    `pdf_le` and `power` (each formula with its citation), a `Light` variant dispatching
-//!    to them, its entry in `LightSet::build` (`scene_lights`), and its consistency cases in
-//!    `tests.rs` (`lights()`).
-//! 2. WGSL: a `LIGHT_*` kind in `gpu::layout`, its fields in `upload::pack_lights` (the GPU
-//!    `Light` entry), and a `case LIGHT_*` in each `light_*` function of
-//!    `src/scene/light/light.wgsl`, the twins named and cited as here.
+//! A new light is one more row of the light table (`family.rs`, `light_table!`), which
+//! generates the `Light` variant and its dispatch, the `LIGHT_*` kind, its part of the kernel
+//! and the WGSL switch arms; besides the row:
+//! 1. Rust: a file here with the type and the methods its row calls (`sample_li`, `pdf_li`,
+//!    `le`, `sample_le`, `pdf_le`, `power`; each formula with its citation), its `mod` here,
+//!    its entry in `LightSet::build` (`scene_lights`), and its consistency cases in `tests.rs`
+//!    (`lights()`).
+//! 2. WGSL: the functions its row's arms call, in `light.wgsl`, and its fields in
+//!    `upload::pack_lights` (the GPU `Light` entry).
 //! 3. The twin test: the light in `all_lights_scene` of tests/light_twin.rs (with reference
 //!    points and directions that reach each branch), so the probe compares it with the Rust
 //!    methods to f32 tolerance.
@@ -38,6 +39,8 @@
 mod directional;
 mod emissive_texture;
 mod environment;
+pub mod family;
+pub mod family_wgsl;
 mod image_environment;
 mod point;
 mod set;
@@ -51,27 +54,14 @@ pub use crate::math::color::luminance;
 pub use directional::DirectionalLight;
 pub use emissive_texture::EmissiveTexture;
 pub use environment::UniformEnvironment;
+pub use family::{Light, LightParts};
 pub use image_environment::ImageEnvironment;
 pub use point::PointLight;
 pub use set::LightSet;
 pub use spot::{SPOT_MIN_RAMP_COS, SpotLight, spot_falloff};
 pub use triangle::TriangleLight;
 
-use glam::{Vec2, Vec3};
-
-/// One light of the scene.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Light {
-    /// An emissive triangle (diffuse area light).
-    Triangle(TriangleLight),
-    Point(PointLight),
-    Spot(SpotLight),
-    Directional(DirectionalLight),
-    /// Uniform radiance from every direction (escaping rays).
-    Environment(UniformEnvironment),
-    /// An equirectangular image at infinity, importance-sampled (in the NEE distribution).
-    Image(ImageEnvironment),
-}
+use glam::Vec3;
 
 /// Incident illumination sampled at a reference point (pbrt-v4 `LightLiSample`).
 #[derive(Clone, Copy, Debug)]
@@ -142,105 +132,4 @@ pub(crate) fn towards_position(p: Vec3, pl: Vec3) -> Option<(Vec3, f32)> {
         return None;
     }
     Some((to / d2.sqrt(), d2))
-}
-
-impl Light {
-    /// Sample incident illumination at `p` with the 2D sample `u` (PBR 4th ed. §12.2).
-    #[inline]
-    pub fn sample_li(&self, p: Vec3, u: Vec2, pick: f32) -> Option<LiSample> {
-        match self {
-            Light::Triangle(l) => l.sample_li(p, u, pick),
-            Light::Point(l) => l.sample_li(p, pick),
-            Light::Spot(l) => l.sample_li(p, pick),
-            Light::Directional(l) => l.sample_li(pick),
-            Light::Environment(l) => l.sample_li(u, pick),
-            Light::Image(l) => l.sample_li(u, pick),
-        }
-    }
-
-    /// Solid-angle density of `sample_li` for direction `wi` (towards the light) reaching a
-    /// point on the light at distance `dist` seen under `cos_light` = |n_light·ω| (0 for delta
-    /// lights; PBR 4th ed. eq. 12.3).
-    #[inline]
-    pub fn pdf_li(&self, pick: f32, wi: Vec3, dist: f32, cos_light: f32) -> f32 {
-        match self {
-            Light::Triangle(l) => l.pdf_li(pick, dist, cos_light),
-            Light::Environment(l) => l.pdf_li(pick),
-            Light::Image(l) => l.pdf_li(pick, wi),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
-        }
-    }
-
-    /// Radiance leaving the light along `w` (unit, pointing away from the light) from the
-    /// point `p` with raw geometric normal `n` (an area light's emissive texture is read at
-    /// `p`). For infinite lights `w` is the direction light travels (minus the escaping ray's
-    /// direction) and `p`, `n` are ignored. Delta lights return their intensity (point, spot
-    /// with falloff) or irradiance (directional).
-    #[inline]
-    pub fn le(&self, p: Vec3, n: Vec3, w: Vec3) -> Vec3 {
-        match self {
-            Light::Triangle(l) => l.le(p, n, w),
-            Light::Point(l) => l.intensity,
-            Light::Spot(l) => l.le(w),
-            Light::Directional(l) => l.irradiance,
-            Light::Environment(l) => l.radiance,
-            Light::Image(l) => l.radiance(-w),
-        }
-    }
-
-    /// Sample an emitted ray (PBR 4th ed. §12.x `SampleLe`): `u_pos` picks the point, `u_dir`
-    /// the direction and `u_side` the face of a two-sided emitter.
-    #[inline]
-    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, u_side: f32, pick: f32) -> Option<LeSample> {
-        match self {
-            Light::Triangle(l) => l.sample_le(u_pos, u_dir, u_side, pick),
-            Light::Point(l) => Some(l.sample_le(u_dir, pick)),
-            Light::Spot(l) => Some(l.sample_le(u_dir, pick)),
-            Light::Directional(l) => Some(l.sample_le(u_pos, pick)),
-            Light::Environment(l) => Some(l.sample_le(u_pos, u_dir, pick)),
-            Light::Image(l) => l.sample_le(u_pos, u_dir, pick),
-        }
-    }
-
-    /// Emission densities (area density of the point including the selection probability
-    /// `pick`, solid-angle density of `w`) of `sample_le` for a point with normal `n` emitting
-    /// along `w` (PBR 4th ed. `PDF_Le`). A delta position reports `pick` as its density and a
-    /// delta direction 0 (Veach 1997 §10.3.5: delta densities are excluded from the ratios).
-    #[inline]
-    pub fn pdf_le(&self, pick: f32, n: Vec3, w: Vec3) -> (f32, f32) {
-        match self {
-            Light::Triangle(l) => l.pdf_le(pick, n, w),
-            Light::Point(_) => (pick, crate::math::sampling::UNIFORM_SPHERE_PDF),
-            Light::Spot(l) => (pick, l.pdf_dir(w)),
-            Light::Directional(l) => (pick * l.pdf_pos(), 0.0),
-            Light::Environment(l) => l.pdf_le(pick),
-            Light::Image(l) => l.pdf_le(pick, w),
-        }
-    }
-
-    /// Approximate emitted power, luminance-weighted (pbrt-v4 `Phi`), for the selection
-    /// distribution.
-    pub fn power(&self) -> f32 {
-        match self {
-            Light::Triangle(l) => l.power(),
-            Light::Point(l) => l.power(),
-            Light::Spot(l) => l.power(),
-            Light::Directional(l) => l.power(),
-            Light::Environment(l) => l.power(),
-            Light::Image(l) => l.power(),
-        }
-    }
-
-    /// The light is a delta position (point, spot): it starts subpaths but cannot be hit.
-    pub fn is_delta_position(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_))
-    }
-
-    /// The light is at infinity (directional, environment).
-    pub fn is_infinite(&self) -> bool {
-        matches!(
-            self,
-            Light::Directional(_) | Light::Environment(_) | Light::Image(_)
-        )
-    }
 }
