@@ -56,6 +56,8 @@ fn the_general_kernel_renders_what_the_specialised_one_renders() {
         ("rough-glass", Estimator::Path, 16),
         ("caustic", Estimator::Sppm, 8),
         ("cornell-glass", Estimator::LtPt, 8),
+        // Thin films are a family of their own: its general kernel has every part and films.
+        ("thin-film", Estimator::Path, 8),
     ] {
         let scene = small(name, 48, 32);
         let own = runs(&ctx, &scene, estimator, false, spp);

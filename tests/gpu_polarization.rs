@@ -1,7 +1,8 @@
 //! Polarised transport on the GPU (issue 38; `cpu/polarized/chain.wgsl`,
 //! `bsdf/polarized.wgsl`): the kernel against the CPU's polarised walk sample for sample (the
 //! same random numbers: the images agree to rounding), the Fresnel ratio through a polariser
-//! and Brewster's angle measured on the GPU, and what it refuses. Skipped without an adapter
+//! and Brewster's angle measured on the GPU, and what it refuses (other estimators, a path
+//! filter, thin films). Skipped without an adapter
 //! (`REFRACT_REQUIRE_GPU` makes that a failure).
 
 mod common_scenes;
@@ -237,7 +238,30 @@ fn gpu_polarization_refuses_what_it_cannot_render() {
         estimator: Estimator::LtPt,
         ..RenderOptions::from_scene(&scene)
     };
-    assert!(GpuRenderer::with_context_polarized(ctx, scene, opts, pol).is_err());
+    assert!(GpuRenderer::with_context_polarized(ctx.clone(), scene, opts, pol).is_err());
+    // Thin films have no Mueller event on the GPU: refused, at the start and at an edit that
+    // adds one (the material is kept as it was).
+    let film = sized("builtin:thin-film", 16, 12);
+    let opts = RenderOptions::from_scene(&film);
+    let Err(e) = GpuRenderer::with_context_polarized(ctx.clone(), film, opts, pol) else {
+        panic!("a polarised thin film was accepted");
+    };
+    let e = format!("{e:#}");
+    assert!(
+        e.contains("thin films") && e.contains("--device cpu"),
+        "{e}"
+    );
+    let scene = sized("builtin:brewster", 16, 12);
+    let opts = RenderOptions::from_scene(&scene);
+    let mut g = GpuRenderer::with_context_polarized(ctx, scene.clone(), opts, pol).unwrap();
+    let plate = (scene.materials.iter())
+        .position(|m| m.kind == MaterialKind::Glass)
+        .expect("the plate is glass");
+    let mut filmed = scene.materials[plate].clone();
+    filmed.iridescence = Some(Default::default());
+    let e = format!("{:#}", g.set_material(plate, filmed).unwrap_err());
+    assert!(e.contains("thin films"), "{e}");
+    assert_eq!(g.polarization(), Some(pol));
 }
 
 /// `render --device gpu --aov dop,aop,stokes`: the Stokes images from four analysers on the

@@ -17,13 +17,34 @@ mod radv;
 
 use refract::gpu::kernels;
 use refract::gpu::pipeline::{Kernel, Specialization};
-use refract::scene::Scene;
+use refract::scene::{Features, Scene};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 const CHILD: &str = "REFRACT_RADV_CHILD";
 
-/// (what, specialisation, most VGPRs allowed, fewest subgroups per SIMD allowed).
-fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
+/// The budgets' kernels: all of a specialisation's, or only those listed.
+type Budget = (
+    &'static str,
+    Specialization,
+    u64,
+    u64,
+    Option<&'static [Kernel]>,
+);
+
+/// `spec` with thin films compiled in (their own family's general kernel,
+/// `Specialization::general`).
+fn with_films(spec: Specialization) -> Specialization {
+    Specialization {
+        bsdfs: refract::bsdf::BsdfParts {
+            iridescence: true,
+            ..spec.bsdfs
+        },
+        ..spec
+    }
+}
+
+/// (what, specialisation, most VGPRs allowed, fewest subgroups per SIMD allowed, kernels).
+fn budgets() -> Vec<Budget> {
     let cornell = Scene::load("builtin:cornell-glass").expect("built-in");
     let cornell = Specialization::for_scene(&cornell).expect("BVH");
     let brewster = Scene::load("builtin:brewster").expect("built-in");
@@ -35,12 +56,36 @@ fn budgets() -> Vec<(&'static str, Specialization, u64, u64)> {
     vec![
         // 96 VGPRs allow 10 subgroups per SIMD; the traversal stack sized to the scene's tree
         // (24 entries, 6 KiB of workgroup memory) no longer caps it at 4.
-        ("cornell-glass", cornell, 96, 10),
-        ("all features", Specialization::all(), 128, 4),
-        ("all features, sppm", Specialization::all_sppm(), 128, 4),
+        ("cornell-glass", cornell, 96, 10, None),
+        ("all features", Specialization::all(), 128, 4, None),
+        (
+            "all features, sppm",
+            Specialization::all_sppm(),
+            128,
+            4,
+            None,
+        ),
         // The polariser's lecture demo (issue 38): the chain's row costs the megakernel
         // 96 → 112 VGPRs, 8 subgroups per SIMD (docs/polarization.md lists the others).
-        ("brewster, polarised", brewster_polarized, 128, 8),
+        ("brewster, polarised", brewster_polarized, 128, 8, None),
+        // Thin films' general kernels (a family of their own: they render a film scene while
+        // its own kernel compiles) are over the 128 target, measured and held where they
+        // are: shade 136 (path and lt+pt), sppm's shade 152 and photon pass 168
+        // (docs/thin-film.md). Only the kernels that shade films are compiled here.
+        (
+            "all features, films",
+            with_films(Specialization::all()),
+            136,
+            4,
+            Some(&[Kernel::WfShade, Kernel::LtWfShade]),
+        ),
+        (
+            "all features, films, sppm",
+            with_films(Specialization::all_sppm()),
+            168,
+            4,
+            Some(&[Kernel::WfShade, Kernel::PhotonTrace]),
+        ),
     ]
 }
 
@@ -73,9 +118,10 @@ fn jobs() -> Vec<Job> {
     let keep = |j: &Job| {
         every
             || j.report
-            || !distinct
-                .iter()
-                .any(|k| k.kernel == j.kernel && dominated(&j.spec, &k.spec))
+            || !distinct.iter().any(|k| {
+                // Bounded only by a kernel held to a budget no looser than its own.
+                k.kernel == j.kernel && k.max_vgprs <= j.max_vgprs && dominated(&j.spec, &k.spec)
+            })
     };
     let jobs: Vec<Job> = distinct.iter().filter(|j| keep(j)).cloned().collect();
     eprintln!(
@@ -120,8 +166,9 @@ fn dominated(a: &Specialization, b: &Specialization) -> bool {
 fn all_jobs() -> Vec<Job> {
     let every_wavefront = std::env::var_os("REFRACT_REGISTERS_ALL").is_some();
     let mut jobs = Vec::new();
-    for (what, spec, max_vgprs, min_subgroups) in budgets() {
-        for kernel in kernels::kernels_of(&spec) {
+    for (what, spec, max_vgprs, min_subgroups, only) in budgets() {
+        let listed = |k: &Kernel| only.is_none_or(|ks| ks.contains(k));
+        for kernel in kernels::kernels_of(&spec).into_iter().filter(listed) {
             jobs.push(Job {
                 what: what.to_string(),
                 spec,
@@ -134,10 +181,16 @@ fn all_jobs() -> Vec<Job> {
     }
     for name in refract::scene::builtin::NAMES {
         let scene = Scene::load(&format!("builtin:{name}")).expect("built-in");
-        // A scene the GPU refuses (check_supported: thin films) never runs these kernels.
+        // A scene the GPU refuses (check_supported) never runs these kernels.
         if refract::gpu::upload::check_supported(&scene).is_err() {
             continue;
         }
+        // builtin:thin-film's kernels: path and lt+pt within 128, sppm's shade 144.
+        let max_vgprs = if scene.features().contains(Features::IRIDESCENCE) {
+            144
+        } else {
+            128
+        };
         let path = Specialization::for_scene(&scene).expect("BVH");
         let lt = Specialization {
             light_tracing: true,
@@ -154,7 +207,7 @@ fn all_jobs() -> Vec<Job> {
                     what: format!("{name} {estimator}"),
                     spec,
                     kernel,
-                    max_vgprs: 128,
+                    max_vgprs,
                     min_subgroups: 0,
                     report: false,
                 });

@@ -87,25 +87,51 @@ fn bsdf_class(b: Bsdf) -> u32 {
 }
 
 /// A switch on `b.kind` for function `signature`: one arm per kind that `call` gives a WGSL
-/// call for (adjacent kinds with the same call and override share an arm), then `otherwise`.
+/// call for, guarded by its part's override, then `otherwise`.
 fn switch(signature: &str, call: impl Fn(&GpuKind) -> Option<&str>, otherwise: &str) -> String {
-    let mut arms: Vec<(Vec<&str>, &str, &str)> = Vec::new();
-    for k in GPU_KINDS {
-        let Some(c) = call(k) else { continue };
+    let arms = GPU_KINDS
+        .iter()
+        .filter_map(|k| call(k).map(|c| (k.name, Some(k.has), c)));
+    format!(
+        "\nfn {signature} {{\n{}    {otherwise}\n}}\n",
+        switch_arms("b.kind", arms, |c| format!("return {c};"))
+    )
+}
+
+/// `switch selector { … }` over kinds given as (constant, guarding override or none,
+/// expression): one arm per kind, adjacent kinds with the same guard and expression sharing
+/// one, each running `statement(expression)` where its guard holds; then `default: {}`.
+/// Both tables' generators (BSDFs here, lights in `scene::light::family_wgsl`) write their
+/// switches with it.
+pub(crate) fn switch_arms<'a>(
+    selector: &str,
+    kinds: impl IntoIterator<Item = (&'a str, Option<&'a str>, &'a str)>,
+    statement: impl Fn(&str) -> String,
+) -> String {
+    type Arm<'a> = (Vec<&'a str>, Option<&'a str>, &'a str);
+    let mut arms: Vec<Arm> = Vec::new();
+    for (name, guard, e) in kinds {
         match arms.last_mut() {
-            Some((names, has, last)) if *has == k.has && *last == c => names.push(k.name),
-            _ => arms.push((vec![k.name], k.has, c)),
+            Some((names, g, last)) if *g == guard && *last == e => names.push(name),
+            _ => arms.push((vec![name], guard, e)),
         }
     }
-    let mut s = format!("\nfn {signature} {{\n    switch b.kind {{\n");
-    for (names, has, c) in arms {
+    let mut s = format!("    switch {selector} {{\n");
+    for (names, guard, e) in arms {
+        let body = match guard {
+            Some(g) => format!(
+                "            if {g} {{\n                {}\n            }}",
+                statement(e)
+            ),
+            None => format!("            {}", statement(e)),
+        };
         let _ = writeln!(
             s,
-            "        case {}: {{\n            if {has} {{\n                return {c};\n            }}\n        }}",
+            "        case {}: {{\n{body}\n        }}",
             names.join(", ")
         );
     }
-    let _ = writeln!(s, "        default: {{}}\n    }}\n    {otherwise}\n}}");
+    s.push_str("        default: {}\n    }\n");
     s
 }
 

@@ -202,7 +202,7 @@ fn rough_dielectric_lane(wo: vec3<f32>, wi: vec3<f32>, event: u32, eta: f32) -> 
 }
 
 // The normalised Mueller matrix of the event (wo, wi) of `b` in class `lobe` (local frame;
-// `event_mueller`). Films are refused on the GPU (gpu::upload::check_supported); absent
+// `event_mueller`). Polarised films are refused on the GPU (`check_polarization`); absent
 // kinds are compiled out by their HAS_* overrides, as in bsdf.wgsl.
 fn bsdf_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32, lobe: u32) -> Mueller {
     switch b.kind {

@@ -149,7 +149,7 @@ impl Specialization {
     /// `light_tracing` and `sppm`), so [`Specialization::all_sppm`] is the other worst case.
     pub fn all() -> Specialization {
         Specialization {
-            // Films are refused by `upload::check_supported` until they fit the budget.
+            // Films only in their own family's general kernel (`general`).
             bsdfs: BsdfParts {
                 iridescence: false,
                 ..BsdfParts::ALL
@@ -190,6 +190,12 @@ impl Specialization {
             nested: self.nested,
             wavefront: self.wavefront,
             polarized: self.polarized,
+            // Films are a family of their own: their shading needs 8–16 more VGPRs than the
+            // budget of the general kernels without them (tests/gpu_registers.rs).
+            bsdfs: BsdfParts {
+                iridescence: self.bsdfs.iridescence,
+                ..BsdfParts::ALL
+            },
             // The deepest stack either layout uses (both at most `MAX_BVH_DEPTH` words),
             // and the layout of the uploaded tree.
             bvh_stack: crate::gpu::upload::MAX_BVH_DEPTH,

@@ -36,6 +36,10 @@ pub(super) fn check_polarization(
         opts.filter.is_none(),
         "polarised transport renders every path: clear the path filter first"
     );
+    ensure!(
+        !scene.features().contains(Features::IRIDESCENCE),
+        "polarised thin films run on the CPU (--device cpu): the GPU's Mueller events have no thin film"
+    );
     Ok(())
 }
 
@@ -63,7 +67,9 @@ impl GpuRenderer {
         let emission_changed = self.scene.materials[index].emission != material.emission
             || self.scene.materials[index].double_sided != material.double_sided;
         let old = std::mem::replace(&mut self.scene.materials[index], material);
-        if let Err(e) = upload::check_supported(&self.scene) {
+        let supported = upload::check_supported(&self.scene)
+            .and_then(|()| check_polarization(self.polarization, &self.opts, &self.scene));
+        if let Err(e) = supported {
             self.scene.materials[index] = old;
             return Err(e);
         }
@@ -73,6 +79,8 @@ impl GpuRenderer {
                 || a.metallic_roughness_texture != b.metallic_roughness_texture
                 || a.emissive_texture != b.emissive_texture
                 || a.normal_texture != b.normal_texture
+                || a.iridescence.and_then(|i| i.thickness_texture)
+                    != b.iridescence.and_then(|i| i.thickness_texture)
                 || a.kind != b.kind
         };
         if textures_changed {

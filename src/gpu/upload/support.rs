@@ -12,13 +12,6 @@ pub fn check_supported(scene: &Scene) -> Result<()> {
         !(f.intersects(conductors) && f.contains(Features::DISPERSION)),
         "the GPU renderer has no spectral (hero-wavelength) conductor yet: this scene has a tabulated metal (extras.conductor) and a dispersive material; render it on the CPU"
     );
-    // The film kernels pass the probe twin and image parity (tests/gpu.rs) but exceed the
-    // register budget on RDNA2 (wavefront shade 136–152 VGPRs against 128, tests/
-    // gpu_registers.rs): until they fit, films render on the CPU.
-    ensure!(
-        !f.contains(Features::IRIDESCENCE),
-        "the GPU renderer's thin-film (iridescence) kernels exceed their register budget yet: render this scene on the CPU (--device cpu)"
-    );
     ensure!(
         !(f.contains(Features::IRIDESCENCE) && f.contains(Features::DISPERSION)),
         "the GPU renderer has no spectral (hero-wavelength) thin film yet (its films use Belcour & Barla's RGB integral): this scene has a film (KHR_materials_iridescence) and a dispersive material; render it on the CPU (--device cpu)"

@@ -5,6 +5,7 @@
 //! `light.wgsl` holds the per-kind functions the arms call.
 
 use super::family::{GPU_KINDS, GpuLightKind, LightParts};
+use crate::bsdf::family_wgsl::switch_arms;
 use std::fmt::Write;
 
 /// How a generated function leaves its switch.
@@ -73,48 +74,21 @@ fn light_is_infinite(light: Light) -> bool {{
 }
 
 /// A switch on `light.kind` for function `signature`: one arm per kind that `expr` gives an
-/// expression for (adjacent kinds with the same expression and guard share an arm), leaving
-/// as `form` says.
+/// expression for, guarded by the override that compiles its kind in, leaving as `form` says.
 fn switch(signature: &str, expr: impl Fn(&GpuLightKind) -> Option<&str>, form: Form) -> String {
-    type Arm<'a> = (Vec<&'a str>, Option<&'a str>, &'a str);
-    let mut arms: Vec<Arm> = Vec::new();
-    for k in GPU_KINDS {
-        let Some(e) = expr(k) else { continue };
-        match arms.last_mut() {
-            Some((names, guard, last)) if *guard == k.guard && *last == e => names.push(k.name),
-            _ => arms.push((vec![k.name], k.guard, e)),
-        }
-    }
-    let mut s = format!("\nfn {signature} {{\n");
-    if let Form::Assign(ty) = form {
-        let _ = writeln!(s, "    var s: {ty};");
-    }
-    s.push_str("    switch light.kind {\n");
-    for (names, guard, e) in arms {
-        let statement = match form {
-            Form::Assign(_) => format!("s = {e};"),
-            Form::Return(_) => format!("return {e};"),
-        };
-        let body = match guard {
-            Some(g) => {
-                format!("            if {g} {{\n                {statement}\n            }}")
-            }
-            None => format!("            {statement}"),
-        };
-        let _ = writeln!(
-            s,
-            "        case {}: {{\n{body}\n        }}",
-            names.join(", ")
-        );
-    }
-    s.push_str("        default: {}\n    }\n");
-    match form {
-        Form::Assign(_) => s.push_str("    return s;\n}\n"),
-        Form::Return(fallback) => {
-            let _ = writeln!(s, "    return {fallback};\n}}");
-        }
-    }
-    s
+    let arms = GPU_KINDS
+        .iter()
+        .filter_map(|k| expr(k).map(|e| (k.name, k.guard, e)));
+    let (declare, statement, leave) = match form {
+        Form::Assign(ty) => (
+            format!("    var s: {ty};\n"),
+            "s = ",
+            "return s;".to_string(),
+        ),
+        Form::Return(fallback) => (String::new(), "return ", format!("return {fallback};")),
+    };
+    let switch = switch_arms("light.kind", arms, |e| format!("{statement}{e};"));
+    format!("\nfn {signature} {{\n{declare}{switch}    {leave}\n}}\n")
 }
 
 #[cfg(test)]
