@@ -20,7 +20,55 @@ pub trait GpuLayout: bytemuck::Pod {
     }
 }
 
+/// The WGSL spelling of a field type of a struct whose WGSL declaration is generated
+/// (`gpu_struct! { wgsl; … }`): scalars, and arrays as `array<T, N>` (storage structs keep
+/// three-component values as `array<f32, 3>`, never `vec3`).
+pub trait WgslType {
+    fn wgsl() -> String;
+}
+
+impl WgslType for f32 {
+    fn wgsl() -> String {
+        "f32".into()
+    }
+}
+
+impl WgslType for u32 {
+    fn wgsl() -> String {
+        "u32".into()
+    }
+}
+
+impl WgslType for i32 {
+    fn wgsl() -> String {
+        "i32".into()
+    }
+}
+
+impl<T: WgslType, const N: usize> WgslType for [T; N] {
+    fn wgsl() -> String {
+        format!("array<{}, {N}>", T::wgsl())
+    }
+}
+
+/// A GPU struct whose WGSL twin is generated from it ([`generated_wgsl_structs`]).
+pub trait GeneratedWgsl: GpuLayout {
+    /// The WGSL declaration, one member per field in order.
+    fn wgsl_struct() -> String;
+}
+
 macro_rules! gpu_struct {
+    (wgsl; $(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $f:ident : $t:ty),* $(,)? }) => {
+        gpu_struct! { $(#[$m])* pub struct $name { $($(#[$fm])* pub $f: $t),* } }
+        impl GeneratedWgsl for $name {
+            fn wgsl_struct() -> String {
+                let mut s = format!("struct {} {{\n", stringify!($name));
+                $(s.push_str(&format!("    {}: {},\n", stringify!($f), <$t as WgslType>::wgsl()));)*
+                s.push_str("}\n");
+                s
+            }
+        }
+    };
     ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $f:ident : $t:ty),* $(,)? }) => {
         $(#[$m])*
         #[repr(C)]
@@ -35,7 +83,21 @@ macro_rules! gpu_struct {
     };
 }
 
+/// The WGSL declarations of the structs generated from their Rust twins (prepended to every
+/// kernel by `gpu::prelude`): a field added here reaches the WGSL without a second edit.
+pub fn generated_wgsl_structs() -> String {
+    [
+        BvhNode::wgsl_struct(),
+        Triangle::wgsl_struct(),
+        Vertex::wgsl_struct(),
+        Material::wgsl_struct(),
+        Light::wgsl_struct(),
+    ]
+    .concat()
+}
+
 gpu_struct! {
+    wgsl;
     /// BVH2 node (obvhs `Bvh2Node` repacked): inner if `prim_count` = 0 (children at
     /// `first_index` and `first_index + 1`), else a leaf over triangle slots
     /// `first_index .. first_index + prim_count`.
@@ -102,6 +164,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    wgsl;
     /// A triangle in BVH leaf order (slot k holds scene triangle `primitive_indices[k]`).
     pub struct Triangle {
         pub p0: [f32; 3],
@@ -120,6 +183,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    wgsl;
     /// Per-vertex shading attributes (positions live in [`Triangle`]).
     pub struct Vertex {
         pub normal: [f32; 3],
@@ -133,6 +197,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    wgsl;
     /// A material resolved for the GPU (`bsdf` = one of the [`BSDF_LAMBERT`]… kinds).
     pub struct Material {
         pub base_color: [f32; 3],
@@ -187,6 +252,7 @@ gpu_struct! {
 }
 
 gpu_struct! {
+    wgsl;
     /// One entry of the light distribution (area triangle or punctual light) with its CDF.
     /// Lights at infinity (directional, environments) carry the scene's bounding sphere, the
     /// disk their light subpaths start from: centre in `position`, radius in `radius`.

@@ -158,5 +158,7 @@ pub fn wgsl_prelude() -> String {
         let [x, y, z] = [x, y, z].map(f32_literal);
         let _ = writeln!(s, "const {name}: vec3<f32> = vec3<f32>({x}, {y}, {z});");
     }
+    s.push_str("// The scene's structs, generated from gpu::layout.\n");
+    s.push_str(&generated_wgsl_structs());
     s
 }

@@ -1,107 +1,21 @@
-// scene.wgsl — scene buffers (layouts = gpu::layout, checked by naga reflection in
-// tests/gpu.rs), the traversal entry (`traverse`: the BVH2 here, or the compressed wide BVH
-// of cwbvh.wgsl by `BVH_WIDE`) with a short stack, and the watertight triangle test.
+// scene.wgsl — scene buffers (their structs generated from gpu::layout into the prelude,
+// checked by naga reflection in tests/gpu.rs), the traversal entry (`traverse`: the BVH2
+// here, or the compressed wide BVH of cwbvh.wgsl by `BVH_WIDE`) with a short stack, and the
+// watertight triangle test.
 // Twin of src/bvh.rs (the CPU walks its own wide BVH over the same triangles; closest hits
 // agree).
 
-struct BvhNode {
-    lo: array<f32, 3>,
-    // 0 = inner node (children at first_index, first_index + 1), else leaf primitive count.
-    prim_count: u32,
-    hi: array<f32, 3>,
-    first_index: u32,
-}
+// struct BvhNode: generated from `gpu::layout::BvhNode` (the prelude).
 
 // A triangle in BVH leaf order (slot k = bvh2.primitive_indices[k]).
-struct Triangle {
-    p0: array<f32, 3>,
-    material: u32,
-    p1: array<f32, 3>,
-    // Index into the scene's triangle list.
-    scene_tri: u32,
-    p2: array<f32, 3>,
-    // Light-selection probability (LightSet::tri_pick_prob).
-    pick_prob: f32,
-    i0: u32,
-    i1: u32,
-    i2: u32,
-    // Mesh::area.
-    area: f32,
-}
+// struct Triangle: generated from `gpu::layout::Triangle` (the prelude).
 
-struct Vertex {
-    normal: array<f32, 3>,
-    u: f32,
-    v: f32,
-    // Tangent (Mesh::tangents): bitangent sign w, then xyz; zero without a normal map.
-    tangent_w: f32,
-    tangent: array<f32, 3>,
-}
+// struct Vertex: generated from `gpu::layout::Vertex` (the prelude).
 
-struct Material {
-    base_color: array<f32, 3>,
-    bsdf: u32,
-    emission: array<f32, 3>,
-    flags: u32,
-    sigma_a: array<f32, 3>,
-    eta: f32,
-    // KHR_materials_specular colour and factor (metal-rough), clamped as `metal_rough_at` does.
-    specular_color: array<f32, 3>,
-    specular_factor: f32,
-    // KHR_materials_volume (spectral absorption: σ_a(λ) = −ln(uplift(colour)(λ)) / distance).
-    attenuation_color: array<f32, 3>,
-    attenuation_distance: f32,
-    // Microfacet α of rough glass / glossy metal (metal-rough derives its own from roughness).
-    alpha: f32,
-    // Raw metallic and perceptual roughness factors (multiplied by the metallic-roughness
-    // texture in `material_bsdf`).
-    metallic: f32,
-    roughness: f32,
-    // MicrofacetDistribution (DIST_*).
-    dist: u32,
-    // Abbe number V_d (0 = not dispersive).
-    abbe: f32,
-    // Texture reference slots (NO_TEXTURE = none): base colour, metallic-roughness.
-    base_tex: u32,
-    mr_tex: u32,
-    // Nested dielectrics: where volumes overlap, the higher priority is the medium.
-    priority: i32,
-    // Tabulated metal (extras.conductor): linear-sRGB η, k per channel and METAL_NONE or the
-    // metal's code.
-    cond_eta: array<f32, 3>,
-    metal: u32,
-    cond_k: array<f32, 3>,
-    // Emissive texture slot (NO_TEXTURE = none): emission × texture(uv).rgb.
-    emit_tex: u32,
-    // Normal texture slot (NO_TEXTURE = none) and its scale (glTF normalTexture).
-    normal_tex: u32,
-    normal_scale: f32,
-    // Thin film (BSDF_FILM_* kinds): index, thickness range (nm) and texture slot (green
-    // mixes min → max), factor, FILM_ON_* base.
-    film_ior: f32,
-    film_min: f32,
-    film_max: f32,
-    film_factor: f32,
-    film_tex: u32,
-    film_base: u32,
-}
+// struct Material: generated from `gpu::layout::Material` (the prelude).
 
 // One entry of the light distribution, `kind` = LIGHT_*; light.wgsl interprets it.
-struct Light {
-    position: array<f32, 3>,
-    kind: u32,
-    direction: array<f32, 3>,
-    // Leaf slot of the triangle (LIGHT_TRIANGLE).
-    index: u32,
-    intensity: array<f32, 3>,
-    cos_inner: f32,
-    // Inclusive CDF (LightSet::cdf).
-    cdf: f32,
-    cos_outer: f32,
-    // Lights at infinity: the scene's bounding sphere is (position, radius).
-    radius: f32,
-    _pad1: u32,
-}
+// struct Light: generated from `gpu::layout::Light` (the prelude).
 
 // The tree's nodes as 16-byte words: a BVH2 node is two (`bvh2_node`), a CWBVH node five
 // (`cw_node` in cwbvh.wgsl); `BVH_WIDE` says which tree `upload::GpuBvh` put here.
