@@ -2,7 +2,7 @@
 //! block in `texels`.
 
 use super::GpuBvh;
-use crate::gpu::layout::{self, Light};
+use crate::gpu::layout::Light;
 use crate::scene::light::{ImageEnvironment, Light as SceneLight, LightSet};
 
 /// The light distribution with its CDF. Returns (entries, light count); the array has at
@@ -26,20 +26,18 @@ pub fn pack_lights(bvh: &GpuBvh, lights: &LightSet, env_offset: u32) -> (Vec<Lig
 fn pack_light(bvh: &GpuBvh, l: &SceneLight, cdf: f32, env_offset: u32) -> Light {
     let mut g = Light {
         cdf,
+        kind: l.gpu_kind(),
         ..Default::default()
     };
     match l {
         SceneLight::Triangle(t) => {
-            g.kind = layout::LIGHT_TRIANGLE;
             g.index = bvh.slot_of_tri.get(t.tri as usize).copied().unwrap_or(0);
         }
         SceneLight::Point(p) => {
-            g.kind = layout::LIGHT_POINT;
             g.position = p.position.to_array();
             g.intensity = p.intensity.to_array();
         }
         SceneLight::Spot(s) => {
-            g.kind = layout::LIGHT_SPOT;
             g.position = s.position.to_array();
             g.direction = s.direction.to_array();
             g.intensity = s.intensity.to_array();
@@ -47,7 +45,6 @@ fn pack_light(bvh: &GpuBvh, l: &SceneLight, cdf: f32, env_offset: u32) -> Light 
             g.cos_outer = s.cos_outer;
         }
         SceneLight::Directional(d) => {
-            g.kind = layout::LIGHT_DIRECTIONAL;
             g.direction = d.direction.to_array();
             g.intensity = d.irradiance.to_array();
             (g.position, g.radius) = (d.center.to_array(), d.radius);
@@ -59,10 +56,9 @@ fn pack_light(bvh: &GpuBvh, l: &SceneLight, cdf: f32, env_offset: u32) -> Light 
     g
 }
 
-/// Fill `g` for the environment image `e`: the image's block in `texels`
+/// Fill `g` (kind set) for the environment image `e`: the image's block in `texels`
 /// (`pack_environment`), strength, rotation.
 fn image_light(g: &mut Light, e: &ImageEnvironment, env_offset: u32) {
-    g.kind = layout::LIGHT_IMAGE;
     g.index = env_offset;
     g.intensity = [e.image.strength; 3];
     g.direction = [
