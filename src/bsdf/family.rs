@@ -200,10 +200,29 @@ macro_rules! family_items {
 
         impl Bsdf {
             /// The GPU kind (`BSDF_*`) this BSDF is shaded as.
+            #[inline]
             pub fn gpu_kind(&self) -> u32 {
                 match self {
                     $(Bsdf::$variant(_x) => kind_of!(_x; $($kind),+; $(|$b| $select)?),)*
                 }
+            }
+
+            /// Heckbert class of the non-delta part for single-class BSDFs (used when a BSDF
+            /// has one class only; multi-lobe BSDFs report through [`Bsdf::eval_lobes`]): its
+            /// kind's class in the table, so CPU and GPU cannot disagree.
+            #[inline]
+            pub fn class(&self) -> super::Lobe {
+                match self.gpu_kind() {
+                    $($($kind => super::Lobe::$lobe,)+)*
+                    _ => unreachable!("gpu_kind returns one of the table's kinds"),
+                }
+            }
+
+            /// True if every lobe is a delta distribution (next-event estimation is skipped):
+            /// the kind's class is S.
+            #[inline]
+            pub fn is_delta(&self) -> bool {
+                self.class() == super::Lobe::S
             }
         }
 

@@ -181,23 +181,6 @@ pub trait BxDF {
 }
 
 impl Bsdf {
-    /// True if every lobe is a delta distribution (next-event estimation is skipped).
-    #[inline]
-    pub fn is_delta(&self) -> bool {
-        match self {
-            Bsdf::Lambert(_) => false,
-            Bsdf::Mirror(_)
-            | Bsdf::SmoothDielectric(_)
-            | Bsdf::ThinDielectric(_)
-            | Bsdf::SmoothConductor(_) => true,
-            Bsdf::RoughDielectric(_)
-            | Bsdf::RoughConductor(_)
-            | Bsdf::MetalRough(_)
-            | Bsdf::RoughFresnelConductor(_) => false,
-            Bsdf::Iridescent(b) => b.is_smooth(),
-        }
-    }
-
     /// Apply `f` to every colour parameter (RGB → the path's spectral lanes).
     #[inline]
     pub fn map_colors(self, f: impl Fn(Color) -> Color) -> Bsdf {
@@ -264,25 +247,6 @@ impl Bsdf {
             | Bsdf::RoughFresnelConductor(_) => false,
             Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => true,
             Bsdf::Iridescent(b) => b.can_transmit(),
-        }
-    }
-
-    /// Heckbert class of the non-delta part for single-class BSDFs (used when a BSDF has one
-    /// class only). Multi-lobe BSDFs report through [`Bsdf::eval_lobes`].
-    #[inline]
-    pub fn class(&self) -> Lobe {
-        match self {
-            Bsdf::Lambert(_) => Lobe::D,
-            Bsdf::Mirror(_)
-            | Bsdf::SmoothDielectric(_)
-            | Bsdf::ThinDielectric(_)
-            | Bsdf::SmoothConductor(_) => Lobe::S,
-            Bsdf::RoughDielectric(_)
-            | Bsdf::RoughConductor(_)
-            | Bsdf::MetalRough(_)
-            | Bsdf::RoughFresnelConductor(_) => Lobe::G,
-            Bsdf::Iridescent(b) if b.is_smooth() => Lobe::S,
-            Bsdf::Iridescent(_) => Lobe::G,
         }
     }
 
