@@ -128,21 +128,6 @@ fn bsdf_is_delta(b: Bsdf) -> bool {
     return bsdf_kind_is_delta(b.kind);
 }
 
-// True if some lobe transmits (the sampled direction may cross the surface).
-fn bsdf_can_transmit(b: Bsdf) -> bool {
-    switch b.kind {
-        case BSDF_SMOOTH_DIELECTRIC, BSDF_ROUGH_DIELECTRIC, BSDF_THIN_DIELECTRIC: {
-            return true;
-        }
-        case BSDF_FILM_SMOOTH, BSDF_FILM_ROUGH: {
-            return film_base(b) == FILM_ON_DIELECTRIC || film_base(b) == FILM_ON_SHEET;
-        }
-        default: {
-            return false;
-        }
-    }
-}
-
 // f(wo, wi) split by Heckbert class (delta lobes contribute nothing).
 fn bsdf_eval_lobes(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, mode: u32) -> LobeValues {
     if HAS_METAL_ROUGH && b.kind == BSDF_METAL_ROUGH {

@@ -2,10 +2,13 @@
 //! conductor Fresnel term: a smooth one (delta reflection, [`Lobe::S`]) and a rough one (the
 //! microfacet lobe of [`RoughConductor`] with F at the microfacet normal, [`Lobe::G`]).
 
+use super::MicrofacetDistribution;
 use super::fresnel::fresnel_conductor_color;
+use super::fresnel_polarized::{MuellerLanes, all, conductor_mueller, half_vector};
 use super::metal_ior::Metal;
 use super::{BsdfSample, BxDF, Event, Lobe, RoughConductor, TransportMode};
 use crate::math::Color;
+use crate::math::mueller::depolarizer;
 use glam::{Vec2, Vec3};
 
 /// Complex relative IOR per colour lane (RGB channels, or the path's hero wavelengths) and the
@@ -56,6 +59,32 @@ pub struct SmoothConductor {
 
 impl BxDF for SmoothConductor {
     #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// Fresnel reflection with η − ik per colour lane at the normal.
+    fn mueller(&self, _wo: Vec3, wi: Vec3, _event: Event, _lobe: Lobe) -> MuellerLanes {
+        conductor_mueller(wi.z, self.ior.eta, self.ior.k)
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        SmoothConductor {
+            tint: f(self.tint),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn at_wavelengths(self, lambdas: [f32; 4]) -> Self {
+        SmoothConductor {
+            ior: self.ior.at_wavelengths(lambdas),
+            ..self
+        }
+    }
+
+    #[inline]
     fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
         Color::ZERO
     }
@@ -102,6 +131,41 @@ impl RoughFresnelConductor {
 }
 
 impl BxDF for RoughFresnelConductor {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// Fresnel reflection with η − ik per colour lane at the microfacet normal (the
+    /// depolariser where it is degenerate).
+    fn mueller(&self, wo: Vec3, wi: Vec3, _event: Event, _lobe: Lobe) -> MuellerLanes {
+        match half_vector(wo, wi, Event::Reflect, 1.0) {
+            Some(m) => conductor_mueller(wi.dot(m), self.ior.eta, self.ior.k),
+            None => all(depolarizer()),
+        }
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        RoughFresnelConductor {
+            lobe: self.lobe.map_colors(f),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn at_wavelengths(self, lambdas: [f32; 4]) -> Self {
+        RoughFresnelConductor {
+            ior: self.ior.at_wavelengths(lambdas),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        Some(self.lobe.dist)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
         let (f, _) = self.lobe.eval_pdf(wo, wi);

@@ -1,5 +1,7 @@
 //! Conductors: the perfect mirror (delta lobe) with constant reflectance.
 
+use super::Lobe;
+use super::fresnel_polarized::{MuellerLanes, all, ideal_conductor_mueller};
 use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -12,6 +14,23 @@ pub struct Mirror {
 }
 
 impl BxDF for Mirror {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// The ideal conductor (r_s = −1, r_p = 1); the tint is the scalar part.
+    fn mueller(&self, _wo: Vec3, _wi: Vec3, _event: Event, _lobe: Lobe) -> MuellerLanes {
+        all(ideal_conductor_mueller())
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        Mirror {
+            reflectance: f(self.reflectance),
+        }
+    }
+
     #[inline]
     fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
         Color::ZERO

@@ -1,8 +1,11 @@
 //! Smooth dielectric interface: exact Fresnel, Snell refraction, total internal reflection.
 
+use super::Lobe;
 use super::fresnel::{FresnelTerms, fresnel_dielectric_terms};
+use super::fresnel_polarized::{MuellerLanes, all, dielectric_mueller};
 use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
+use glam::Mat4;
 use glam::{Vec2, Vec3};
 
 /// Smooth dielectric boundary with relative IOR `eta` = n_inside / n_outside.
@@ -15,6 +18,19 @@ pub struct SmoothDielectric {
 }
 
 impl BxDF for SmoothDielectric {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        true
+    }
+
+    /// Fresnel reflection or refraction at the normal; no interface at η = 1.
+    fn mueller(&self, _wo: Vec3, wi: Vec3, event: Event, _lobe: Lobe) -> MuellerLanes {
+        if self.eta == 1.0 {
+            return all(Mat4::IDENTITY);
+        }
+        all(dielectric_mueller(wi.z, self.eta, event))
+    }
+
     #[inline]
     fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
         Color::ZERO

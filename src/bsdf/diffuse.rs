@@ -1,6 +1,8 @@
 //! Lambertian reflection.
 
+use super::fresnel_polarized::{MuellerLanes, all};
 use super::{BsdfSample, BxDF, Event, Lobe, TransportMode};
+use crate::math::mueller::depolarizer;
 use crate::math::{Color, sampling};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -36,6 +38,24 @@ impl Lambert {
 }
 
 impl BxDF for Lambert {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// The depolariser.
+    fn mueller(&self, _wo: Vec3, _wi: Vec3, _event: Event, _lobe: Lobe) -> MuellerLanes {
+        all(depolarizer())
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        Lambert {
+            albedo: f(self.albedo),
+            ..self
+        }
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
         if wo.z <= 0.0 || wi.z <= 0.0 {

@@ -13,8 +13,9 @@
 //! (`scene/material.rs`) — docs/architecture.md "Adding a BSDF".
 
 use super::{
-    BsdfSample, BxDF, Iridescent, Lambert, MetalRough, Mirror, RoughConductor, RoughDielectric,
-    RoughFresnelConductor, SmoothConductor, SmoothDielectric, ThinDielectric, TransportMode,
+    BsdfSample, BxDF, Event, Iridescent, Lambert, Lobe, MetalRough, MicrofacetDistribution, Mirror,
+    MuellerLanes, RoughConductor, RoughDielectric, RoughFresnelConductor, SmoothConductor,
+    SmoothDielectric, ThinDielectric, TransportMode,
 };
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -25,7 +26,10 @@ use glam::{Vec2, Vec3};
 /// `wgsl`, the file of its WGSL twin (once, where two variants share one); `kinds`, its GPU
 /// kinds — the WGSL constant and its value, its Heckbert class (`S`: every lobe a delta, no
 /// eval or pdf arm) and the WGSL calls of its switch arms, with `b: Bsdf`, `wo`, `wi`, `uc`,
-/// `u2` and `mode` in scope; a row of two kinds names the one a value takes (`select`).
+/// `u2`, `mode`, `event` and `lobe` in scope: sample, eval and pdf, whether it transmits
+/// (absent: never), its polarisation (`mueller`, absent: the depolariser; `mueller_b` for the
+/// glossy kinds next-event estimation connects to, `bsdf::polarized`); a row of two kinds
+/// names the one a value takes (`select`).
 /// `$then!` is called with the rows.
 macro_rules! bsdf_table {
     ($then:ident) => {
@@ -37,6 +41,7 @@ macro_rules! bsdf_table {
                     sample: "lambert_sample(b.color, wo, u2, b.metallic != 0.0)",
                     eval: "lambert_eval(b.color, wo, wi)",
                     pdf: "lambert_pdf(wo, wi, b.metallic != 0.0)",
+                    mueller: "mueller_depolarizer()",
                 }],
             }
             /// Perfect mirror (also smooth glossy metal).
@@ -44,6 +49,7 @@ macro_rules! bsdf_table {
                 part: mirror, has: HAS_MIRROR, feature: MIRROR, wgsl: "conductor.wgsl",
                 kinds: [BSDF_MIRROR = 1 (S) {
                     sample: "mirror_sample(b.color, wo)",
+                    mueller: "mueller_ideal_conductor()",
                 }],
             }
             /// Smooth dielectric interface: Snell, exact Fresnel, total internal reflection.
@@ -52,6 +58,8 @@ macro_rules! bsdf_table {
                 wgsl: "dielectric.wgsl",
                 kinds: [BSDF_SMOOTH_DIELECTRIC = 2 (S) {
                     sample: "smooth_dielectric_sample(b.eta, wo, uc, mode)",
+                    transmits: "true",
+                    mueller: "smooth_dielectric_mueller(b, wi, event)",
                 }],
             }
             /// Thin-walled dielectric (a sheet: reflection and straight transmission).
@@ -60,6 +68,8 @@ macro_rules! bsdf_table {
                 wgsl: "thin.wgsl",
                 kinds: [BSDF_THIN_DIELECTRIC = 6 (S) {
                     sample: "thin_dielectric_sample(b.eta, wo, uc)",
+                    transmits: "true",
+                    mueller: "thin_dielectric_mueller(b, wi, event)",
                 }],
             }
             /// Rough dielectric (Walter et al. 2007), GGX or Beckmann.
@@ -70,6 +80,9 @@ macro_rules! bsdf_table {
                     sample: "rough_dielectric_sample(b, wo, uc, u2, mode)",
                     eval: "rough_dielectric_eval(b, wo, wi, mode)",
                     pdf: "rough_dielectric_pdf(b, wo, wi)",
+                    transmits: "true",
+                    mueller: "rough_dielectric_mueller(b, wo, wi, event)",
+                    mueller_b: "rough_dielectric_mueller_b(b, wo, wi)",
                 }],
             }
             /// Rough conductor with a coloured Schlick Fresnel term (glossy metal).
@@ -80,6 +93,7 @@ macro_rules! bsdf_table {
                     sample: "rough_conductor_sample(b, wo, u2)",
                     eval: "rough_conductor_eval(b, wo, wi)",
                     pdf: "rough_conductor_pdf(b, wo, wi)",
+                    mueller: "mueller_ideal_conductor()",
                 }],
             }
             /// The glTF metallic-roughness BRDF.
@@ -90,6 +104,8 @@ macro_rules! bsdf_table {
                     sample: "metal_rough_sample(b, wo, uc, u2)",
                     eval: "metal_rough_eval(b, wo, wi)",
                     pdf: "metal_rough_pdf(b, wo, wi)",
+                    mueller: "metal_rough_mueller(b, wo, wi, lobe)",
+                    mueller_b: "vec4<f32>(metal_rough_specular_lane(b, wo, wi).y)",
                 }],
             }
             /// Smooth conductor with a complex IOR (tabulated metal).
@@ -97,6 +113,7 @@ macro_rules! bsdf_table {
                 part: smooth_conductor, has: HAS_SMOOTH_CONDUCTOR, feature: SMOOTH_CONDUCTOR,
                 kinds: [BSDF_SMOOTH_CONDUCTOR = 7 (S) {
                     sample: "smooth_conductor_sample(b, wo)",
+                    mueller: "conductor_mueller(wi.z, bsdf_conductor_eta(b), bsdf_conductor_k(b))",
                 }],
             }
             /// Rough conductor with a complex IOR (tabulated metal).
@@ -107,6 +124,8 @@ macro_rules! bsdf_table {
                     sample: "rough_fresnel_conductor_sample(b, wo, u2)",
                     eval: "rough_fresnel_conductor_eval(b, wo, wi)",
                     pdf: "rough_conductor_pdf(b, wo, wi)",
+                    mueller: "rough_fresnel_conductor_mueller(b, wo, wi)",
+                    mueller_b: "rough_fresnel_conductor_mueller(b, wo, wi).b",
                 }],
             }
             /// A dielectric or metal under a thin film (iridescence), smooth or rough.
@@ -115,10 +134,12 @@ macro_rules! bsdf_table {
                 wgsl: "iridescent.wgsl",
                 kinds: [BSDF_FILM_SMOOTH = 9 (S) {
                     sample: "film_sample(b, wo, uc, u2, mode)",
+                    transmits: "film_can_transmit(b)",
                 }, BSDF_FILM_ROUGH = 10 (G) {
                     sample: "film_sample(b, wo, uc, u2, mode)",
                     eval: "film_eval(b, wo, wi, mode)",
                     pdf: "film_pdf(b, wo, wi)",
+                    transmits: "film_can_transmit(b)",
                 }],
                 select: |b| if b.is_smooth() { BSDF_FILM_SMOOTH } else { BSDF_FILM_ROUGH },
             }
@@ -159,6 +180,9 @@ macro_rules! family_items {
             kinds: [$($kind:ident = $value:literal ($lobe:ident) {
                 sample: $sample:literal,
                 $(eval: $eval:literal, pdf: $pdf:literal,)?
+                $(transmits: $transmits:literal,)?
+                $(mueller: $mueller:literal,)?
+                $(mueller_b: $mueller_b:literal,)?
             }),+ $(,)?],
             $(select: |$b:ident| $select:expr,)?
         }
@@ -194,6 +218,36 @@ macro_rules! family_items {
             ) -> Option<BsdfSample> {
                 match self {
                     $(Bsdf::$variant(b) => b.sample(wo, uc, u2, mode),)*
+                }
+            }
+            #[inline]
+            fn can_transmit(&self) -> bool {
+                match self {
+                    $(Bsdf::$variant(b) => b.can_transmit(),)*
+                }
+            }
+            #[inline]
+            fn mueller(&self, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) -> MuellerLanes {
+                match self {
+                    $(Bsdf::$variant(b) => b.mueller(wo, wi, event, lobe),)*
+                }
+            }
+            #[inline]
+            fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+                match self {
+                    $(Bsdf::$variant(b) => Bsdf::$variant(b.map_colors(&f)),)*
+                }
+            }
+            #[inline]
+            fn at_wavelengths(self, lambdas: [f32; 4]) -> Self {
+                match self {
+                    $(Bsdf::$variant(b) => Bsdf::$variant(b.at_wavelengths(lambdas)),)*
+                }
+            }
+            #[inline]
+            fn distribution(&self) -> Option<MicrofacetDistribution> {
+                match self {
+                    $(Bsdf::$variant(b) => b.distribution(),)*
                 }
             }
         }
@@ -271,6 +325,9 @@ macro_rules! family_items {
             lobe: super::Lobe::$lobe,
             sample: $sample,
             eval_pdf: optional!($(($eval, $pdf))?),
+            transmits: optional!($($transmits)?),
+            mueller: optional!($($mueller)?),
+            mueller_b: optional!($($mueller_b)?),
         },)+)*];
 
         /// The variants' WGSL files (name, text), in table order.
@@ -291,6 +348,13 @@ pub struct GpuKind {
     pub lobe: super::Lobe,
     pub sample: &'static str,
     pub eval_pdf: Option<(&'static str, &'static str)>,
+    /// Whether it can transmit (`bsdf_can_transmit`), where it can (else false).
+    pub transmits: Option<&'static str>,
+    /// Its normalised Mueller matrix (`bsdf_mueller`; else the depolariser), with `b`,
+    /// `wo`, `wi`, `event` and `lobe` in scope, and where next-event estimation reaches it
+    /// with a polarising glossy lobe, that matrix's m₀₁ (`bsdf_mueller_b`; else 0).
+    pub mueller: Option<&'static str>,
+    pub mueller_b: Option<&'static str>,
 }
 
 bsdf_table!(family_items);

@@ -31,6 +31,21 @@ pub fn wgsl_dispatch() -> String {
         |k| Some(k.sample),
         "return bsdf_sample_none();",
     ));
+    s.push_str(&switch(
+        "bsdf_can_transmit(b: Bsdf) -> bool",
+        |k| k.transmits,
+        "return false;",
+    ));
+    s.push_str(&switch(
+        "bsdf_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32, lobe: u32) -> Mueller",
+        |k| k.mueller,
+        "return mueller_depolarizer();",
+    ));
+    s.push_str(&switch(
+        "bsdf_mueller_b(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32>",
+        |k| k.mueller_b,
+        "return vec4<f32>(0.0);",
+    ));
     s
 }
 

@@ -15,9 +15,11 @@
 //! `fresnel_polarized`), which gives |r_s| = |r_p| = 1 and the relative phase
 //! tan(δ/2) = cos θi √(sin²θi − η²) / sin²θi, δ = arg r_p − arg r_s (Born & Wolf §1.5.4).
 
+use super::Event;
+use crate::math::Color;
 use crate::math::complex::Complex;
-use crate::math::mueller::from_jones_diagonal;
-use glam::Mat4;
+use crate::math::mueller::{from_jones_diagonal, normalized};
+use glam::{Mat4, Vec3};
 
 /// The polarised amplitudes at one interface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +93,42 @@ pub fn transmission_mueller(cos_i: f32, eta: f32) -> Mat4 {
 /// The ideal conductor (a perfect mirror): r_s = −1, r_p = 1 at every angle.
 pub fn ideal_conductor_mueller() -> Mat4 {
     from_jones_diagonal(-Complex::ONE, Complex::ONE)
+}
+
+/// One Mueller matrix per colour lane (RGB channels or hero wavelengths).
+pub type MuellerLanes = [Mat4; 4];
+
+/// The same matrix in every lane.
+#[inline]
+pub fn all(m: Mat4) -> MuellerLanes {
+    [m; 4]
+}
+
+/// The microfacet normal of (wo, wi), face-forwarded to the outside (z > 0): wo + wi for
+/// reflection, n_o wo + n_i wi for refraction (Walter et al. 2007, eqs. 13 and 16) with
+/// `eta` = n_inside / n_outside. `None` when degenerate.
+pub fn half_vector(wo: Vec3, wi: Vec3, event: Event, eta: f32) -> Option<Vec3> {
+    let h = match event {
+        Event::Reflect => wo + wi,
+        Event::Transmit if wo.z > 0.0 => wo + wi * eta,
+        Event::Transmit => wi + wo * eta,
+    };
+    let m = h.try_normalize()?;
+    Some(if m.z < 0.0 { -m } else { m })
+}
+
+/// Dielectric Fresnel at the incidence cosine `cos_i` of the light (signed: < 0 from inside),
+/// normalised.
+pub fn dielectric_mueller(cos_i: f32, eta: f32, event: Event) -> Mat4 {
+    normalized(match event {
+        Event::Reflect => reflection_mueller(cos_i, Complex::real(eta)),
+        Event::Transmit => transmission_mueller(cos_i, eta),
+    })
+}
+
+/// A conductor's reflection per lane at `cos_i` (η − ik per lane), normalised.
+pub fn conductor_mueller(cos_i: f32, eta: Color, k: Color) -> MuellerLanes {
+    std::array::from_fn(|l| normalized(reflection_mueller(cos_i, Complex::new(eta[l], -k[l]))))
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! "metallic 1, roughness > 0" material; no Fresnel tint).
 
 use super::fresnel::reflect;
+use super::fresnel_polarized::{MuellerLanes, all, ideal_conductor_mueller};
 use super::microfacet::Microfacet;
 use super::{BsdfSample, BxDF, Event, Lobe, MicrofacetDistribution, TransportMode};
 use crate::math::Color;
@@ -78,6 +79,29 @@ impl RoughConductor {
 }
 
 impl BxDF for RoughConductor {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// The ideal conductor (r_s = −1, r_p = 1); the reflectance is the scalar part.
+    fn mueller(&self, _wo: Vec3, _wi: Vec3, _event: Event, _lobe: Lobe) -> MuellerLanes {
+        all(ideal_conductor_mueller())
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        RoughConductor {
+            reflectance: f(self.reflectance),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        Some(self.dist)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
         self.reflectance * self.eval_pdf(wo, wi).0

@@ -16,11 +16,13 @@
 //! reference implementation does; `factor` blends the base's own Fresnel term and the film's.
 
 use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms};
+use super::fresnel_polarized::MuellerLanes;
 use super::rough_dielectric::FacetFresnel;
 use super::thin_film::ThinFilm;
 use super::{
     Bsdf, BsdfSample, BxDF, ComplexIor, Event, Lobe, MicrofacetDistribution, RoughConductor,
-    RoughDielectric, TransportMode, effectively_smooth,
+    RoughDielectric, RoughFresnelConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
+    TransportMode, effectively_smooth,
 };
 use crate::math::Color;
 use crate::math::complex::Complex;
@@ -101,40 +103,6 @@ impl Iridescent {
     #[inline]
     pub fn is_smooth(&self) -> bool {
         effectively_smooth(self.alpha)
-    }
-
-    #[inline]
-    pub fn can_transmit(&self) -> bool {
-        matches!(
-            self.base,
-            FilmBase::Dielectric { .. } | FilmBase::Sheet { .. }
-        )
-    }
-
-    /// Colours to the path's lanes.
-    pub fn map_colors(self, f: impl Fn(Color) -> Color) -> Iridescent {
-        let base = match self.base {
-            FilmBase::Conductor { ior, tint } => FilmBase::Conductor { ior, tint: f(tint) },
-            FilmBase::Reflectance { f0 } => FilmBase::Reflectance { f0: f(f0) },
-            other => other,
-        };
-        Iridescent { base, ..self }
-    }
-
-    /// The path's wavelengths: exact Airy per lane, a tabulated metal's η, k at them.
-    pub fn at_wavelengths(self, lambdas: [f32; 4]) -> Iridescent {
-        let base = match self.base {
-            FilmBase::Conductor { ior, tint } => FilmBase::Conductor {
-                ior: ior.at_wavelengths(lambdas),
-                tint,
-            },
-            other => other,
-        };
-        Iridescent {
-            base,
-            lambdas: Some(lambdas),
-            ..self
-        }
     }
 
     /// Lanes in use: four wavelengths, or R, G, B.
@@ -278,6 +246,50 @@ impl FacetFresnel for FilmFresnel<'_> {
 }
 
 impl BxDF for Iridescent {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        matches!(
+            self.base,
+            FilmBase::Dielectric { .. } | FilmBase::Sheet { .. }
+        )
+    }
+
+    /// Its base's matrix ([`film_base`]).
+    fn mueller(&self, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) -> MuellerLanes {
+        film_base(self).mueller(wo, wi, event, lobe)
+    }
+
+    /// Colours to the path's lanes.
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        let base = match self.base {
+            FilmBase::Conductor { ior, tint } => FilmBase::Conductor { ior, tint: f(tint) },
+            FilmBase::Reflectance { f0 } => FilmBase::Reflectance { f0: f(f0) },
+            other => other,
+        };
+        Iridescent { base, ..self }
+    }
+
+    /// The path's wavelengths: exact Airy per lane, a tabulated metal's η, k at them.
+    fn at_wavelengths(self, lambdas: [f32; 4]) -> Self {
+        let base = match self.base {
+            FilmBase::Conductor { ior, tint } => FilmBase::Conductor {
+                ior: ior.at_wavelengths(lambdas),
+                tint,
+            },
+            other => other,
+        };
+        Iridescent {
+            base,
+            lambdas: Some(lambdas),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        (!self.is_smooth()).then_some(self.dist)
+    }
+
     fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
         if self.is_smooth() {
             return Color::ZERO;
@@ -422,5 +434,34 @@ impl Iridescent {
             Lobe::G,
             1.0,
         ))
+    }
+}
+
+/// The BSDF a thin film lies on, whose Fresnel matrix stands for the film's: the film's
+/// interference is an Airy sum per polarisation (Belcour & Barla 2017 sum s and p
+/// separately), which this does not follow; its intensity is the scalar BSDF's.
+fn film_base(b: &Iridescent) -> Bsdf {
+    let smooth = effectively_smooth(b.alpha);
+    let rough = |reflectance: Color| RoughConductor {
+        reflectance,
+        alpha: b.alpha,
+        dist: b.dist,
+    };
+    match b.base {
+        FilmBase::Dielectric { eta } if smooth => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
+        FilmBase::Dielectric { eta } => Bsdf::RoughDielectric(RoughDielectric {
+            eta,
+            alpha: b.alpha,
+            dist: b.dist,
+        }),
+        FilmBase::Sheet { eta } => Bsdf::ThinDielectric(ThinDielectric { eta }),
+        FilmBase::Conductor { ior, tint } if smooth => {
+            Bsdf::SmoothConductor(SmoothConductor { ior, tint })
+        }
+        FilmBase::Conductor { ior, tint } => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
+            ior,
+            lobe: rough(tint),
+        }),
+        FilmBase::Reflectance { f0 } => Bsdf::RoughConductor(rough(f0)),
     }
 }

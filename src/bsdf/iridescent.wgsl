@@ -13,6 +13,11 @@ fn film_base(b: Bsdf) -> u32 {
     return u32(b.film.w);
 }
 
+// A film on glass or a sheet can transmit, on a metal not. Twin of `Iridescent::can_transmit`.
+fn film_can_transmit(b: Bsdf) -> bool {
+    return film_base(b) == FILM_ON_DIELECTRIC || film_base(b) == FILM_ON_SHEET;
+}
+
 // The substrate's complex index in RGB channel `i`. Twin of `Iridescent::substrate`.
 fn film_substrate(b: Bsdf, i: u32) -> vec2<f32> {
     switch film_base(b) {

@@ -34,8 +34,12 @@
 //! have proportional colours (e.g. white base colour) f_k/q_k = f exactly.
 
 use super::fresnel::reflect;
+use super::fresnel_polarized::{
+    MuellerLanes, all, dielectric_mueller, half_vector, ideal_conductor_mueller,
+};
 use super::microfacet::Microfacet;
 use super::{BsdfSample, BxDF, Event, Lobe, LobeValues, MicrofacetDistribution, TransportMode};
+use crate::math::mueller::depolarizer;
 use crate::math::{Color, sampling};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -195,6 +199,39 @@ impl MetalRough {
 }
 
 impl BxDF for MetalRough {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        false
+    }
+
+    /// The diffuse lobe depolarises. Schlick's F of the specular lobe has no phases: its
+    /// polarisation is dielectric reflection at the material's IOR at the half vector,
+    /// blended towards the ideal conductor by `metallic` (docs/polarization.md).
+    fn mueller(&self, wo: Vec3, wi: Vec3, _event: Event, lobe: Lobe) -> MuellerLanes {
+        match (lobe, half_vector(wo, wi, Event::Reflect, 1.0)) {
+            (Lobe::G, Some(m)) => {
+                let d = dielectric_mueller(wi.dot(m), self.ior, Event::Reflect);
+                all(d * (1.0 - self.metallic) + ideal_conductor_mueller() * self.metallic)
+            }
+            _ => all(depolarizer()),
+        }
+    }
+
+    #[inline]
+    fn map_colors(self, f: impl Fn(Color) -> Color) -> Self {
+        MetalRough {
+            base_color: f(self.base_color),
+            specular_color: f(self.specular_color),
+            ..self
+        }
+    }
+
+    /// Its specular lobe is GGX (glTF 2.0 appendix B).
+    #[inline]
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        Some(MicrofacetDistribution::Ggx)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Color {
         let l = self.eval_lobes(wo, wi);

@@ -36,6 +36,7 @@ pub use conductor::Mirror;
 pub use dielectric::SmoothDielectric;
 pub use diffuse::Lambert;
 pub use family::{Bsdf, BsdfParts};
+pub use fresnel_polarized::MuellerLanes;
 pub use glossy::RoughConductor;
 pub use iridescent::{FilmBase, Iridescent};
 pub use metal_ior::Metal;
@@ -174,82 +175,49 @@ pub struct LobeValues {
 }
 
 /// The interface every BSDF implements (see the module docs for conventions).
+/// Besides scattering, each variant says in its own file whether it can transmit, how it
+/// polarises ([`BxDF::mueller`]) and, where it has them, its colours, its wavelength-dependent
+/// parameters and its microfacet distribution; [`Bsdf`] dispatches (generated from the
+/// table, `bsdf::family`).
 pub trait BxDF {
     fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color;
     fn pdf(&self, wo: Vec3, wi: Vec3) -> f32;
     fn sample(&self, wo: Vec3, uc: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample>;
-}
 
-impl Bsdf {
+    /// True if some lobe transmits (the sampled direction may cross the surface).
+    fn can_transmit(&self) -> bool;
+
+    /// The normalised Mueller matrix of the event (wo, wi) in class `lobe` (local frame,
+    /// wi = the light's incoming direction, wo = where it leaves to; `bsdf::polarized`).
+    fn mueller(&self, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) -> MuellerLanes;
+
     /// Apply `f` to every colour parameter (RGB → the path's spectral lanes).
     #[inline]
-    pub fn map_colors(self, f: impl Fn(Color) -> Color) -> Bsdf {
-        match self {
-            Bsdf::Lambert(b) => Bsdf::Lambert(Lambert {
-                albedo: f(b.albedo),
-                ..b
-            }),
-            Bsdf::Mirror(b) => Bsdf::Mirror(Mirror {
-                reflectance: f(b.reflectance),
-            }),
-            Bsdf::RoughConductor(b) => Bsdf::RoughConductor(RoughConductor {
-                reflectance: f(b.reflectance),
-                ..b
-            }),
-            Bsdf::MetalRough(b) => Bsdf::MetalRough(MetalRough {
-                base_color: f(b.base_color),
-                specular_color: f(b.specular_color),
-                ..b
-            }),
-            Bsdf::SmoothConductor(b) => Bsdf::SmoothConductor(SmoothConductor {
-                tint: f(b.tint),
-                ..b
-            }),
-            Bsdf::RoughFresnelConductor(b) => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
-                lobe: RoughConductor {
-                    reflectance: f(b.lobe.reflectance),
-                    ..b.lobe
-                },
-                ..b
-            }),
-            Bsdf::Iridescent(b) => Bsdf::Iridescent(b.map_colors(f)),
-            other => other,
-        }
+    fn map_colors(self, _f: impl Fn(Color) -> Color) -> Self
+    where
+        Self: Sized,
+    {
+        self
     }
 
     /// Spectral mode: re-evaluate wavelength-dependent parameters (a conductor's tabulated
-    /// η, k) at the path's four wavelengths; colours go through [`Bsdf::map_colors`].
+    /// η, k) at the path's four wavelengths.
     #[inline]
-    pub fn at_wavelengths(self, lambdas: [f32; 4]) -> Bsdf {
-        match self {
-            Bsdf::SmoothConductor(b) => Bsdf::SmoothConductor(SmoothConductor {
-                ior: b.ior.at_wavelengths(lambdas),
-                ..b
-            }),
-            Bsdf::RoughFresnelConductor(b) => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
-                ior: b.ior.at_wavelengths(lambdas),
-                ..b
-            }),
-            Bsdf::Iridescent(b) => Bsdf::Iridescent(b.at_wavelengths(lambdas)),
-            other => other,
-        }
+    fn at_wavelengths(self, _lambdas: [f32; 4]) -> Self
+    where
+        Self: Sized,
+    {
+        self
     }
 
-    /// True if some lobe transmits (the sampled direction may cross the surface).
+    /// The microfacet distribution of a rough lobe (a scene feature: the kernel compiles it in).
     #[inline]
-    pub fn can_transmit(&self) -> bool {
-        match self {
-            Bsdf::Lambert(_)
-            | Bsdf::Mirror(_)
-            | Bsdf::RoughConductor(_)
-            | Bsdf::MetalRough(_)
-            | Bsdf::SmoothConductor(_)
-            | Bsdf::RoughFresnelConductor(_) => false,
-            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => true,
-            Bsdf::Iridescent(b) => b.can_transmit(),
-        }
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        None
     }
+}
 
+impl Bsdf {
     /// f(wo, wi) split by Heckbert class (delta lobes contribute nothing).
     #[inline]
     pub fn eval_lobes(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> LobeValues {

@@ -21,119 +21,18 @@
 //!   that of dielectric reflection at the material's IOR, blended towards the ideal
 //!   conductor by `metallic` (an approximation; documented in docs/polarization.md).
 
-use super::fresnel_polarized::{ideal_conductor_mueller, reflection_mueller, transmission_mueller};
-use super::{
-    Bsdf, BsdfSample, Event, FilmBase, Iridescent, Lobe, LobeValues, RoughConductor,
-    RoughDielectric, RoughFresnelConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
-    effectively_smooth,
-};
-use crate::math::Color;
-use crate::math::complex::Complex;
-use crate::math::mueller::{depolarizer, normalized};
-use glam::{Mat4, Vec3};
+use super::{Bsdf, BsdfSample, BxDF, Event, Lobe, LobeValues};
+use crate::math::mueller::depolarizer;
+use glam::Vec3;
 
-/// One Mueller matrix per colour lane (RGB channels or hero wavelengths).
-pub type MuellerLanes = [Mat4; 4];
-
-/// The same matrix in every lane.
-#[inline]
-fn all(m: Mat4) -> MuellerLanes {
-    [m; 4]
-}
-
-/// The microfacet normal of (wo, wi), face-forwarded to the outside (z > 0): wo + wi for
-/// reflection, n_o wo + n_i wi for refraction (Walter et al. 2007, eqs. 13 and 16) with
-/// `eta` = n_inside / n_outside. `None` when degenerate.
-fn half_vector(wo: Vec3, wi: Vec3, event: Event, eta: f32) -> Option<Vec3> {
-    let h = match event {
-        Event::Reflect => wo + wi,
-        Event::Transmit if wo.z > 0.0 => wo + wi * eta,
-        Event::Transmit => wi + wo * eta,
-    };
-    let m = h.try_normalize()?;
-    Some(if m.z < 0.0 { -m } else { m })
-}
-
-/// Dielectric Fresnel at the incidence cosine `cos_i` of the light (signed: < 0 from inside).
-fn dielectric(cos_i: f32, eta: f32, event: Event) -> Mat4 {
-    normalized(match event {
-        Event::Reflect => reflection_mueller(cos_i, Complex::real(eta)),
-        Event::Transmit => transmission_mueller(cos_i, eta),
-    })
-}
-
-/// A conductor's reflection per lane at `cos_i` (η − ik per lane).
-fn conductor(cos_i: f32, eta: Color, k: Color) -> MuellerLanes {
-    std::array::from_fn(|l| normalized(reflection_mueller(cos_i, Complex::new(eta[l], -k[l]))))
-}
+pub use super::fresnel_polarized::MuellerLanes;
 
 /// The normalised Mueller matrix of the event (wo, wi) of `bsdf` in class `lobe` (local
-/// frame, wi = the light's incoming direction, wo = where it leaves to).
+/// frame, wi = the light's incoming direction, wo = where it leaves to): each variant's own
+/// [`BxDF::mueller`], in its file.
+#[inline]
 pub fn event_mueller(bsdf: &Bsdf, wo: Vec3, wi: Vec3, event: Event, lobe: Lobe) -> MuellerLanes {
-    let half = |eta: f32| half_vector(wo, wi, event, eta);
-    match bsdf {
-        Bsdf::Lambert(_) => all(depolarizer()),
-        Bsdf::Mirror(_) | Bsdf::RoughConductor(_) => all(ideal_conductor_mueller()),
-        Bsdf::SmoothDielectric(b) if b.eta == 1.0 => all(Mat4::IDENTITY),
-        Bsdf::SmoothDielectric(b) => all(dielectric(wi.z, b.eta, event)),
-        Bsdf::RoughDielectric(b) if b.eta == 1.0 => all(Mat4::IDENTITY),
-        Bsdf::RoughDielectric(b) => match half(b.eta) {
-            Some(m) => all(dielectric(wi.dot(m), b.eta, event)),
-            None => all(depolarizer()),
-        },
-        Bsdf::ThinDielectric(b) => {
-            let c = wi.z.abs();
-            all(match event {
-                Event::Reflect => dielectric(c, b.eta, event),
-                Event::Transmit => {
-                    let t = transmission_mueller(c, b.eta);
-                    normalized(t * t)
-                }
-            })
-        }
-        Bsdf::SmoothConductor(b) => conductor(wi.z, b.ior.eta, b.ior.k),
-        Bsdf::RoughFresnelConductor(b) => match half(1.0) {
-            Some(m) => conductor(wi.dot(m), b.ior.eta, b.ior.k),
-            None => all(depolarizer()),
-        },
-        Bsdf::Iridescent(b) => event_mueller(&film_base(b), wo, wi, event, lobe),
-        Bsdf::MetalRough(b) => match (lobe, half(1.0)) {
-            (Lobe::G, Some(m)) => {
-                let d = dielectric(wi.dot(m), b.ior, Event::Reflect);
-                all(d * (1.0 - b.metallic) + ideal_conductor_mueller() * b.metallic)
-            }
-            _ => all(depolarizer()),
-        },
-    }
-}
-
-/// The BSDF a thin film lies on, whose Fresnel matrix stands for the film's: the film's
-/// interference is an Airy sum per polarisation (Belcour & Barla 2017 sum s and p
-/// separately), which this does not follow; its intensity is the scalar BSDF's.
-fn film_base(b: &Iridescent) -> Bsdf {
-    let smooth = effectively_smooth(b.alpha);
-    let rough = |reflectance: Color| RoughConductor {
-        reflectance,
-        alpha: b.alpha,
-        dist: b.dist,
-    };
-    match b.base {
-        FilmBase::Dielectric { eta } if smooth => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
-        FilmBase::Dielectric { eta } => Bsdf::RoughDielectric(RoughDielectric {
-            eta,
-            alpha: b.alpha,
-            dist: b.dist,
-        }),
-        FilmBase::Sheet { eta } => Bsdf::ThinDielectric(ThinDielectric { eta }),
-        FilmBase::Conductor { ior, tint } if smooth => {
-            Bsdf::SmoothConductor(SmoothConductor { ior, tint })
-        }
-        FilmBase::Conductor { ior, tint } => Bsdf::RoughFresnelConductor(RoughFresnelConductor {
-            ior,
-            lobe: rough(tint),
-        }),
-        FilmBase::Reflectance { f0 } => Bsdf::RoughConductor(rough(f0)),
-    }
+    bsdf.mueller(wo, wi, event, lobe)
 }
 
 /// The Mueller weight of a sampled event: the sample's scalar weight (per lane) times its
@@ -159,8 +58,9 @@ pub fn eval_mueller(bsdf: &Bsdf, wo: Vec3, wi: Vec3, f: LobeValues) -> MuellerLa
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::{BxDF, MicrofacetDistribution, RoughDielectric, SmoothDielectric};
+    use crate::bsdf::{MicrofacetDistribution, RoughDielectric, SmoothDielectric};
     use crate::bsdf::{TransportMode, metal_rough::MetalRough};
+    use crate::math::Color;
     use glam::Vec2;
 
     #[test]

@@ -201,60 +201,61 @@ fn rough_dielectric_lane(wo: vec3<f32>, wi: vec3<f32>, event: u32, eta: f32) -> 
     return dielectric_lane(dot3(wi, m.xyz), eta, event);
 }
 
-// The normalised Mueller matrix of the event (wo, wi) of `b` in class `lobe` (local frame;
-// `event_mueller`). Polarised films are refused on the GPU (`check_polarization`); absent
-// kinds are compiled out by their HAS_* overrides, as in bsdf.wgsl.
-fn bsdf_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32, lobe: u32) -> Mueller {
-    switch b.kind {
-        case BSDF_MIRROR, BSDF_ROUGH_CONDUCTOR: {
-            return mueller_ideal_conductor();
-        }
-        case BSDF_SMOOTH_DIELECTRIC: {
-            if HAS_SMOOTH_DIELECTRIC {
-                if b.eta == 1.0 {
-                    return mueller_identity();
-                }
-                return mueller_splat(dielectric_lane(wi.z, b.eta, event));
-            }
-        }
-        case BSDF_ROUGH_DIELECTRIC: {
-            if HAS_ROUGH_DIELECTRIC {
-                if b.eta == 1.0 {
-                    return mueller_identity();
-                }
-                return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
-            }
-        }
-        case BSDF_THIN_DIELECTRIC: {
-            if HAS_THIN_DIELECTRIC {
-                let c = abs(wi.z);
-                if event == EVENT_REFLECT {
-                    return mueller_splat(dielectric_lane(c, b.eta, event));
-                }
-                return mueller_splat(sheet_transmission_lane(c, b.eta));
-            }
-        }
-        case BSDF_SMOOTH_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                return conductor_mueller(wi.z, bsdf_conductor_eta(b), bsdf_conductor_k(b));
-            }
-        }
-        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
-                if m.w != 0.0 {
-                    return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b));
-                }
-            }
-        }
-        case BSDF_METAL_ROUGH: {
-            if HAS_METAL_ROUGH && lobe == LOBE_G {
-                return mueller_splat(metal_rough_specular_lane(b, wo, wi));
-            }
-        }
-        default: {}
+// The kinds' matrices, each the arm of its kind in `bsdf_mueller` (generated from the BSDF
+// table, `bsdf::family_wgsl`; a kind without one gets the depolariser there, and polarised
+// films are refused on the GPU, `check_polarization`). Twins of each variant's
+// `BxDF::mueller`.
+
+// A smooth dielectric: Fresnel reflection or refraction at the normal; none at η = 1.
+fn smooth_dielectric_mueller(b: Bsdf, wi: vec3<f32>, event: u32) -> Mueller {
+    if b.eta == 1.0 {
+        return mueller_identity();
+    }
+    return mueller_splat(dielectric_lane(wi.z, b.eta, event));
+}
+
+// A rough dielectric: at the half vector; none at η = 1.
+fn rough_dielectric_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32) -> Mueller {
+    if b.eta == 1.0 {
+        return mueller_identity();
+    }
+    return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
+}
+
+// A thin sheet: one interface's reflection, transmission through both.
+fn thin_dielectric_mueller(b: Bsdf, wi: vec3<f32>, event: u32) -> Mueller {
+    let c = abs(wi.z);
+    if event == EVENT_REFLECT {
+        return mueller_splat(dielectric_lane(c, b.eta, event));
+    }
+    return mueller_splat(sheet_transmission_lane(c, b.eta));
+}
+
+// A tabulated rough metal: conductor reflection at the half vector (the depolariser where
+// it is degenerate).
+fn rough_fresnel_conductor_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> Mueller {
+    let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
+    if m.w == 0.0 {
+        return mueller_depolarizer();
+    }
+    return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b));
+}
+
+// glTF metallic-roughness: its specular lobe's matrix, the depolariser for its diffuse one.
+fn metal_rough_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, lobe: u32) -> Mueller {
+    if lobe == LOBE_G {
+        return mueller_splat(metal_rough_specular_lane(b, wo, wi));
     }
     return mueller_depolarizer();
+}
+
+// m₀₁ of a rough dielectric's glossy event (wo, wi) (`bsdf_mueller_b`).
+fn rough_dielectric_mueller_b(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    if b.eta == 1.0 {
+        return vec4<f32>(0.0);
+    }
+    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
+    return vec4<f32>(rough_dielectric_lane(wo, wi, event, b.eta).y);
 }
 
 // glTF metallic-roughness's specular lobe: dielectric reflection at the material's IOR at the
@@ -268,34 +269,4 @@ fn metal_rough_specular_lane(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32>
     }
     let t = b.metallic;
     return d * (1.0 - t) + vec4<f32>(1.0, 0.0, -1.0, 0.0) * t;
-}
-
-// m₀₁ (= m₁₀) of the glossy event (wo, wi) of a non-delta BSDF, all a next-event connection
-// needs of its matrix (chain.wgsl `pol_through`): [`bsdf_mueller`]'s b for the kinds next-event
-// estimation reaches, in less code (the delta kinds never connect; the ideal conductor and
-// the depolariser have b = 0).
-fn bsdf_mueller_b(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
-    let event = select(EVENT_TRANSMIT, EVENT_REFLECT, wo.z * wi.z >= 0.0);
-    switch b.kind {
-        case BSDF_ROUGH_DIELECTRIC: {
-            if HAS_ROUGH_DIELECTRIC && b.eta != 1.0 {
-                return vec4<f32>(rough_dielectric_lane(wo, wi, event, b.eta).y);
-            }
-        }
-        case BSDF_ROUGH_FRESNEL_CONDUCTOR: {
-            if HAS_CONDUCTOR {
-                let m = polarized_half(wo, wi, EVENT_REFLECT, 1.0);
-                if m.w != 0.0 {
-                    return conductor_mueller(dot3(wi, m.xyz), bsdf_conductor_eta(b), bsdf_conductor_k(b)).b;
-                }
-            }
-        }
-        case BSDF_METAL_ROUGH: {
-            if HAS_METAL_ROUGH {
-                return vec4<f32>(metal_rough_specular_lane(b, wo, wi).y);
-            }
-        }
-        default: {}
-    }
-    return vec4<f32>(0.0);
 }

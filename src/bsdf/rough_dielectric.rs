@@ -3,9 +3,12 @@
 //! Surfaces", EGSR).
 
 use super::fresnel::{fresnel_dielectric, fresnel_dielectric_terms, reflect, refract};
+use super::fresnel_polarized::{MuellerLanes, all, dielectric_mueller, half_vector};
 use super::microfacet::Microfacet;
 use super::{BsdfSample, BxDF, Event, Lobe, MicrofacetDistribution, TransportMode};
 use crate::math::Color;
+use crate::math::mueller::depolarizer;
+use glam::Mat4;
 use glam::{Vec2, Vec3};
 
 /// Rough dielectric boundary with relative IOR `eta` = n_inside / n_outside (outside: z > 0).
@@ -212,6 +215,29 @@ impl Facet {
 }
 
 impl BxDF for RoughDielectric {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        true
+    }
+
+    /// Fresnel reflection or refraction at the microfacet normal m, where wo, wi and m share
+    /// the plane of incidence (Wilkie & Weidlich 2012, §5.3; Mitsuba 3's polarised
+    /// `roughdielectric`); no interface at η = 1, the depolariser where m is degenerate.
+    fn mueller(&self, wo: Vec3, wi: Vec3, event: Event, _lobe: Lobe) -> MuellerLanes {
+        if self.eta == 1.0 {
+            return all(Mat4::IDENTITY);
+        }
+        match half_vector(wo, wi, event, self.eta) {
+            Some(m) => all(dielectric_mueller(wi.dot(m), self.eta, event)),
+            None => all(depolarizer()),
+        }
+    }
+
+    #[inline]
+    fn distribution(&self) -> Option<MicrofacetDistribution> {
+        Some(self.dist)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Color {
         self.eval_pdf_with(wo, wi, mode, &self.plain()).0

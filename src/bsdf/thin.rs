@@ -1,8 +1,11 @@
 //! Thin-walled dielectric: a glass sheet with two parallel interfaces and no bending.
 
+use super::Lobe;
 use super::fresnel::fresnel_dielectric;
+use super::fresnel_polarized::{MuellerLanes, all, dielectric_mueller, transmission_mueller};
 use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
+use crate::math::mueller::normalized;
 use glam::{Vec2, Vec3};
 
 /// Reflectance R' of a thin sheet with two parallel smooth interfaces, summing every internal
@@ -41,6 +44,24 @@ impl ThinDielectric {
 }
 
 impl BxDF for ThinDielectric {
+    #[inline]
+    fn can_transmit(&self) -> bool {
+        true
+    }
+
+    /// One interface's reflection; transmission through both interfaces (the inner
+    /// reflections' polarisation is neglected).
+    fn mueller(&self, _wo: Vec3, wi: Vec3, event: Event, _lobe: Lobe) -> MuellerLanes {
+        let c = wi.z.abs();
+        all(match event {
+            Event::Reflect => dielectric_mueller(c, self.eta, event),
+            Event::Transmit => {
+                let t = transmission_mueller(c, self.eta);
+                normalized(t * t)
+            }
+        })
+    }
+
     #[inline]
     fn eval(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> Color {
         Color::ZERO

@@ -4,7 +4,7 @@
 
 use super::light::LightParts;
 use super::{Material, MaterialKind, Scene};
-use crate::bsdf::{Bsdf, BsdfParts, MicrofacetDistribution};
+use crate::bsdf::{Bsdf, BsdfParts, BxDF, MicrofacetDistribution};
 use glam::Vec2;
 
 bitflags::bitflags! {
@@ -75,6 +75,13 @@ macro_rules! parts_of_features {
         pub fn bsdf_parts(f: Features) -> BsdfParts {
             BsdfParts {
                 $($part: f.contains(Features::$feature),)*
+            }
+        }
+
+        /// The `Features` flag of a BSDF's variant.
+        fn bsdf_flag(b: &Bsdf) -> Features {
+            match b {
+                $(Bsdf::$variant(_) => Features::$feature,)*
             }
         }
     };
@@ -173,21 +180,11 @@ pub(crate) fn bsdf_features(scene: &Scene, m: &Material) -> Features {
         MicrofacetDistribution::Ggx => Features::GGX,
         MicrofacetDistribution::Beckmann => Features::BECKMANN,
     };
-    match m.bsdf(&scene.textures, Vec2::ZERO, m.ior) {
-        Bsdf::Lambert(_) => Features::DIFFUSE,
-        Bsdf::Mirror(_) => Features::MIRROR,
-        Bsdf::SmoothDielectric(_) => Features::SMOOTH_GLASS,
-        Bsdf::ThinDielectric(_) => Features::THIN_GLASS,
-        Bsdf::RoughDielectric(b) => Features::ROUGH_GLASS | dist(b.dist),
-        Bsdf::RoughConductor(b) => Features::GLOSSY_METAL | dist(b.dist),
-        Bsdf::SmoothConductor(_) => Features::SMOOTH_CONDUCTOR,
-        Bsdf::RoughFresnelConductor(b) => Features::ROUGH_FRESNEL_CONDUCTOR | dist(b.lobe.dist),
-        Bsdf::Iridescent(b) if b.is_smooth() => Features::IRIDESCENCE,
-        Bsdf::Iridescent(b) => Features::IRIDESCENCE | dist(b.dist),
-        Bsdf::MetalRough(_) => {
-            let mut k = Features::METAL_ROUGH | Features::GGX;
-            k.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());
-            k
-        }
+    let b = m.bsdf(&scene.textures, Vec2::ZERO, m.ior);
+    let mut f = bsdf_flag(&b) | b.distribution().map_or(Features::empty(), dist);
+    if let Bsdf::MetalRough(_) = b {
+        // The only BSDF that reads the metallic-roughness texture.
+        f.set(Features::TEXTURES, m.metallic_roughness_texture.is_some());
     }
+    f
 }
