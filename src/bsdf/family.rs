@@ -280,11 +280,16 @@ macro_rules! family_items {
             }
         }
 
-        $($(
-            #[doc = concat!("GPU kind of [`Bsdf::", stringify!($variant), "`] (WGSL `",
-                stringify!($kind), "`).")]
-            pub const $kind: u32 = $value;
-        )+)*
+        /// The GPU kinds (`Bsdf.kind` in bsdf.wgsl), one module so that `gpu::layout` can
+        /// re-export every one of them by a glob.
+        pub mod kinds {
+            $($(
+                #[doc = concat!("GPU kind of [`Bsdf::", stringify!($variant), "`](super::Bsdf::",
+                    stringify!($variant), ") (WGSL `", stringify!($kind), "`).")]
+                pub const $kind: u32 = $value;
+            )+)*
+        }
+        pub use kinds::*;
 
         /// (WGSL name, value) of every GPU kind constant, for the WGSL prelude.
         pub const GPU_KIND_CONSTANTS: &[(&str, u32)] = &[$($((stringify!($kind), $kind),)+)*];

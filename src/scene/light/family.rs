@@ -289,11 +289,16 @@ macro_rules! family_items {
             }
         }
 
-        $(
-            #[doc = concat!("GPU kind of [`Light::", stringify!($variant), "`] (WGSL `",
-                stringify!($kind), "`).")]
-            pub const $kind: u32 = $value;
-        )*
+        /// The GPU light kinds (`Light.kind` in light.wgsl), one module so that `gpu::layout`
+        /// can re-export every one of them by a glob.
+        pub mod kinds {
+            $(
+                #[doc = concat!("GPU kind of [`Light::", stringify!($variant), "`](super::Light::",
+                    stringify!($variant), ") (WGSL `", stringify!($kind), "`).")]
+                pub const $kind: u32 = $value;
+            )*
+        }
+        pub use kinds::*;
 
         /// (WGSL name, value) of every GPU light kind, for the WGSL prelude.
         pub const GPU_KIND_CONSTANTS: &[(&str, u32)] = &[$((stringify!($kind), $kind),)*];
