@@ -13,7 +13,8 @@ use refract::bsdf::thin_film::ThinFilm;
 use refract::bsdf::{
     Bsdf, BxDF, ComplexIor, Event, FilmBase, Iridescent, Lambert, Lobe, Metal, MetalRough,
     Microfacet, MicrofacetDistribution, Mirror, RoughConductor, RoughDielectric,
-    RoughFresnelConductor, SmoothConductor, SmoothDielectric, ThinDielectric, TransportMode,
+    RoughFresnelConductor, RoughThinDielectric, SmoothConductor, SmoothDielectric, ThinDielectric,
+    TransportMode,
 };
 use refract::cpu::Renderer;
 use refract::film::Film;
@@ -380,6 +381,9 @@ fn probe_bsdf(c: &ProbeCase) -> Bsdf {
         BSDF_MIRROR => Bsdf::Mirror(Mirror { reflectance: col }),
         BSDF_SMOOTH_DIELECTRIC => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
         BSDF_THIN_DIELECTRIC => Bsdf::ThinDielectric(ThinDielectric { eta }),
+        BSDF_ROUGH_THIN_DIELECTRIC => {
+            Bsdf::RoughThinDielectric(RoughThinDielectric { eta, alpha, dist })
+        }
         BSDF_ROUGH_DIELECTRIC => Bsdf::RoughDielectric(RoughDielectric { eta, alpha, dist }),
         BSDF_ROUGH_CONDUCTOR => Bsdf::RoughConductor(RoughConductor {
             reflectance: col,
@@ -442,7 +446,7 @@ fn probe_ior(eta: f32) -> ComplexIor {
     }
 }
 
-const ALL_KINDS: [u32; 11] = [
+const ALL_KINDS: [u32; 12] = [
     BSDF_LAMBERT,
     BSDF_MIRROR,
     BSDF_SMOOTH_DIELECTRIC,
@@ -454,6 +458,7 @@ const ALL_KINDS: [u32; 11] = [
     BSDF_ROUGH_FRESNEL_CONDUCTOR,
     BSDF_FILM_SMOOTH,
     BSDF_FILM_ROUGH,
+    BSDF_ROUGH_THIN_DIELECTRIC,
 ];
 
 /// The probe grid: every BSDF × (wo, wi, u) × η × (α ∈ {0.05, 0.3, 1}, GGX/Beckmann) for
@@ -470,6 +475,7 @@ fn probe_cases() -> Vec<ProbeCase> {
                 | BSDF_METAL_ROUGH
                 | BSDF_ROUGH_FRESNEL_CONDUCTOR
                 | BSDF_FILM_ROUGH
+                | BSDF_ROUGH_THIN_DIELECTRIC
         );
         let film = matches!(kind, BSDF_FILM_SMOOTH | BSDF_FILM_ROUGH);
         let alphas: &[f32] = if rough { &[0.05, 0.3, 1.0] } else { &[0.3] };
@@ -478,12 +484,15 @@ fn probe_cases() -> Vec<ProbeCase> {
         } else {
             &[DIST_GGX]
         };
-        let modes: &[u32] =
-            if film || matches!(kind, BSDF_SMOOTH_DIELECTRIC | BSDF_ROUGH_DIELECTRIC) {
-                &[MODE_RADIANCE, MODE_IMPORTANCE]
-            } else {
-                &[MODE_RADIANCE]
-            };
+        let modes: &[u32] = if film
+            || matches!(
+                kind,
+                BSDF_SMOOTH_DIELECTRIC | BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_THIN_DIELECTRIC
+            ) {
+            &[MODE_RADIANCE, MODE_IMPORTANCE]
+        } else {
+            &[MODE_RADIANCE]
+        };
         for &alpha in alphas {
             for &dist in dists {
                 for &mode in modes {
@@ -646,10 +655,16 @@ fn check_mueller(t: &mut Track, c: &ProbeCase, o: &ProbeOut, b: &Bsdf) {
                 ));
             }
         }
-        let nee = matches!(
-            c.kind,
-            BSDF_ROUGH_DIELECTRIC | BSDF_ROUGH_FRESNEL_CONDUCTOR | BSDF_METAL_ROUGH
-        );
+        // The kinds whose row in the BSDF table gives `bsdf_mueller_b` an arm.
+        let nee = refract::bsdf::family::GPU_KIND_CONSTANTS
+            .iter()
+            .find(|&&(_, v)| v == c.kind)
+            .and_then(|&(name, _)| {
+                refract::bsdf::family::GPU_KINDS
+                    .iter()
+                    .find(|k| k.name == name)
+            })
+            .is_some_and(|k| k.mueller_b.is_some());
         let w = if nee { ml.col(1).x } else { 0.0 };
         let w = if c.kind == BSDF_ROUGH_DIELECTRIC && c.eta == 1.0 {
             0.0
@@ -1113,6 +1128,15 @@ fn image_parity_thin_film() {
     let mut s = Scene::load("builtin:thin-film").unwrap();
     small(&mut s, 64, 36);
     image_parity("image_parity_thin_film", s, 8, 8);
+}
+
+/// Frosted thin-walled panes (`bsdf::RoughThinDielectric`) of rising roughness against the
+/// studio HDRI and a checkered wall: the GPU's rough sheet is the CPU's.
+#[test]
+fn image_parity_frosted_panes() {
+    let mut s = Scene::load("builtin:frosted-panes").unwrap();
+    small(&mut s, 64, 20);
+    image_parity("image_parity_frosted_panes", s, 8, 8);
 }
 
 #[test]

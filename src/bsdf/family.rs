@@ -14,8 +14,8 @@
 
 use super::{
     BsdfSample, BxDF, Event, Iridescent, Lambert, Lobe, MetalRough, MicrofacetDistribution, Mirror,
-    MuellerLanes, RoughConductor, RoughDielectric, RoughFresnelConductor, SmoothConductor,
-    SmoothDielectric, ThinDielectric, TransportMode,
+    MuellerLanes, RoughConductor, RoughDielectric, RoughFresnelConductor, RoughThinDielectric,
+    SmoothConductor, SmoothDielectric, ThinDielectric, TransportMode,
 };
 use crate::math::Color;
 use glam::{Vec2, Vec3};
@@ -83,6 +83,19 @@ macro_rules! bsdf_table {
                     transmits: "true",
                     mueller: "rough_dielectric_mueller(b, wo, wi, event)",
                     mueller_b: "rough_dielectric_mueller_b(b, wo, wi)",
+                }],
+            }
+            /// Rough thin-walled dielectric (a frosted sheet; glTF's transmission BTDF).
+            RoughThinDielectric(RoughThinDielectric) {
+                part: rough_thin_dielectric, has: HAS_ROUGH_THIN_DIELECTRIC,
+                feature: ROUGH_THIN_GLASS, wgsl: "rough_thin.wgsl",
+                kinds: [BSDF_ROUGH_THIN_DIELECTRIC = 11 (G) {
+                    sample: "rough_thin_sample(b, wo, uc, u2)",
+                    eval: "rough_thin_eval(b, wo, wi)",
+                    pdf: "rough_thin_pdf(b, wo, wi)",
+                    transmits: "true",
+                    mueller: "rough_thin_mueller(b, wo, wi, event)",
+                    mueller_b: "rough_thin_mueller_b(b, wo, wi)",
                 }],
             }
             /// Rough conductor with a coloured Schlick Fresnel term (glossy metal).

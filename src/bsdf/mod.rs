@@ -25,6 +25,7 @@ pub mod metal_rough;
 pub mod microfacet;
 pub mod polarized;
 pub mod rough_dielectric;
+pub mod rough_thin;
 pub mod thin;
 pub mod thin_film;
 
@@ -43,6 +44,7 @@ pub use metal_ior::Metal;
 pub use metal_rough::MetalRough;
 pub use microfacet::Microfacet;
 pub use rough_dielectric::RoughDielectric;
+pub use rough_thin::RoughThinDielectric;
 pub use thin::ThinDielectric;
 pub use thin_film::ThinFilm;
 

@@ -57,6 +57,8 @@ bitflags::bitflags! {
         const NORMAL_MAP = 1 << 19;
         /// A dielectric or metal under a thin film (`KHR_materials_iridescence`).
         const IRIDESCENCE = 1 << 20;
+        /// Rough thin-walled dielectric (a frosted sheet).
+        const ROUGH_THIN_GLASS = 1 << 21;
     }
 }
 

@@ -373,7 +373,21 @@ impl Material {
                 }
             }
             // Thin-walled (glTF transmission without volume): two interfaces, no bending.
-            MaterialKind::ThinGlass => Bsdf::ThinDielectric(bsdf::ThinDielectric { eta }),
+            // Rough faces blur what passes through; a film lies on a smooth sheet only
+            // (`bsdf::Iridescent`), and η = 1 is no interface at all.
+            MaterialKind::ThinGlass => {
+                let alpha = bsdf::roughness_to_alpha(self.roughness);
+                let filmed = self.iridescence.is_some_and(|f| f.factor > 0.0);
+                if bsdf::effectively_smooth(alpha) || eta == 1.0 || filmed {
+                    Bsdf::ThinDielectric(bsdf::ThinDielectric { eta })
+                } else {
+                    Bsdf::RoughThinDielectric(bsdf::RoughThinDielectric {
+                        eta,
+                        alpha,
+                        dist: self.distribution,
+                    })
+                }
+            }
             MaterialKind::GlossyMetal => {
                 let alpha = bsdf::roughness_to_alpha(self.roughness);
                 if bsdf::effectively_smooth(alpha) {

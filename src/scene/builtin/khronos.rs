@@ -8,9 +8,13 @@
 //!   bottom (α = roughness², GGX). IOR 1.0 is index-matched: its spheres must vanish at every
 //!   roughness (a stress case for the rough dielectric at η = 1).
 //! - `transmission-roughness`: one row of IOR 1.5 spheres, roughness 0, 0.2, …, 1.
+//! - `frosted-panes`: one row of thin-walled IOR 1.5 panes (glTF transmission without volume),
+//!   roughness 0, 0.1, 0.2, 0.35, 0.6, 1, half a metre in front of the wall: the smooth pane
+//!   shows the checks sharp, the rough ones blur them more and more (the rough thin-walled
+//!   dielectric, `bsdf::RoughThinDielectric`).
 
-use super::{checkerboard, rough_glass_material, scene, settings, sphere};
-use crate::scene::{Camera, Material, Mesh, Scene};
+use super::{checkerboard, rect, rough_glass_material, scene, settings, sphere};
+use crate::scene::{Camera, Material, MaterialKind, Mesh, Scene};
 use glam::{Quat, Vec3};
 
 /// IORs of the grid's columns.
@@ -19,6 +23,8 @@ pub const IOR_COLUMNS: [f32; 8] = [1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.4];
 pub const ROUGHNESS_ROWS: [f32; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 /// Roughness of the transmission row, left to right.
 pub const TRANSMISSION_ROUGHNESS: [f32; 6] = [0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
+/// Roughness of the frosted panes, left to right.
+pub const PANE_ROUGHNESS: [f32; 6] = [0.0, 0.1, 0.2, 0.35, 0.6, 1.0];
 
 /// Sphere radius and centre spacing (m).
 const RADIUS: f32 = 0.2;
@@ -130,6 +136,34 @@ pub fn transmission_roughness() -> Scene {
     );
     let s = scene(
         "transmission-roughness",
+        m,
+        materials,
+        cam,
+        Vec3::ZERO,
+        settings(640, 200),
+    );
+    lit_by_studio(s)
+}
+
+/// Thin-walled panes of rising roughness in front of the checkered wall.
+pub fn frosted_panes() -> Scene {
+    let mut materials = wall_materials();
+    let mut m = Mesh::default();
+    let n = PANE_ROUGHNESS.len() as f32;
+    let (side, y) = (0.4, RADIUS + 0.1);
+    for (i, &rough) in PANE_ROUGHNESS.iter().enumerate() {
+        let idx = materials.len() as u32;
+        materials.push(Material {
+            kind: MaterialKind::ThinGlass,
+            ..rough_glass_material(&format!("pane-r{rough:.2}"), 1.5, rough)
+        });
+        let x = (i as f32 - 0.5 * (n - 1.0)) * SPACING;
+        rect(&mut m, Vec3::new(x, y, 0.0), Vec3::Z, side, side, idx);
+    }
+    wall(&mut m, y, -0.5, 6.0);
+    let cam = Camera::look_at(Vec3::new(0.0, y, 4.0), Vec3::new(0.0, y, 0.0), Vec3::Y, 0.3);
+    let s = scene(
+        "frosted-panes",
         m,
         materials,
         cam,
