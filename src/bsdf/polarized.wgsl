@@ -222,13 +222,18 @@ fn rough_dielectric_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32) -
     return mueller_splat(rough_dielectric_lane(wo, wi, event, b.eta));
 }
 
-// A thin sheet: one interface's reflection, transmission through both.
-fn thin_dielectric_mueller(b: Bsdf, wi: vec3<f32>, event: u32) -> Mueller {
-    let c = abs(wi.z);
+// A sheet at the incidence cosine `c`: one interface's reflection, transmission through both
+// (`thin::sheet_mueller`; also the rough sheet's at its facet).
+fn sheet_lane(c: f32, eta: f32, event: u32) -> vec4<f32> {
     if event == EVENT_REFLECT {
-        return mueller_splat(dielectric_lane(c, b.eta, event));
+        return dielectric_lane(c, eta, event);
     }
-    return mueller_splat(sheet_transmission_lane(c, b.eta));
+    return sheet_transmission_lane(c, eta);
+}
+
+// A thin sheet at the normal.
+fn thin_dielectric_mueller(b: Bsdf, wi: vec3<f32>, event: u32) -> Mueller {
+    return mueller_splat(sheet_lane(abs(wi.z), b.eta, event));
 }
 
 // A tabulated rough metal: conductor reflection at the half vector (the depolariser where

@@ -17,14 +17,11 @@
 //! scaling in either transport mode. Like the smooth sheet it works for `wo` on either side.
 
 use super::fresnel::reflect;
-use super::fresnel_polarized::{
-    MuellerLanes, all, dielectric_mueller, half_vector, transmission_mueller,
-};
+use super::fresnel_polarized::{MuellerLanes, all, half_vector};
 use super::microfacet::Microfacet;
-use super::thin::thin_dielectric_reflectance;
+use super::thin::{sheet_mueller, thin_dielectric_reflectance};
 use super::{BsdfSample, BxDF, Event, Lobe, MicrofacetDistribution, TransportMode};
 use crate::math::Color;
-use crate::math::mueller::normalized;
 use glam::{Vec2, Vec3};
 
 /// A sheet of relative index `eta` with rough faces (α, distribution).
@@ -149,14 +146,7 @@ impl BxDF for RoughThinDielectric {
         let Some(m) = half_vector(wo, wr, Event::Reflect, 1.0) else {
             return all(crate::math::mueller::depolarizer());
         };
-        let c = wo.dot(m).abs();
-        all(match event {
-            Event::Reflect => dielectric_mueller(c, self.eta, event),
-            Event::Transmit => {
-                let t = transmission_mueller(c, self.eta);
-                normalized(t * t)
-            }
-        })
+        all(sheet_mueller(wo.dot(m).abs(), self.eta, event))
     }
 
     #[inline]

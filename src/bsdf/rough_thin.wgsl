@@ -91,11 +91,7 @@ fn rough_thin_mueller_lane(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32) ->
     if m.w == 0.0 {
         return vec4<f32>(0.0);
     }
-    let c = abs(dot3(wo, m.xyz));
-    if event == EVENT_REFLECT {
-        return dielectric_lane(c, b.eta, event);
-    }
-    return sheet_transmission_lane(c, b.eta);
+    return sheet_lane(abs(dot3(wo, m.xyz)), b.eta, event);
 }
 
 fn rough_thin_mueller(b: Bsdf, wo: vec3<f32>, wi: vec3<f32>, event: u32) -> Mueller {

@@ -6,7 +6,7 @@ use super::fresnel_polarized::{MuellerLanes, all, dielectric_mueller, transmissi
 use super::{BsdfSample, BxDF, Event, TransportMode};
 use crate::math::Color;
 use crate::math::mueller::normalized;
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 /// Reflectance R' of a thin sheet with two parallel smooth interfaces, summing every internal
 /// bounce: R' = R + T²R/(1 − R²), T = 1 − R, where R is the exact dielectric Fresnel
@@ -22,6 +22,19 @@ pub fn thin_dielectric_reflectance(abs_cos_i: f32, eta: f32) -> f32 {
     let t = 1.0 - r;
     // Geometric series of the inter-reflections: R + T²R Σ R^(2k). PBR 4th ed. §9.5.
     (r + t * t * r / (1.0 - r * r)).min(1.0)
+}
+
+/// A sheet's normalised Mueller matrix at the incidence cosine `c`: one interface's
+/// reflection, or transmission through both interfaces (the inner reflections' polarisation
+/// is neglected). Also the rough sheet's, at its facet (`bsdf::rough_thin`).
+pub fn sheet_mueller(c: f32, eta: f32, event: Event) -> Mat4 {
+    match event {
+        Event::Reflect => dielectric_mueller(c, eta, event),
+        Event::Transmit => {
+            let t = transmission_mueller(c, eta);
+            normalized(t * t)
+        }
+    }
 }
 
 /// Thin-walled dielectric sheet (glTF transmission without `KHR_materials_volume`).
@@ -52,14 +65,7 @@ impl BxDF for ThinDielectric {
     /// One interface's reflection; transmission through both interfaces (the inner
     /// reflections' polarisation is neglected).
     fn mueller(&self, _wo: Vec3, wi: Vec3, event: Event, _lobe: Lobe) -> MuellerLanes {
-        let c = wi.z.abs();
-        all(match event {
-            Event::Reflect => dielectric_mueller(c, self.eta, event),
-            Event::Transmit => {
-                let t = transmission_mueller(c, self.eta);
-                normalized(t * t)
-            }
-        })
+        all(sheet_mueller(wi.z.abs(), self.eta, event))
     }
 
     #[inline]
