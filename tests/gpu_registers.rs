@@ -220,8 +220,16 @@ fn all_jobs() -> Vec<Job> {
 /// Compile one job's kernel; what is over its budget.
 fn check(job: &Job, bindings: &[kernels::BufferBinding]) -> Vec<String> {
     let k = job.kernel;
+    let t0 = std::time::Instant::now();
     let spirv = kernels::spirv(&job.spec, k).expect("SPIR-V");
     let stats = radv::compile_stats(&spirv, k.entry(), bindings).expect("RADV compile");
+    // What each compile costs CI (docs/testing.md, "CI's hour").
+    eprintln!(
+        "compiled {} {} in {:.1} s",
+        job.what,
+        k.entry(),
+        t0.elapsed().as_secs_f64()
+    );
     let mut over = Vec::new();
     for s in stats {
         let get = |n: &str| *s.get(n).unwrap_or_else(|| panic!("no '{n}' statistic"));

@@ -54,7 +54,7 @@ fn specialised(
 
 /// SPIR-V of `kernel` specialised for `spec`, written as wgpu's Vulkan backend writes it:
 /// SPIR-V 1.3, buffer accesses unchecked (robust buffer access does it), other indexing
-/// clamped, loops bounded.
+/// clamped, loops bounded, workgroup memory not zeroed (as the pipelines ask).
 pub fn spirv(spec: &Specialization, kernel: Kernel) -> Result<Vec<u32>> {
     let (module, info) = specialised(spec, kernel)?;
     write_spirv(&module, &info, kernel.entry())
@@ -83,6 +83,12 @@ fn write_spirv(
         lang_version: (1, 3),
         flags: naga::back::spv::WriterFlags::empty(),
         bounds_check_policies: policies,
+        // The pipelines ask wgpu not to zero workgroup memory
+        // (`PipelineCompilationOptions::zero_initialize_workgroup_memory: false`, gpu::pipeline):
+        // naga's default polyfill stores a zero into every word of the traversal stacks'
+        // workgroup arrays, code the real kernels do not have (RADV: 40 s to compile a
+        // 24-VGPR `wf_start` with it).
+        zero_initialize_workgroup_memory: naga::back::spv::ZeroInitializeWorkgroupMemoryMode::None,
         ..Default::default()
     };
     let pipeline = naga::back::spv::PipelineOptions {
