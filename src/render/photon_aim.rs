@@ -69,8 +69,8 @@ pub struct PhotonTargets {
 }
 
 /// Materials whose BSDF can be a delta lobe (`Bsdf::is_delta`) somewhere: only these can be
-/// a photon's first vertex (a superset is safe, a subset would lose caustics). Mirrors and
-/// thin glass always; glass and glossy metal only when smooth (`Material::bsdf`), or, for
+/// a photon's first vertex (a superset is safe, a subset would lose caustics). Mirrors
+/// always; thin glass, glass and glossy metal only when smooth (`Material::bsdf`), or, for
 /// rough glass, where an interface can be index-matched (η = 1 is a smooth pass-through):
 /// IOR 1 or the IOR of another dielectric of the scene (`iors`). Rough glass and rough metal
 /// scatter every photon off a glossy lobe, which stores nothing: aimed at them, photon paths
@@ -79,7 +79,12 @@ pub struct PhotonTargets {
 fn can_be_specular(m: &Material, iors: &[f32]) -> bool {
     let smooth = bsdf::effectively_smooth(bsdf::roughness_to_alpha(m.roughness));
     match m.kind {
-        MaterialKind::Mirror | MaterialKind::ThinGlass => true,
+        MaterialKind::Mirror => true,
+        // A rough sheet scatters off a glossy lobe (`bsdf::RoughThinDielectric`) unless it
+        // is index-matched or filmed (then `Material::bsdf` keeps the smooth sheet).
+        MaterialKind::ThinGlass => {
+            smooth || m.ior == 1.0 || m.iridescence.is_some_and(|f| f.factor > 0.0)
+        }
         MaterialKind::GlossyMetal => smooth,
         MaterialKind::Glass => {
             smooth || m.ior == 1.0 || iors.iter().filter(|&&n| n == m.ior).count() > 1

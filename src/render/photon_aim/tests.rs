@@ -177,6 +177,23 @@ fn pieces_of_the_built_ins() {
     assert!(PhotonTargets::new(&plain).spheres.is_empty());
 }
 
+/// Of the frosted panes only the smooth one can start a caustic path: the rough sheets
+/// scatter photons off a glossy lobe, which stores nothing.
+#[test]
+fn rough_sheets_are_no_targets() {
+    let scene = crate::scene::builtin::load("frosted-panes").expect("built-in");
+    let specular = specular_materials(&scene);
+    let names: Vec<&str> = scene
+        .materials
+        .iter()
+        .zip(&specular)
+        .filter(|(_, s)| **s)
+        .map(|(m, _)| m.name.as_str())
+        .collect();
+    assert_eq!(names, ["pane-r0.00"]);
+    assert_eq!(PhotonTargets::new(&scene).spheres.len(), 1);
+}
+
 /// More pieces than [`MAX_TARGETS`] are clustered into that many spheres that still cover
 /// every piece.
 #[test]
