@@ -7,8 +7,10 @@
 //! `bsdf_kind_is_delta` (`bsdf::family_wgsl`), and the variants' WGSL files for the kernels.
 //! `scene::features` reads the same table for each variant's `Features` flag.
 //!
-//! Adding a BSDF: its Rust file and its WGSL twin (`<name>_eval/_pdf/_sample`), a row here, a
-//! `pub mod` and the per-variant arms of `Bsdf`'s own methods in `bsdf/mod.rs`, its
+//! Adding a BSDF: its Rust file (`BxDF`, including what the enum asks of a variant:
+//! `can_transmit`, `mueller`, and where it has them `map_colors`, `at_wavelengths`,
+//! `distribution`) and its WGSL twin (`<name>_eval/_pdf/_sample`), a row here, a
+//! `pub mod` in `bsdf/mod.rs`, its
 //! `Features` flag in `scene/features.rs`, and the material that becomes it
 //! (`scene/material.rs`) — docs/architecture.md "Adding a BSDF".
 
