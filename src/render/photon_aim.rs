@@ -82,9 +82,7 @@ fn can_be_specular(m: &Material, iors: &[f32]) -> bool {
         MaterialKind::Mirror => true,
         // A rough sheet scatters off a glossy lobe (`bsdf::RoughThinDielectric`) unless it
         // is index-matched or filmed (then `Material::bsdf` keeps the smooth sheet).
-        MaterialKind::ThinGlass => {
-            smooth || m.ior == 1.0 || m.iridescence.is_some_and(|f| f.factor > 0.0)
-        }
+        MaterialKind::ThinGlass => m.sheet_is_smooth(m.ior),
         MaterialKind::GlossyMetal => smooth,
         MaterialKind::Glass => {
             smooth || m.ior == 1.0 || iors.iter().filter(|&&n| n == m.ior).count() > 1

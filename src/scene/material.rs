@@ -375,19 +375,14 @@ impl Material {
             // Thin-walled (glTF transmission without volume): two interfaces, no bending.
             // Rough faces blur what passes through; a film lies on a smooth sheet only
             // (`bsdf::Iridescent`), and η = 1 is no interface at all.
-            MaterialKind::ThinGlass => {
-                let alpha = bsdf::roughness_to_alpha(self.roughness);
-                let filmed = self.iridescence.is_some_and(|f| f.factor > 0.0);
-                if bsdf::effectively_smooth(alpha) || eta == 1.0 || filmed {
-                    Bsdf::ThinDielectric(bsdf::ThinDielectric { eta })
-                } else {
-                    Bsdf::RoughThinDielectric(bsdf::RoughThinDielectric {
-                        eta,
-                        alpha,
-                        dist: self.distribution,
-                    })
-                }
+            MaterialKind::ThinGlass if self.sheet_is_smooth(eta) => {
+                Bsdf::ThinDielectric(bsdf::ThinDielectric { eta })
             }
+            MaterialKind::ThinGlass => Bsdf::RoughThinDielectric(bsdf::RoughThinDielectric {
+                eta,
+                alpha: bsdf::roughness_to_alpha(self.roughness),
+                dist: self.distribution,
+            }),
             MaterialKind::GlossyMetal => {
                 let alpha = bsdf::roughness_to_alpha(self.roughness);
                 if bsdf::effectively_smooth(alpha) {
@@ -408,6 +403,16 @@ impl Material {
                 uniform: self.uniform_sampling,
             }),
         }
+    }
+
+    /// Whether thin glass of relative index `eta` is the smooth sheet (a delta BSDF): smooth
+    /// faces, no interface (η = 1), or a film (films lie on smooth sheets only); else the
+    /// rough sheet. Also what sppm's photon aiming asks (`render::photon_aim`).
+    #[inline]
+    pub fn sheet_is_smooth(&self, eta: f32) -> bool {
+        bsdf::effectively_smooth(bsdf::roughness_to_alpha(self.roughness))
+            || eta == 1.0
+            || self.iridescence.is_some_and(|f| f.factor > 0.0)
     }
 
     /// Mirror or glossy metal (the kinds `extras.conductor` applies to).
